@@ -1,0 +1,78 @@
+"""Checks that two shapes can be interpolated: same vertices, same connectivity."""
+
+import numpy as np
+
+from ..errors import IncompatibleShapesError, ShapeError
+from ..shape import Shape
+
+__all__ = ["check_compatible", "as_shape"]
+
+
+def as_shape(obj, name="shape"):
+    """Accept a `Shape` or an (n, 2) vertex array (isolated points)."""
+    if isinstance(obj, Shape):
+        return obj
+    raise ShapeError(f"{name} must be an isotween.Shape, got {type(obj).__name__}")
+
+
+def check_compatible(*shapes, names=None):
+    """Raise `IncompatibleShapesError` unless all shapes share connectivity.
+
+    Checks the vertex count, the edge list (same pairs, same order), the faces,
+    and that no edge has zero length in any shape.
+
+    Parameters
+    ----------
+    *shapes : Shape
+        Two or more shapes; the first is the reference.
+    names : list of str, optional
+        How to call each shape in messages (default 'source', 'target', 'shape 2', ...).
+    """
+    if names is None:
+        names = ["source", "target"] + [f"shape {i}" for i in range(2, len(shapes))]
+    ref = shapes[0]
+    for s, name in zip(shapes, names):
+        _check_edge_lengths(s, name)
+    for s, name in zip(shapes[1:], names[1:]):
+        if s.n_vertices != ref.n_vertices:
+            raise IncompatibleShapesError(
+                f"{names[0]} has {ref.n_vertices} vertices but {name} has {s.n_vertices}; "
+                "resample the outlines to a common count (isotween.resample / --resample N)"
+            )
+        if s.n_edges != ref.n_edges:
+            raise IncompatibleShapesError(
+                f"{names[0]} has {ref.n_edges} edges but {name} has {s.n_edges}; "
+                "both shapes need the same connectivity"
+            )
+        same = np.all(ref.edges == s.edges, axis=1) | np.all(ref.edges == s.edges[:, ::-1], axis=1)
+        if not same.all():
+            k = int(np.flatnonzero(~same)[0])
+            raise IncompatibleShapesError(
+                f"edge {k} joins vertices {ref.edges[k].tolist()} in {names[0]} "
+                f"but {s.edges[k].tolist()} in {name}; list the edges in the same order"
+            )
+        if (ref.faces is None) != (s.faces is None) or (
+            ref.faces is not None and ref.faces.shape != s.faces.shape
+        ):
+            raise IncompatibleShapesError(
+                f"{names[0]} has {ref.n_faces} faces but {name} has {s.n_faces}"
+            )
+        if ref.faces is not None and len(ref.faces):
+            diff = np.flatnonzero(np.any(ref.faces != s.faces, axis=1))
+            if diff.size:
+                k = int(diff[0])
+                raise IncompatibleShapesError(
+                    f"face {k} is {ref.faces[k].tolist()} in {names[0]} but "
+                    f"{s.faces[k].tolist()} in {name}"
+                )
+
+
+def _check_edge_lengths(shape, name):
+    lengths = np.abs(shape.edge_vectors())
+    zero = np.flatnonzero(lengths <= 1e-12 * max(shape.bbox_diagonal(), 1e-300))
+    if zero.size:
+        k = int(zero[0])
+        raise ShapeError(
+            f"edge {k} {shape.edges[k].tolist()} has zero length in {name} "
+            f"(vertices {shape.edges[k, 0]} and {shape.edges[k, 1]} coincide)"
+        )
