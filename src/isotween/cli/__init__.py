@@ -1,0 +1,28 @@
+"""The ``isotween`` command line: one click group, one module per command."""
+
+import sys
+
+import click
+
+from ..errors import IsotweenError
+
+
+class _Group(click.Group):
+    """Turns library errors into one line on stderr and a non-zero exit."""
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except IsotweenError as exc:
+            click.echo(f"error: {exc}", err=True)
+            sys.exit(2)
+
+
+@click.group(cls=_Group)
+@click.version_option(package_name="isotween")
+def main():
+    """As-isometric-as-possible interpolation of planar shapes."""
+
+
+# each command lives in its own module and registers itself on `main`
+from . import _commands  # noqa: E402,F401
