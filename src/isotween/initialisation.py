@@ -74,14 +74,24 @@ def edge_vector_init(shape, e0, e1, t):
     (E, F) complex
     """
     s, theta = edge_rotations(shape, e0, e1)
-    t = np.asarray(t)[None, :]
-    return (1 - t + t * s[:, None]) * np.exp(1j * t * theta[:, None]) * e0[:, None]
+    t = np.asarray(t, dtype=float)
+    h = np.diff(t)
+    if len(h) and np.allclose(h, h[0], rtol=1e-12, atol=0):
+        # uniform times: R(t_k theta) = R(h theta)^k, one complex exp per edge
+        rot = np.empty((len(theta), len(t)), dtype=complex)
+        rot[:, 0] = 1.0
+        rot[:, 1:] = np.exp(1j * h[0] * theta)[:, None]
+        rot = np.cumprod(rot, axis=1)
+    else:
+        phase = t[None, :] * theta[:, None]
+        rot = np.cos(phase) + 1j * np.sin(phase)
+    return (1 - t + t * s[:, None]) * rot * e0[:, None]
 
 
 def linear_init(shape, z0, z1, t):
     """Edge vectors of the linear blend of vertex positions: (E, F) complex."""
-    t = np.asarray(t)[:, None]
-    return shape.edge_vectors((1 - t) * z0 + t * z1).T
+    t = np.asarray(t)[None, :]
+    return shape.edge_vectors(z0)[:, None] * (1 - t) + shape.edge_vectors(z1)[:, None] * t
 
 
 def initial_edges(init, shape, z0, z1, t):

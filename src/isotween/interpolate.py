@@ -5,6 +5,7 @@ import time
 
 import numpy as np
 
+from ._heap import keep_heap
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError, ParameterError
 from .initialisation import INITIALISERS, initial_edges
@@ -63,6 +64,7 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
     Sequence
         ``frames`` is a (frames, n, 2) float64 array.
     """
+    keep_heap()
     start = time.perf_counter()
     source, target = as_shape(source, "source"), as_shape(target, "target")
     t = _frame_times(frames, times)
@@ -85,7 +87,7 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
     diag = float(np.hypot(*np.ptp(np.vstack([source.vertices, target.vertices]), axis=0)))
     timings = {}
     if len(t) == 2:
-        out, info = np.array([z0, z1]), {"energy": [], "iterations": 0, "converged": True}
+        out, info = np.array([z0, z1]).T, {"energy": [], "iterations": 0, "converged": True}
     else:
         t0 = time.perf_counter()
         edges = initial_edges(init, source, z0, z1, t)
@@ -95,9 +97,9 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
             out, info = local_solve(source, z0, z1, t, edges, scheme, tol * diag, max_iter,
                                     assembly=assembly, callback=callback)
         else:
-            start_frames = np.empty((len(t), len(z0)), dtype=complex)
-            start_frames[0], start_frames[-1] = z0, z1
-            start_frames[1:-1] = FrameAssembler(source).positions(
+            start_frames = np.empty((len(z0), len(t)), dtype=complex)
+            start_frames[:, 0], start_frames[:, -1] = z0, z1
+            start_frames[:, 1:-1] = FrameAssembler(source).positions(
                 edges[:, 1:-1], centroid_path(source, z0, z1, t[1:-1]))
             out, info = global_solve(source, z0, z1, t, start_frames, scheme, tol * diag,
                                      max_iter, linear_solver=linear_solver, callback=callback)
@@ -105,7 +107,7 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
         timings.update({f"solve.{k}": v for k, v in info.pop("timings", {}).items()})
     timings["total"] = time.perf_counter() - start
     return Sequence(
-        frames=np.stack([out.real, out.imag], axis=-1), shape=source, times=t, scheme=scheme,
+        frames=np.stack([out.real.T, out.imag.T], axis=-1), shape=source, times=t, scheme=scheme,
         energy=info.pop("energy"), iterations=info.pop("iterations"),
         converged=info.pop("converged"), timings=timings, method="aiap",
         info={"options": options, **info},

@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-__all__ = ["incidence", "component_centroids", "centroid_path", "FrameAssembler"]
+__all__ = ["incidence", "averaging", "centroid_path", "FrameAssembler"]
 
 
 def incidence(edges, n):
@@ -25,22 +25,19 @@ def incidence(edges, n):
     return sp.csr_matrix((vals, (rows, edges.ravel())), shape=(E, n))
 
 
-def component_centroids(z, components, n_components):
-    """(..., C) complex centroid of every component of (..., n) complex frames."""
+def averaging(components, n_components):
+    """(C, n) sparse matrix: (A z)_c is the centroid of component c."""
     counts = np.bincount(components, minlength=n_components)
-    avg = sp.csr_matrix(
-        (1.0 / counts[components], (components, np.arange(len(components)))),
-        shape=(n_components, len(components)),
-    )
-    return (avg @ z.reshape(-1, z.shape[-1]).T).T.reshape(z.shape[:-1] + (n_components,))
+    n = len(components)
+    return sp.csr_matrix((1.0 / counts[components], (components, np.arange(n))),
+                         shape=(n_components, n))
 
 
 def centroid_path(shape, z0, z1, t):
-    """(len(t), C) complex: every component's centroid blended linearly in t."""
-    c0 = component_centroids(z0, shape.components, shape.n_components)
-    c1 = component_centroids(z1, shape.components, shape.n_components)
-    t = np.asarray(t)[:, None]
-    return (1 - t) * c0 + t * c1
+    """(C, len(t)) complex: every component's centroid blended linearly in t."""
+    avg = averaging(shape.components, shape.n_components)
+    t = np.asarray(t)[None, :]
+    return (1 - t) * (avg @ z0)[:, None] + t * (avg @ z1)[:, None]
 
 
 class FrameAssembler:
@@ -76,6 +73,7 @@ class FrameAssembler:
             L = (self.D_free.T @ sp.diags(self.weights) @ self.D_free).tocsc()
             self._lu = splu(L, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
         self._DtW = (self.D_free.T @ sp.diags(self.weights)).tocsr()
+        self._avg = averaging(self.components, self.n_components)
 
     def solve_laplacian(self, b):
         """Apply L^{-1} to (n_free, k) complex right-hand sides."""
@@ -92,23 +90,21 @@ class FrameAssembler:
         ----------
         e : (E, F) complex
             Edge vectors of F frames.
-        centroids : (F, C) complex
+        centroids : (C, F) complex
             Where each component's centroid must be in every frame.
 
         Returns
         -------
-        (F, n) complex vertex positions.
+        (n, F) complex vertex positions.
         """
-        F = e.shape[1]
-        z = np.zeros((F, self.n), dtype=complex)
-        z[:, self.free] = self.solve_laplacian(self._DtW @ e).T
+        z = np.zeros((self.n, e.shape[1]), dtype=complex)
+        z[self.free] = self.solve_laplacian(self._DtW @ e)
         return self.place(z, centroids)
 
     def gauge(self, z):
-        """(F, n_free) complex: free vertices of (F, n) frames, anchors moved to 0."""
-        return (z - z[:, self.anchors[self.components]])[:, self.free]
+        """(n_free, F) complex: free vertices of (n, F) frames, anchors moved to 0."""
+        return (z - z[self.anchors[self.components]])[self.free]
 
     def place(self, z, centroids):
-        """Translate each component of (F, n) frames onto the given centroids."""
-        shift = centroids - component_centroids(z, self.components, self.n_components)
-        return z + shift[:, self.components]
+        """Translate each component of (n, F) frames onto the (C, F) centroids."""
+        return z + (centroids - self._avg @ z)[self.components]

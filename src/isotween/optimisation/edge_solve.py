@@ -82,22 +82,24 @@ class TridiagonalSolver:
         return rhs
 
 
-def solve_edges(e, h, scheme_coeffs):
+def solve_edges(e, diag, lower):
     """Eq. (9): minimise each edge's energy with its end vectors fixed.
 
     Parameters
     ----------
     e : (E, m+1) complex
         Current edge vectors; only the ends e[:, 0] and e[:, -1] are used.
-    h : (m,) float
-    scheme_coeffs : list of (alpha, beta, weight)
+    diag, lower : (E, m+1) float and (E, m) complex
+        Normal equations from :func:`tridiagonal` or
+        :func:`isotween.optimisation.schemes.normal_equations`.
 
     Returns
     -------
     (E, m+1) complex
         New edge vectors with the same ends.
     """
-    solver = TridiagonalSolver(*tridiagonal(scheme_coeffs, h))
-    out = e.copy()
+    solver = TridiagonalSolver(diag, lower)
+    out = np.empty_like(e)
+    out[:, 0], out[:, -1] = e[:, 0], e[:, -1]
     out[:, 1:-1] = solver.solve(solver.boundary_rhs(e[:, 0], e[:, -1]))
     return out

@@ -19,7 +19,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator, cg, spsolve
 
 from ..errors import ParameterError
-from .assembly import FrameAssembler, centroid_path
+from .assembly import FrameAssembler, centroid_path, incidence
 from .edge_solve import TridiagonalSolver, tridiagonal
 from .schemes import coefficients, isometric_energy
 
@@ -28,7 +28,7 @@ __all__ = ["LINEAR_SOLVERS", "global_solve"]
 LINEAR_SOLVERS = ("cg", "direct")
 
 
-def global_solve(shape, z0, z1, t, frames, scheme, tol, max_iter, linear_solver="cg",
+def global_solve(shape, z0, z1, t, z, scheme, tol, max_iter, linear_solver="cg",
                  cg_rtol=1e-9, callback=None):
     """Run Algorithm 1.
 
@@ -37,7 +37,7 @@ def global_solve(shape, z0, z1, t, frames, scheme, tol, max_iter, linear_solver=
     shape : Shape
     z0, z1 : (n,) complex
     t : (m+1,) float
-    frames : (m+1, n) complex
+    z : (n, m+1) complex
         Initial frames (ends equal to z0 and z1).
     scheme : {'midpoint', 'paper'}
     tol : float
@@ -50,7 +50,7 @@ def global_solve(shape, z0, z1, t, frames, scheme, tol, max_iter, linear_solver=
 
     Returns
     -------
-    frames : (m+1, n) complex
+    z : (n, m+1) complex
     info : dict
     """
     if linear_solver not in LINEAR_SOLVERS:
@@ -60,8 +60,9 @@ def global_solve(shape, z0, z1, t, frames, scheme, tol, max_iter, linear_solver=
     asm = FrameAssembler(shape)
     D, nf = asm.D_free, asm.free.size
     centroids = centroid_path(shape, z0, z1, t[1:-1])
-    frames = frames.copy()
-    e = shape.edge_vectors(frames).T
+    Dfull = incidence(shape.edges, shape.n_vertices)
+    z = z.copy()
+    e = Dfull @ z
     energies = [isometric_energy(e, h, scheme)]
     converged, move, cg_iters = False, np.inf, []
     # selects the interior node after / before every interval
@@ -83,7 +84,7 @@ def global_solve(shape, z0, z1, t, frames, scheme, tol, max_iter, linear_solver=
             RhS = R.conj().T @ sp.diags(s)
             A = A + RhS @ R
             b = b - RhS @ known.ravel()
-        x0 = asm.gauge(frames[1:-1])
+        x0 = asm.gauge(z[:, 1:-1]).T
         if linear_solver == "direct":
             x = spsolve(A.tocsc(), b)
         else:
@@ -93,19 +94,19 @@ def global_solve(shape, z0, z1, t, frames, scheme, tol, max_iter, linear_solver=
             x, _ = cg(A, b, x0=x0.ravel(), rtol=cg_rtol, maxiter=10 * nf + 100, M=M,
                       callback=lambda _x: count.__setitem__(0, count[0] + 1))
             cg_iters.append(count[0])
-        z = np.zeros((m - 1, len(z0)), dtype=complex)
-        z[:, asm.free] = x.reshape(m - 1, nf)
-        new = asm.place(z, centroids)
-        move = float(np.max(np.abs(new - frames[1:-1]), initial=0.0))  # Eq. (11)
-        frames[1:-1] = new
-        e = shape.edge_vectors(frames).T
+        new = np.zeros((len(z0), m - 1), dtype=complex)
+        new[asm.free] = x.reshape(m - 1, nf).T
+        new = asm.place(new, centroids)
+        move = float(np.max(np.abs(new - z[:, 1:-1]), initial=0.0))  # Eq. (11)
+        z[:, 1:-1] = new
+        e = Dfull @ z
         energies.append(isometric_energy(e, h, scheme))
         if callback is not None:
             callback(it, energies[-1], move)
         if move < tol:
             converged = True
             break
-    return frames, {"energy": energies, "iterations": it, "converged": converged,
+    return z, {"energy": energies, "iterations": it, "converged": converged,
                     "max_move": move, "cg_iterations": cg_iters}
 
 

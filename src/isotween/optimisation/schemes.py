@@ -23,7 +23,8 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["SCHEMES", "step_angle", "coefficients", "energy_terms", "isometric_energy"]
+__all__ = ["SCHEMES", "step_angle", "coefficients", "energy_terms", "isometric_energy",
+           "normal_equations"]
 
 SCHEMES = ("midpoint", "paper")
 
@@ -90,3 +91,62 @@ def isometric_energy(e, h, scheme):
     if e.shape[1] < 2 or e.shape[0] == 0:
         return 0.0
     return float(energy_terms(e, h, scheme).sum() / np.sum(np.abs(e[:, 0]) ** 2))
+
+
+def normal_equations(e, h, scheme):
+    """Fused Eq. (8) + the tridiagonal normal equations of Eq. (9) + the energy.
+
+    Equal to :func:`isotween.optimisation.edge_solve.tridiagonal` of
+    :func:`coefficients` and to :func:`energy_terms`, but in real arithmetic on
+    a few (E, m) arrays: this is the hot loop of the local solver.
+
+    Parameters
+    ----------
+    e : (E, m+1) complex
+    h : (m,) float
+    scheme : {'midpoint', 'paper'}
+
+    Returns
+    -------
+    diag : (E, m+1) float
+    lower : (E, m) complex
+    energy : float
+        Eq. (6), not yet divided by sum |e(0)|^2.
+    """
+    e0, e1 = e[:, :-1], e[:, 1:]
+    inv_h = 1.0 / h
+    diag = np.zeros(e.shape)
+    if scheme == "midpoint":
+        # alpha = 1 - i w/2, beta = -(1 + i w/2): |alpha|^2 = |beta|^2 = 1 + w^2/4,
+        # conj(alpha) beta = -(1 - w^2/4 + i w)
+        s = e0 + e1
+        p = s.conj() * (e1 - e0)
+        s2 = s.real**2 + s.imag**2
+        w = 2.0 * p.imag / s2
+        q = 0.25 * w * w
+        a2 = (1.0 + q) * inv_h
+        diag[:, 1:] += a2
+        diag[:, :-1] += a2
+        lower = np.empty(w.shape, dtype=complex)
+        lower.real = -(1.0 - q) * inv_h
+        lower.imag = -w * inv_h
+        energy = float(np.sum(p.real**2 / s2 @ inv_h))
+        return diag, lower, energy
+    if scheme == "paper":
+        d = e1 - e0
+        pf = e0.conj() * d  # forward: omega_f = Im(pf) / |e0|^2
+        pr = e1.conj() * d  # reverse: omega_r = -Im(pr) / |e1|^2
+        n0 = e0.real**2 + e0.imag**2
+        n1 = e1.real**2 + e1.imag**2
+        wf = pf.imag / n0
+        wr = -pr.imag / n1
+        half = 0.5 * inv_h
+        # forward (1, -(1 + i wf)) and reverse (-(1 + i wr), 1), weight 1/2 each
+        diag[:, 1:] += half * (2.0 + wr * wr)
+        diag[:, :-1] += half * (2.0 + wf * wf)
+        lower = np.empty(wf.shape, dtype=complex)
+        lower.real = -2.0 * half
+        lower.imag = half * (wr - wf)
+        energy = float(np.sum((pf.real**2 / n0 + pr.real**2 / n1) @ half))
+        return diag, lower, energy
+    raise ParameterError(f"unknown scheme {scheme!r}; choose one of {', '.join(SCHEMES)}")
