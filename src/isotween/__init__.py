@@ -5,13 +5,20 @@ Pipeline: correspondence (compatibility, resampling, meshing) -> initialisation
 outputs (metrics, files, rendering).
 """
 
-from . import metrics
+from . import easing, metrics
 from .correspondence import check_compatible
+from .editing import edit
 from .errors import IsotweenError
 from .interpolate import interpolate
+from .keyframes import interpolate_keyframes
 from .sequence import Sequence
 from .shape import Shape
+from .transfer import transfer
+from .velocity import RelativeVelocityField, relative_velocity_field
 
 __version__ = "0.1.0"
 
-__all__ = ["IsotweenError", "Sequence", "Shape", "check_compatible", "interpolate", "metrics"]
+__all__ = [
+    "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "check_compatible", "easing",
+    "edit", "interpolate", "interpolate_keyframes", "metrics", "relative_velocity_field", "transfer",
+]

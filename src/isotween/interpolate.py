@@ -93,15 +93,15 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
         edges = initial_edges(init, source, z0, z1, t)
         timings["init"] = time.perf_counter() - t0
         t0 = time.perf_counter()
+        z = np.empty((len(z0), len(t)), dtype=complex)
+        z[:, 0], z[:, -1] = z0, z1
+        centroids = centroid_path(source, z0, z1, t)
         if solver == "local":
-            out, info = local_solve(source, z0, z1, t, edges, scheme, tol * diag, max_iter,
+            out, info = local_solve(source, z, t, edges, centroids, scheme, tol * diag, max_iter,
                                     assembly=assembly, callback=callback)
         else:
-            start_frames = np.empty((len(z0), len(t)), dtype=complex)
-            start_frames[:, 0], start_frames[:, -1] = z0, z1
-            start_frames[:, 1:-1] = FrameAssembler(source).positions(
-                edges[:, 1:-1], centroid_path(source, z0, z1, t[1:-1]))
-            out, info = global_solve(source, z0, z1, t, start_frames, scheme, tol * diag,
+            z[:, 1:-1] = FrameAssembler(source).positions(edges[:, 1:-1], centroids[:, 1:-1])
+            out, info = global_solve(source, z0, z1, t, z, scheme, tol * diag,
                                      max_iter, linear_solver=linear_solver, callback=callback)
         timings["solve"] = time.perf_counter() - t0
         timings.update({f"solve.{k}": v for k, v in info.pop("timings", {}).items()})

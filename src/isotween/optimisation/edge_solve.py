@@ -7,7 +7,7 @@ couple) and hand it to LAPACK's Hermitian positive-definite tridiagonal solver.
 """
 
 import numpy as np
-from scipy.linalg import get_lapack_funcs
+from scipy.linalg import get_lapack_funcs, solve_banded
 
 __all__ = ["tridiagonal", "TridiagonalSolver", "solve_edges"]
 
@@ -82,24 +82,66 @@ class TridiagonalSolver:
         return rhs
 
 
-def solve_edges(e, diag, lower):
-    """Eq. (9): minimise each edge's energy with its end vectors fixed.
+def solve_edges(e, diag, lower, fixed=None, couplings=()):
+    """Eq. (9): minimise each edge's energy with some of its vectors fixed.
 
     Parameters
     ----------
     e : (E, m+1) complex
-        Current edge vectors; only the ends e[:, 0] and e[:, -1] are used.
+        Current edge vectors; only the fixed columns are used.
     diag, lower : (E, m+1) float and (E, m) complex
         Normal equations from :func:`tridiagonal` or
         :func:`isotween.optimisation.schemes.normal_equations`.
+    fixed : (m+1,) bool array, optional
+        Frames whose edge vectors are held (default: the two ends).
+    couplings : list of (k, rho, weight)
+        Extra terms ``weight |e_{k+1} - e_k - rho (e_k - e_{k-1})|^2`` at fixed
+        interior frames k (rho: (E,) complex), which ask the velocity to turn
+        smoothly through a keyframe.
 
     Returns
     -------
     (E, m+1) complex
-        New edge vectors with the same ends.
+        New edge vectors, equal to ``e`` on the fixed frames.
     """
+    if fixed is not None and (fixed[1:-1].any() or couplings):
+        return _solve_with_keyframes(e, diag, lower, fixed, couplings)
     solver = TridiagonalSolver(diag, lower)
     out = np.empty_like(e)
     out[:, 0], out[:, -1] = e[:, 0], e[:, -1]
     out[:, 1:-1] = solver.solve(solver.boundary_rhs(e[:, 0], e[:, -1]))
     return out
+
+
+
+def _solve_with_keyframes(e, diag, lower, fixed, couplings):
+    """Eq. (9) with interior frames held, as one banded system over all nodes."""
+    E, F = e.shape
+    diag, lower = diag.copy(), lower.copy()
+    rhs = np.zeros((E, F), dtype=complex)
+    fixed = np.asarray(fixed, dtype=bool)
+    k = np.flatnonzero(fixed)
+    # move the couplings to fixed nodes to the right-hand side, then decouple them
+    nxt, prv = k[k < F - 1], k[k > 0]
+    rhs[:, nxt + 1] -= lower[:, nxt] * e[:, nxt]
+    rhs[:, prv - 1] -= lower[:, prv - 1].conj() * e[:, prv]
+    lower[:, nxt] = 0.0
+    lower[:, prv - 1] = 0.0
+    diag[:, k] = 1.0
+    rhs[:, k] = e[:, k]
+    # banded storage, u = l = 2: ab[2 + i - j, j] = A[i, j]; no coupling across edges
+    ab = np.zeros((5, E, F), dtype=complex)
+    ab[2] = diag
+    ab[1, :, 1:] = lower.conj()  # A[i, i+1]
+    ab[3, :, :-1] = lower  # A[i+1, i]
+    for j, rho, weight in couplings:
+        if fixed[j - 1] or fixed[j + 1]:
+            continue
+        c = (1.0 + rho) * e[:, j]
+        ab[2, :, j + 1] += weight
+        ab[2, :, j - 1] += weight * np.abs(rho) ** 2
+        ab[0, :, j + 1] += weight * rho.conj()  # A[j-1, j+1]
+        ab[4, :, j - 1] += weight * rho  # A[j+1, j-1]
+        rhs[:, j + 1] += weight * c
+        rhs[:, j - 1] += weight * rho.conj() * c
+    return solve_banded((2, 2), ab.reshape(5, -1), rhs.ravel(), check_finite=False).reshape(E, F)

@@ -11,27 +11,30 @@ import time
 
 import numpy as np
 
-from .assembly import FrameAssembler, centroid_path, incidence
+from .assembly import FrameAssembler, incidence
 from .edge_solve import solve_edges
-from .schemes import normal_equations
+from .schemes import normal_equations, step_angle
 
 __all__ = ["ASSEMBLY", "local_solve"]
 
 ASSEMBLY = ("shared", "per-frame")
 
 
-def local_solve(shape, z0, z1, t, edges, scheme, tol, max_iter, assembly="shared", callback=None):
+def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="shared",
+                callback=None, fixed=None, smooth=1.0):
     """Run Algorithm 2.
 
     Parameters
     ----------
     shape : Shape
-    z0, z1 : (n,) complex
-        Source and target vertices.
+    z : (n, m+1) complex
+        Vertex positions; the fixed frames (the inputs) are read from it.
     t : (m+1,) float
         Frame times, t[0] = 0 and t[-1] = 1.
     edges : (E, m+1) complex
-        Initial edge vectors (Eq. 13 or linear); columns 0 and m are the inputs'.
+        Initial edge vectors (Eq. 13 or linear); fixed frames' must be exact.
+    centroids : (C, m+1) complex
+        Centroid of every component in every frame (SPEC.md, defect 5).
     scheme : {'midpoint', 'paper'}
     tol : float
         Absolute tolerance of Eq. (11) (tau times the bounding-box diagonal).
@@ -41,6 +44,11 @@ def local_solve(shape, z0, z1, t, edges, scheme, tol, max_iter, assembly="shared
         factorisation per frame and iteration; 'shared' factorises once with
         w = 2 / (|e(0)| + |e(1)|) for all frames and iterations.
     callback : callable(iteration, energy, max_move), optional
+    fixed : (m+1,) bool array, optional
+        Frames held (keyframes); default the first and the last.
+    smooth : float
+        Weight of the term that lets the velocity turn smoothly through an
+        interior fixed frame (see :func:`solve_edges`).
 
     Returns
     -------
@@ -52,36 +60,48 @@ def local_solve(shape, z0, z1, t, edges, scheme, tol, max_iter, assembly="shared
     h = np.diff(t)
     D = incidence(shape.edges, shape.n_vertices)
     norm = float(np.sum(np.abs(edges[:, 0]) ** 2))
-    centroids = centroid_path(shape, z0, z1, t[1:-1])
+    if fixed is None:
+        fixed = np.zeros(len(t), dtype=bool)
+        fixed[[0, -1]] = True
+    free = np.flatnonzero(~fixed)
+    keys = np.flatnonzero(fixed[1:-1]) + 1
+    centroids = centroids[:, free]
+    z = z.copy()
     if assembly == "shared":
         shared = FrameAssembler(shape, 2.0 / (np.abs(edges[:, 0]) + np.abs(edges[:, -1])))
-    z = np.empty((len(z0), len(t)), dtype=complex)
-    z[:, 0], z[:, -1] = z0, z1
     energies, prev, converged, move = [], None, False, np.inf
     timing = {"assemble": 0.0, "edges": 0.0}
     for it in range(1, max_iter + 1):
         t0 = time.perf_counter()
         if assembly == "shared":
-            z[:, 1:-1] = shared.positions(edges[:, 1:-1], centroids)  # Eq. (10)
+            z[:, free] = shared.positions(edges[:, free], centroids)  # Eq. (10)
         else:  # Eq. (10) with the paper's per-frame weights
-            for k in range(1, len(t) - 1):
+            for i, k in enumerate(free):
                 a = FrameAssembler(shape, 1.0 / np.abs(edges[:, k]))
-                z[:, k] = a.positions(edges[:, k : k + 1], centroids[:, k - 1 : k])[:, 0]
+                z[:, k] = a.positions(edges[:, k : k + 1], centroids[:, i : i + 1])[:, 0]
         timing["assemble"] += time.perf_counter() - t0
         t0 = time.perf_counter()
         e = D @ z
         diag, lower, energy = normal_equations(e, h, scheme)  # Eq. (8), Eq. (6)
         energies.append(energy / norm)
         if prev is not None:
-            move = float(np.sqrt(np.max(np.abs(z[:, 1:-1] - prev) ** 2, initial=0.0)))  # Eq. (11)
+            move = float(np.max(np.abs(z[:, free] - prev), initial=0.0))  # Eq. (11)
         if callback is not None:
             callback(it, energies[-1], move)
         if move < tol:
             converged = True
             timing["edges"] += time.perf_counter() - t0
             break
-        prev = z[:, 1:-1].copy()
-        edges = solve_edges(e, diag, lower)  # Eq. (9)
+        prev = z[:, free]
+        couplings = [(k, _turn(e, k), smooth / h[k]) for k in keys] if smooth else []
+        edges = solve_edges(e, diag, lower, fixed, couplings)  # Eq. (9)
         timing["edges"] += time.perf_counter() - t0
     return z, {"energy": energies, "iterations": it, "converged": converged,
                "max_move": move, "timings": timing}
+
+
+def _turn(e, k):
+    """(E,) unit complex: per-step rotation of every edge around frame k."""
+    omega = step_angle(e[:, k - 1] + e[:, k], 2 * (e[:, k] - e[:, k - 1]))
+    omega += step_angle(e[:, k] + e[:, k + 1], 2 * (e[:, k + 1] - e[:, k]))
+    return np.exp(0.5j * omega)
