@@ -5,10 +5,13 @@ Pipeline: correspondence (compatibility, resampling, meshing) -> initialisation
 outputs (metrics, files, rendering).
 """
 
+from . import metrics
+from .correspondence import check_compatible
 from .errors import IsotweenError
+from .interpolate import interpolate
 from .sequence import Sequence
 from .shape import Shape
 
 __version__ = "0.1.0"
 
-__all__ = ["IsotweenError", "Sequence", "Shape"]
+__all__ = ["IsotweenError", "Sequence", "Shape", "check_compatible", "interpolate", "metrics"]
