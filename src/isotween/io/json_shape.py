@@ -46,14 +46,17 @@ def shape_from_fields(doc, vertices, edges, faces, uv, paths):
             bad = np.flatnonzero(np.any((rows < 0) | (rows >= n), axis=1))
             if bad.size:
                 raise doc.error(f"vertex index out of range [0, {n}): {rows[bad[0]].tolist()}", key, int(bad[0]))
-    for k, (idx, _) in enumerate(paths or []):
+    for k, (idx, closed) in enumerate(paths or []):
         if idx.size and (idx.min() < 0 or idx.max() >= n):
             raise doc.error(f"vertex index out of range [0, {n})", "paths", k, "indices")
+        if len(idx) < (3 if closed else 2):
+            kind = "a closed path needs 3" if closed else "an open path needs 2"
+            raise doc.error(f"{kind} or more indices, got {len(idx)}", "paths", k, "indices")
     if edges is not None and edges.size:
         loop = np.flatnonzero(edges[:, 0] == edges[:, 1])
         if loop.size:
             raise doc.error(f"edge joins vertex {edges[loop[0], 0]} to itself", "edges", int(loop[0]))
-    if edges is None and paths is not None and all(len(p) >= (3 if c else 2) for p, c in paths):
+    if edges is None and paths is not None:
         parts = [np.column_stack([p, np.roll(p, -1)] if c else [p[:-1], p[1:]]) for p, c in paths]
         edges = np.vstack(parts) if parts else None
     if uv is not None and len(uv) != len(vertices):
