@@ -440,7 +440,7 @@ def test_write_output_refuses_before_writing(tmp_path, name, fmt, error, expecte
 
 
 def test_write_output_rendered_kinds(tmp_path):
-    render = pytest.importorskip("isotween.render")
+    pytest.importorskip("isotween.render")
     from PIL import Image
 
     seq = blend_sequence(path_shape(), frames=4)
@@ -454,4 +454,18 @@ def test_write_output_rendered_kinds(tmp_path):
     assert "<html" in (tmp_path / "a.html").read_text().lower()
     io.write_output(seq, tmp_path / "pngs", format="png")
     assert sorted(os.listdir(tmp_path / "pngs")) == [f"frame_{k:04d}.png" for k in range(4)]
-    assert render is not None
+
+
+def test_malformed_sequence_files_name_the_problem(tmp_path):
+    np.savez(tmp_path / "a.npz", frames=np.zeros((3, 4)))
+    with pytest.raises(FileFormatError, match=r"a\.npz: array 'frames' must have shape \(frames, n, 2\)"):
+        io.load_sequence(tmp_path / "a.npz")
+    np.savez(tmp_path / "b.npz", frames=np.zeros((2, 3, 2)), edges=np.array([[0, 1]]), energy=np.array(["x"]))
+    with pytest.raises(FileFormatError, match="array 'energy' must be a 1-d array of numbers"):
+        io.load_sequence(tmp_path / "b.npz")
+    (tmp_path / "c.json").write_text('{"frames": [\n[[0, 0], [1, 0]],\n[[0, 0]]\n]}')
+    with pytest.raises(FileFormatError, match=r"c\.json, line 3: frames\[1\]: has 1 points, frame 0 has 2"):
+        io.load_sequence(tmp_path / "c.json")
+    (tmp_path / "d.json").write_text('{"frames": [[[0, 0], [1, 0]]], "iterations": "many"}')
+    with pytest.raises(FileFormatError, match="iterations: has the wrong type"):
+        io.load_sequence(tmp_path / "d.json")
