@@ -52,9 +52,12 @@ def write_frames(seq, directory, format="obj", texture=None, progress=False):
         raise ParameterError(f"unknown frame format '{format}'; use one of {', '.join(FRAME_FORMATS)}")
     if fmt == "png":
         render = require("isotween.render", "cli")
+        points = seq.frames.reshape(-1, 2)
+        # one view for every frame, so that the images line up
+        bbox = (*points.min(axis=0).tolist(), *points.max(axis=0).tolist())
 
         def writer(shape, path):
-            render.write_frame_png(shape, path, texture=texture)
+            render.write_frame_png(shape, path, texture=texture, bbox=bbox)
     else:
         from .shapes import SHAPE_FORMATS
 

@@ -124,7 +124,7 @@ def _uv(path, n, vts, pairs):
         k = int(bad[0])
         raise FileFormatError(f"{path}, line {lines[k]}: reference {v[k] + 1}/{t[k] + 1} is out of range")
     uv = np.full((n, 2), np.nan)
-    uv[v] = vts[t]
+    uv[v[::-1]] = vts[t[::-1]]  # the first pair of a vertex wins
     # a vertex met with two different texture coordinates is a UV seam
     clash = np.flatnonzero(np.any(uv[v] != vts[t], axis=1))
     if clash.size:

@@ -149,10 +149,9 @@ def _frames_array(path, frames, where):
     return frames
 
 
-def _check_meta(path, frames, times, energy):
+def _check_times(path, frames, times):
     if times is not None and times.shape != (len(frames),):
         raise FileFormatError(f"{path}: 'times' has {times.size} values for {len(frames)} frames")
-    return times, energy
 
 
 def _load_npz(path):
@@ -174,7 +173,10 @@ def _load_npz(path):
         a = arrays[name]
         if a.ndim != 0:
             raise FileFormatError(f"{path}: array '{name}' must be a single value, got shape {a.shape}")
-        return kind(a.item())
+        try:
+            return kind(a.item())
+        except (TypeError, ValueError):
+            raise FileFormatError(f"{path}: array '{name}' must be a {kind.__name__}, got {a.item()!r}") from None
 
     def parsed(name):
         try:
@@ -184,7 +186,10 @@ def _load_npz(path):
 
     times = arrays.get("times")
     energy = arrays.get("energy", np.zeros(0))
-    times, energy = _check_meta(path, frames, times, energy)
+    for name, a in (("times", times), ("energy", energy)):
+        if a is not None and (a.dtype.kind not in "iuf" or a.ndim != 1):
+            raise FileFormatError(f"{path}: array '{name}' must be a 1-d array of numbers, got {a.dtype} {a.shape}")
+    _check_times(path, frames, times)
     return Sequence(
         frames, shape, times=times, scheme=scalar("scheme", str, "midpoint"),
         energy=[float(e) for e in np.asarray(energy, dtype=np.float64).reshape(-1)],
@@ -215,7 +220,7 @@ def _load_json(path):
         raise FileFormatError(f"{path}: frames have {frames.shape[1]} points but 'vertices' has {shape.n_vertices}")
     times = doc.array("times", None, "float")
     energy = doc.array("energy", None, "float")
-    times, energy = _check_meta(path, frames, times, energy)
+    _check_times(path, frames, times)
 
     def field(key, types, default):
         value = data.get(key, default)

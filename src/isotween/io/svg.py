@@ -75,8 +75,6 @@ def _subpaths(se, element, curve_segments):
             out.append((current, closed))
             current = None  # a segment after Z starts a new subpath at the same point
             continue
-        if closed:
-            current, closed = [current[0][:1]], False
         if isinstance(seg, se.Line):
             current.append(np.array([[seg.end.x, seg.end.y]]))
         else:  # quadratic, cubic or arc
