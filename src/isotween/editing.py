@@ -7,7 +7,7 @@ import numpy as np
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import ParameterError
 from .initialisation import edge_rotations
-from .optimisation.assembly import FrameAssembler, averaging
+from .optimisation.assembly import FrameAssembler
 from .sequence import Sequence
 
 __all__ = ["edit"]
@@ -74,7 +74,7 @@ def edit(sequence, frame=None, shape=None, edits=None, keep_ends=True):
     d = S * np.diff(e, axis=1)  # Eq. (14), times h
     new = _integrate_held(d, keys, {k: base.edge_vectors(target[k]) for k in keys})  # Eq. (15)
     # translations: component centroids shifted by a blend of the held frames' shifts
-    avg = averaging(base.components, base.n_components)
+    avg = base.topology.avg
     c = avg @ z
     shift = np.stack([avg @ target[k] - c[:, k] for k in keys])  # (K, C)
     centroids = c + _interp_rows(t, t[keys], shift)

@@ -1,8 +1,6 @@
 """Initial guesses for the edge vectors of every frame (Sec. 4.3)."""
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order
 
 from .errors import ParameterError
 
@@ -35,28 +33,12 @@ def edge_rotations(shape, e0, e1):
     """
     ratio = e1 / e0
     s, theta = np.abs(ratio), np.angle(ratio)
-    E, n = shape.n_edges, shape.n_vertices
-    if E == 0:
+    if shape.n_edges == 0:
         return s, theta
-    # Breadth-first search on the edge-vertex incidence graph (nodes: E edges, n
-    # vertices, one virtual root). Every second level is a level of the graph
-    # of edges; this avoids building that graph, quadratic in vertex degree.
-    root = E + n
-    comp_of_edge = shape.components[shape.edges[:, 0]]
-    first = np.unique(comp_of_edge, return_index=True)[1]
-    rows = np.concatenate([np.arange(E), np.arange(E), np.full(len(first), root)])
-    cols = np.concatenate([E + shape.edges[:, 0], E + shape.edges[:, 1], first])
-    g = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(root + 1, root + 1))
-    _, pred = breadth_first_order(g, root, directed=False, return_predecessors=True)
-    via = pred[:E]  # vertex node (or the root) each edge was reached through
-    parent = np.where(via == root, np.arange(E), pred[np.minimum(via, root)])
-    # k_child = k_parent + round((theta_parent - theta_child) / 2 pi): sum the
-    # local jumps along every root path by pointer doubling (log depth steps)
-    k = np.round((theta[parent] - theta) / (2 * np.pi))
-    up = parent.copy()
-    while np.any(up[up] != up):
-        k += np.where(up != np.arange(E), k[up], 0.0)
-        up = up[up]
+    # k_child = k_parent + round((theta_parent - theta_child) / 2 pi), summed
+    # along every path to the root of the breadth-first tree
+    top = shape.topology
+    k = top.path_sums(np.round((theta[top.parent] - theta) / (2 * np.pi)))
     return s, theta + 2 * np.pi * k
 
 

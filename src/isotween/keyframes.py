@@ -12,7 +12,6 @@ from .easing import frame_times
 from .errors import ParameterError
 from .initialisation import edge_vector_init, linear_init
 from .interpolate import _check_choice
-from .optimisation.assembly import averaging
 from .optimisation.local_solver import ASSEMBLY, local_solve
 from .optimisation.schemes import SCHEMES
 from .sequence import Sequence
@@ -90,7 +89,7 @@ def interpolate_keyframes(keyframes, times=None, frames=None, easing="linear", i
         else:
             _check_choice("init", init, ("edge", "linear"))
         edges[:, a : b + 1] = seg
-    avg = averaging(base.components, base.n_components)
+    avg = base.topology.avg
     ck = avg @ zk  # (C, K)
     if K == 2:
         centroids = ck[:, :1] * (1 - t) + ck[:, 1:] * t

@@ -4,7 +4,7 @@ import numpy as np
 
 from .correspondence.compatibility import as_shape, check_compatible
 from .interpolate import interpolate
-from .optimisation.assembly import FrameAssembler, averaging
+from .optimisation.assembly import FrameAssembler
 from .sequence import Sequence
 from .velocity import relative_velocity_field
 
@@ -18,7 +18,7 @@ def component_similarities(source, target):
     -------
     a, b : (C,) complex
     """
-    avg = averaging(source.components, source.n_components)
+    avg = source.topology.avg
     cs, ct = avg @ source.z, avg @ target.z
     ds, dt = source.z - cs[source.components], target.z - ct[source.components]
     num = np.bincount(source.components, (ds.conj() * dt).real) + 1j * np.bincount(
@@ -72,7 +72,7 @@ def transfer(source_start, source_end, target_start, frames=9, **options):
     e[:, 0] = target_start.edge_vectors()
     e[:, 1:] = e[:, :1] + np.cumsum(warped * h, axis=1)  # Eq. (15) minimised
     a, _ = component_similarities(source_start, target_start)
-    avg = averaging(source_start.components, source_start.n_components)
+    avg = source_start.topology.avg
     c = avg @ seq.z.T  # (C, F) source centroids
     centroids = (avg @ target_start.z)[:, None] + a[:, None] * (c - c[:, :1])
     asm = FrameAssembler(target_start, 2.0 / (np.abs(e[:, 0]) + np.abs(e[:, -1])))

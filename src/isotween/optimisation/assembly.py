@@ -12,30 +12,15 @@ one solve).
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.linalg import cho_factor, cho_solve
 from scipy.sparse.linalg import splu
 
-__all__ = ["incidence", "averaging", "centroid_path", "FrameAssembler"]
-
-
-def incidence(edges, n):
-    """(E, n) sparse D with (D z)_e = z_j - z_i for edge e = (i, j)."""
-    E = len(edges)
-    rows = np.repeat(np.arange(E), 2)
-    vals = np.tile([-1.0, 1.0], E)
-    return sp.csr_matrix((vals, (rows, edges.ravel())), shape=(E, n))
-
-
-def averaging(components, n_components):
-    """(C, n) sparse matrix: (A z)_c is the centroid of component c."""
-    counts = np.bincount(components, minlength=n_components)
-    n = len(components)
-    return sp.csr_matrix((1.0 / counts[components], (components, np.arange(n))),
-                         shape=(n_components, n))
+__all__ = ["centroid_path", "FrameAssembler"]
 
 
 def centroid_path(shape, z0, z1, t):
     """(C, len(t)) complex: every component's centroid blended linearly in t."""
-    avg = averaging(shape.components, shape.n_components)
+    avg = shape.topology.avg
     t = np.asarray(t)[None, :]
     return (1 - t) * (avg @ z0)[:, None] + t * (avg @ z1)[:, None]
 
@@ -60,23 +45,33 @@ class FrameAssembler:
         Incidence restricted to the free vertices.
     """
 
+    #: below this many free vertices the Laplacian is factorised densely
+    DENSE = 160
+
     def __init__(self, shape, weights=None):
-        n = shape.n_vertices
-        self.components, self.n_components = shape.components, shape.n_components
-        self.anchors = np.unique(self.components, return_index=True)[1]  # (C,)
-        self.free = np.setdiff1d(np.arange(n), self.anchors)
-        self.n = n
-        self.D_free = incidence(shape.edges, n)[:, self.free].tocsc()
-        self.weights = np.ones(shape.n_edges) if weights is None else np.asarray(weights, float)
-        self._lu = None
-        if self.free.size:
-            L = (self.D_free.T @ sp.diags(self.weights) @ self.D_free).tocsc()
+        top = shape.topology
+        self.n, self.components, self.n_components = top.n, top.components, top.n_components
+        self.anchors, self.free, self.D_free, self._avg = top.anchors, top.free, top.D_free, top.avg
+        self.weights = np.ones(top.n_edges) if weights is None else np.asarray(weights, float)
+        self._Dt = top.D_free_T
+        self._lu = self._cho = None
+        nf = self.free.size
+        if nf == 0:
+            return
+        edge, sign, slot, indices, indptr, linear = top.laplacian_pattern
+        data = np.bincount(slot, sign * self.weights[edge], minlength=len(indices))
+        if nf <= self.DENSE:
+            L = np.zeros(nf * nf)
+            L[linear] = data
+            self._cho = cho_factor(L.reshape(nf, nf), check_finite=False)
+        else:
+            L = sp.csc_matrix((data, indices, indptr), shape=(nf, nf))
             self._lu = splu(L, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
-        self._DtW = (self.D_free.T @ sp.diags(self.weights)).tocsr()
-        self._avg = averaging(self.components, self.n_components)
 
     def solve_laplacian(self, b):
         """Apply L^{-1} to (n_free, k) complex right-hand sides."""
+        if self._cho is not None:
+            return cho_solve(self._cho, b, check_finite=False)
         if self._lu is None:
             return np.zeros_like(b)
         k = b.shape[1]
@@ -98,7 +93,7 @@ class FrameAssembler:
         (n, F) complex vertex positions.
         """
         z = np.zeros((self.n, e.shape[1]), dtype=complex)
-        z[self.free] = self.solve_laplacian(self._DtW @ e)
+        z[self.free] = self.solve_laplacian(self._Dt @ (self.weights[:, None] * e))
         return self.place(z, centroids)
 
     def gauge(self, z):

@@ -19,7 +19,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator, cg, spsolve
 
 from ..errors import ParameterError
-from .assembly import FrameAssembler, centroid_path, incidence
+from .assembly import FrameAssembler, centroid_path
 from .edge_solve import TridiagonalSolver, tridiagonal
 from .schemes import coefficients, isometric_energy
 
@@ -60,7 +60,7 @@ def global_solve(shape, z0, z1, t, z, scheme, tol, max_iter, linear_solver="cg",
     asm = FrameAssembler(shape)
     D, nf = asm.D_free, asm.free.size
     centroids = centroid_path(shape, z0, z1, t[1:-1])
-    Dfull = incidence(shape.edges, shape.n_vertices)
+    Dfull = shape.topology.D
     z = z.copy()
     e = Dfull @ z
     energies = [isometric_energy(e, h, scheme)]

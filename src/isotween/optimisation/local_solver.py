@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from .assembly import FrameAssembler, incidence
+from .assembly import FrameAssembler
 from .edge_solve import solve_edges
 from .schemes import normal_equations, step_angle
 
@@ -58,7 +58,7 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
         energy (list), iterations, converged, max_move, timings.
     """
     h = np.diff(t)
-    D = incidence(shape.edges, shape.n_vertices)
+    D = shape.topology.D
     norm = float(np.sum(np.abs(edges[:, 0]) ** 2))
     if fixed is None:
         fixed = np.zeros(len(t), dtype=bool)
