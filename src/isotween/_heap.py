@@ -16,8 +16,12 @@ _M_TRIM_THRESHOLD, _M_TOP_PAD, _M_MMAP_THRESHOLD = -1, -2, -3
 _done = False
 
 
-def keep_heap(trim=1 << 30, pad=64 << 20, mmap=256 << 20):
-    """Apply the thresholds once (bytes); returns True when they were set."""
+def keep_heap(trim=1 << 30, pad=64 << 20, mmap=32 << 20):
+    """Apply the thresholds once (bytes); returns True when all were set.
+
+    glibc caps the mmap threshold at 32 MiB; arrays above it are still mapped
+    afresh, which is why the solvers work on blocks of edges below that size.
+    """
     global _done
     if _done or os.environ.get("ISOTWEEN_KEEP_HEAP", "1") == "0":
         return False
@@ -27,5 +31,6 @@ def keep_heap(trim=1 << 30, pad=64 << 20, mmap=256 << 20):
         mallopt = libc.mallopt
     except (OSError, AttributeError):
         return False
-    return all(mallopt(k, v) == 1 for k, v in
-               ((_M_MMAP_THRESHOLD, mmap), (_M_TRIM_THRESHOLD, trim), (_M_TOP_PAD, pad)))
+    results = [mallopt(k, v) for k, v in
+               ((_M_MMAP_THRESHOLD, mmap), (_M_TRIM_THRESHOLD, trim), (_M_TOP_PAD, pad))]
+    return all(r == 1 for r in results)

@@ -53,7 +53,9 @@ class FrameAssembler:
         self.n, self.components, self.n_components = top.n, top.components, top.n_components
         self.anchors, self.free, self.D_free, self._avg = top.anchors, top.free, top.D_free, top.avg
         self.weights = np.ones(top.n_edges) if weights is None else np.asarray(weights, float)
-        self._Dt = top.D_free_T
+        Dt = top.D_free_T
+        self._DtW = sp.csr_matrix((Dt.data * self.weights[Dt.indices], Dt.indices, Dt.indptr),
+                                  shape=Dt.shape)
         self._lu = self._cho = None
         nf = self.free.size
         if nf == 0:
@@ -92,8 +94,12 @@ class FrameAssembler:
         -------
         (n, F) complex vertex positions.
         """
-        z = np.zeros((self.n, e.shape[1]), dtype=complex)
-        z[self.free] = self.solve_laplacian(self._Dt @ (self.weights[:, None] * e))
+        F = e.shape[1]
+        rhs = self._DtW @ e
+        z = np.zeros((self.n, F), dtype=complex)
+        step = max(1, (4 << 20) // (16 * max(self.free.size, 1)))  # blocks of <= 4 MiB
+        for c in range(0, F, step):
+            z[self.free, c : c + step] = self.solve_laplacian(rhs[:, c : c + step])
         return self.place(z, centroids)
 
     def gauge(self, z):
@@ -101,5 +107,7 @@ class FrameAssembler:
         return (z - z[self.anchors[self.components]])[self.free]
 
     def place(self, z, centroids):
-        """Translate each component of (n, F) frames onto the (C, F) centroids."""
-        return z + (centroids - self._avg @ z)[self.components]
+        """Translate each component of (n, F) frames onto the (C, F) centroids (in place)."""
+        shift = centroids - self._avg @ z
+        z += shift if self.n_components == 1 else shift[self.components]
+        return z

@@ -7,7 +7,9 @@ tolerance (Eq. 11). Arrays are laid out with time last: edges (E, m+1),
 vertices (n, m+1).
 """
 
+import os
 import time
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -58,17 +60,19 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
         energy (list), iterations, converged, max_move, timings.
     """
     h = np.diff(t)
-    D = shape.topology.D
     norm = float(np.sum(np.abs(edges[:, 0]) ** 2))
     if fixed is None:
         fixed = np.zeros(len(t), dtype=bool)
         fixed[[0, -1]] = True
     free = np.flatnonzero(~fixed)
+    if free.size and free[-1] - free[0] + 1 == free.size:
+        free = slice(free[0], free[-1] + 1)  # a view, not a copy, of the frames
     keys = np.flatnonzero(fixed[1:-1]) + 1
     centroids = centroids[:, free]
     z = z.copy()
     if assembly == "shared":
         shared = FrameAssembler(shape, 2.0 / (np.abs(edges[:, 0]) + np.abs(edges[:, -1])))
+    blocks = _EdgeBlocks(shape.topology.D, len(t))
     energies, prev, converged, move = [], None, False, np.inf
     timing = {"assemble": 0.0, "edges": 0.0}
     for it in range(1, max_iter + 1):
@@ -76,26 +80,32 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
         if assembly == "shared":
             z[:, free] = shared.positions(edges[:, free], centroids)  # Eq. (10)
         else:  # Eq. (10) with the paper's per-frame weights
-            for i, k in enumerate(free):
+            for i, k in enumerate(np.arange(len(t))[free]):
                 a = FrameAssembler(shape, 1.0 / np.abs(edges[:, k]))
                 z[:, k] = a.positions(edges[:, k : k + 1], centroids[:, i : i + 1])[:, 0]
         timing["assemble"] += time.perf_counter() - t0
         t0 = time.perf_counter()
-        e = D @ z
-        diag, lower, energy = normal_equations(e, h, scheme)  # Eq. (8), Eq. (6)
-        energies.append(energy / norm)
         if prev is not None:
             move = float(np.max(np.abs(z[:, free] - prev), initial=0.0))  # Eq. (11)
+        converged = move < tol
+        prev = z[:, free]
+
+        def work(rows, D_rows, out):
+            e = D_rows @ z
+            diag, lower, energy = normal_equations(e, h, scheme)  # Eq. (8), Eq. (6)
+            if not converged:
+                couplings = [(k, _turn(e, k), smooth / h[k]) for k in keys] if smooth else []
+                out[rows] = solve_edges(e, diag, lower, fixed, couplings)  # Eq. (9)
+            return energy
+
+        edges, energy = blocks.map(work)
+        energies.append(energy / norm)
+        timing["edges"] += time.perf_counter() - t0
         if callback is not None:
             callback(it, energies[-1], move)
-        if move < tol:
-            converged = True
-            timing["edges"] += time.perf_counter() - t0
+        if converged:
             break
-        prev = z[:, free]
-        couplings = [(k, _turn(e, k), smooth / h[k]) for k in keys] if smooth else []
-        edges = solve_edges(e, diag, lower, fixed, couplings)  # Eq. (9)
-        timing["edges"] += time.perf_counter() - t0
+    blocks.close()
     return z, {"energy": energies, "iterations": it, "converged": converged,
                "max_move": move, "timings": timing}
 
@@ -105,3 +115,40 @@ def _turn(e, k):
     omega = step_angle(e[:, k - 1] + e[:, k], 2 * (e[:, k] - e[:, k - 1]))
     omega += step_angle(e[:, k] + e[:, k + 1], 2 * (e[:, k + 1] - e[:, k]))
     return np.exp(0.5j * omega)
+
+
+class _EdgeBlocks:
+    """Runs a per-edge computation over blocks of edges, on several threads.
+
+    Blocks stay below glibc's mmap threshold (so their temporaries reuse heap
+    memory instead of faulting fresh pages in) and numpy releases the GIL in
+    the elementwise work, so two blocks run at once on two cores.
+    """
+
+    BYTES = 4 << 20
+
+    def __init__(self, D, frames):
+        E = D.shape[0]
+        step = max(1, self.BYTES // (16 * frames))
+        self.rows = [slice(i, min(i + step, E)) for i in range(0, E, step)] or [slice(0, 0)]
+        self.D = [D[r] for r in self.rows] if len(self.rows) > 1 else [D]
+        self.shape = (E, frames)
+        self._out = np.empty(self.shape, dtype=complex)
+        self._spare = np.empty(self.shape, dtype=complex)
+        workers = min(len(self.rows), os.cpu_count() or 1, 4)
+        self.pool = ThreadPoolExecutor(workers) if workers > 1 else None
+
+    def map(self, work):
+        """work(rows, D_rows, out) -> energy; returns (out, total energy)."""
+        out, self._spare = self._spare, self._out
+        self._out = out
+        args = list(zip(self.rows, self.D))
+        if self.pool is None:
+            energies = [work(r, d, out) for r, d in args]
+        else:
+            energies = list(self.pool.map(lambda a: work(a[0], a[1], out), args))
+        return out, float(sum(energies))
+
+    def close(self):
+        if self.pool is not None:
+            self.pool.shutdown()
