@@ -5,10 +5,22 @@ Pipeline: correspondence (compatibility, resampling, meshing) -> initialisation
 outputs (metrics, files, rendering).
 """
 
+from . import easing, io, metrics
+from .correspondence import check_compatible
+from .editing import edit
 from .errors import IsotweenError
+from .interpolate import interpolate
+from .io import load, load_sequence, save, save_sequence, write_output
+from .keyframes import interpolate_keyframes
 from .sequence import Sequence
 from .shape import Shape
+from .transfer import transfer
+from .velocity import RelativeVelocityField, relative_velocity_field
 
 __version__ = "0.1.0"
 
-__all__ = ["IsotweenError", "Sequence", "Shape"]
+__all__ = [
+    "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "check_compatible", "easing",
+    "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "metrics",
+    "relative_velocity_field", "save", "save_sequence", "transfer", "write_output",
+]

@@ -1,5 +1,6 @@
 """The planar shape model: vertices plus connectivity (edges, optional triangles)."""
 
+import functools
 import warnings
 
 import numpy as np
@@ -157,6 +158,13 @@ class Shape:
     @property
     def n_faces(self):
         return 0 if self.faces is None else len(self.faces)
+
+    @functools.cached_property
+    def topology(self):
+        """Connectivity data shared by shapes with these edges (:class:`Topology`)."""
+        from .topology import Topology
+
+        return Topology(self.edges, self.n_vertices, self.components, self.n_components)
 
     @property
     def z(self):

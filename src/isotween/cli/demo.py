@@ -1,0 +1,64 @@
+"""``isotween demo [NAME]``: run a built-in example and write an animation."""
+
+from pathlib import Path
+
+import click
+
+from ..errors import FileFormatError, MissingDependencyError, ParameterError
+from . import main
+from ..io import write_output
+from .options import SOLVER_KEYS, progress, summary, timer
+
+
+@main.command("demo")
+@click.argument("name", required=False)
+@click.option("-o", "--output", "outdir", default="isotween-demo", show_default=True,
+              help="Folder for NAME.gif and NAME.html (created if missing).")
+@click.option("--list", "list_names", is_flag=True, help="List the built-in examples and exit.")
+@click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
+def demo_command(name, outdir, list_names, quiet):
+    """Interpolate the built-in example NAME (default: the first one).
+
+    Writes OUTDIR/NAME.gif and OUTDIR/NAME.html.
+    """
+    from .. import interpolate
+
+    try:
+        from .. import examples
+    except ImportError:
+        raise MissingDependencyError("the built-in examples (isotween.examples) are not installed") from None
+
+    names = list(examples.names())
+    if list_names:
+        click.echo("\n".join(names))
+        return
+    if not names:
+        raise ParameterError("no built-in examples are installed")
+    name = name or names[0]
+    if name not in names:
+        raise ParameterError(f"unknown example '{name}'; available: {', '.join(names)}")
+    folder = Path(outdir)
+    if folder.exists() and not folder.is_dir():
+        raise FileFormatError(f"cannot write to {folder}: it is a file, not a folder")
+    if not folder.parent.is_dir():
+        raise FileFormatError(f"cannot create {folder}: {folder.parent} does not exist")
+    elapsed = timer()
+    source, target, options = examples.load_example(name)
+    kwargs = {k: options[k] for k in SOLVER_KEYS if k in options}
+    texture = options.get("texture")
+    with progress(quiet, total=kwargs.get("max_iter", 100)) as callback:
+        seq = interpolate(source, target, callback=callback, **kwargs)
+    seconds = elapsed()
+    created = not folder.exists()
+    folder.mkdir(exist_ok=True)
+    written = []
+    try:
+        for out in (folder / f"{name}.gif", folder / f"{name}.html"):
+            written += write_output(seq, out, texture=texture, quiet=quiet)
+    except BaseException:
+        for p in written:
+            p.unlink(missing_ok=True)
+        if created and not any(folder.iterdir()):
+            folder.rmdir()
+        raise
+    click.echo(summary(seq, seconds, written))

@@ -1,0 +1,43 @@
+"""``isotween interpolate SOURCE TARGET``: the in-betweens of two shape files."""
+
+import click
+
+from . import main
+from .options import (
+    check_outputs,
+    emit,
+    ensure_compatible,
+    frames_option,
+    output_options,
+    progress,
+    solver_kwargs,
+    solver_options,
+    timer,
+)
+
+
+@main.command("interpolate")
+@click.argument("source")
+@click.argument("target")
+@frames_option
+@solver_options
+@output_options
+def interpolate_command(source, target, output, fmt, texture, plot, quiet, **params):
+    """Interpolate SOURCE into TARGET as-isometrically-as-possible.
+
+    SOURCE and TARGET are shape files (.obj .off .svg .json .npz) with the
+    same vertex count and connectivity. The output kind follows -o: an
+    animation (.gif .mp4 .html), a strip of frames (.png), a sequence file
+    (.npz .json), or a folder of frame files (with --format).
+    """
+    from .. import interpolate
+    from ..io import load
+
+    elapsed = timer()
+    check_outputs(output, fmt, texture, plot)
+    src, tgt = load(source), load(target)
+    ensure_compatible(src, tgt, source, target)
+    kwargs = solver_kwargs(params)
+    with progress(quiet, total=kwargs.get("max_iter")) as callback:
+        seq = interpolate(src, tgt, callback=callback, **kwargs)
+    emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())

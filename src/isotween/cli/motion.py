@@ -1,0 +1,95 @@
+"""``isotween transfer``, ``isotween edit`` and ``isotween keyframes``."""
+
+import click
+
+from . import main
+from .options import check_outputs, emit, frames_option, output_options, progress, timer
+
+_scheme = click.option("--scheme", type=click.Choice(["midpoint", "paper"]), default="midpoint",
+                       show_default=True, help="Time discretisation of the energy (Eq. 6).")
+_tol = click.option("--tol", type=float, default=5e-4, show_default=True,
+                    help="Stop when no vertex moves more than tol x bounding-box diagonal (Eq. 11).")
+_max_iter = click.option("--max-iter", type=int, default=100, show_default=True, help="Iteration limit.")
+
+
+@main.command("transfer")
+@click.argument("source_start")
+@click.argument("source_end")
+@click.argument("target_start")
+@frames_option
+@_scheme
+@_tol
+@_max_iter
+@output_options
+def transfer_command(source_start, source_end, target_start, frames, scheme, tol, max_iter,
+                     output, fmt, texture, plot, quiet):
+    """Move TARGET_START the way SOURCE_START moves into SOURCE_END (Sec. 5.1)."""
+    from .. import transfer
+    from ..io import load
+
+    elapsed = timer()
+    check_outputs(output, fmt, texture, plot)
+    shapes = [load(p) for p in (source_start, source_end, target_start)]
+    with progress(quiet, total=max_iter) as callback:
+        seq = transfer(*shapes, frames=frames, scheme=scheme, tol=tol, max_iter=max_iter,
+                       callback=callback)
+    emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())
+
+
+@main.command("edit")
+@click.argument("sequence")
+@click.option("--frame", "-k", "frames", type=int, multiple=True, required=True,
+              help="Index of an edited frame (repeat with --shape for several).")
+@click.option("--shape", "shapes", multiple=True, required=True,
+              help="The edited frame's shape file, one per --frame.")
+@click.option("--free-ends", is_flag=True,
+              help="Let the first and last frames change too (the paper's procedure).")
+@output_options
+def edit_command(sequence, frames, shapes, free_ends, output, fmt, texture, plot, quiet):
+    """Replace frames of SEQUENCE (.npz/.json or a folder of frames) and carry
+    the change through its motion (Sec. 5.2)."""
+    from .. import edit
+    from ..errors import ParameterError
+    from ..io import load, load_sequence
+
+    elapsed = timer()
+    if len(frames) != len(shapes):
+        raise ParameterError(f"give one --shape per --frame ({len(frames)} frames, {len(shapes)} shapes)")
+    check_outputs(output, fmt, texture, plot)
+    seq = load_sequence(sequence)
+    out = edit(seq, edits={k: load(p) for k, p in zip(frames, shapes)}, keep_ends=not free_ends)
+    emit(out, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())
+
+
+@main.command("keyframes")
+@click.argument("keyframes", nargs=-1, required=True)
+@click.option("--frames", "-n", type=int, default=None,
+              help="Total number of frames, keyframes included [default: 8 per segment + 1].")
+@click.option("--times", default=None, help="Keyframe times, comma separated, from 0 to 1.")
+@click.option("--easing", type=click.Choice(["linear", "ease-in", "ease-out", "ease-in-out"]),
+              default="linear", show_default=True, help="Spacing of the frames in time.")
+@click.option("--smooth", type=float, default=1.0, show_default=True,
+              help="How strongly velocities turn smoothly through interior keyframes.")
+@_scheme
+@_tol
+@_max_iter
+@output_options
+def keyframes_command(keyframes, frames, times, easing, smooth, scheme, tol, max_iter,
+                      output, fmt, texture, plot, quiet):
+    """AIAP through every KEYFRAME file at once (at least two)."""
+    from .. import interpolate_keyframes
+    from ..errors import ParameterError
+    from ..io import load
+
+    elapsed = timer()
+    check_outputs(output, fmt, texture, plot)
+    if times is not None:
+        try:
+            times = [float(x) for x in times.split(",")]
+        except ValueError:
+            raise ParameterError(f"--times must be numbers separated by commas, got {times!r}") from None
+    shapes = [load(p) for p in keyframes]
+    with progress(quiet, total=max_iter) as callback:
+        seq = interpolate_keyframes(shapes, times=times, frames=frames, easing=easing, smooth=smooth,
+                                    scheme=scheme, tol=tol, max_iter=max_iter, callback=callback)
+    emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())

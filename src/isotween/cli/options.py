@@ -1,0 +1,195 @@
+"""Options shared by the commands that compute a sequence, and `emit` that writes it.
+
+Use as decorators on a click command::
+
+    @main.command("interpolate")
+    @frames_option
+    @solver_options
+    @output_options
+    def cmd(frames, solver, init, scheme, tol, max_iter, method,
+            output, fmt, texture, plot, quiet): ...
+
+and call `check_outputs` before any work, `progress` around the solve, and
+`emit` at the end.
+"""
+
+import math
+import sys
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+import click
+
+from ..errors import FileFormatError, IncompatibleShapesError, require
+from ..io import FRAME_FORMATS, output_kind, write_output
+from ..io._files import atomic_path
+
+__all__ = [
+    "frames_option",
+    "solver_options",
+    "output_options",
+    "solver_kwargs",
+    "check_outputs",
+    "ensure_compatible",
+    "progress",
+    "emit",
+    "summary",
+    "timer",
+]
+
+SOLVER_KEYS = ("frames", "solver", "init", "scheme", "tol", "max_iter", "method")
+
+
+def _compose(*decorators):
+    def apply(func):
+        for decorator in reversed(decorators):
+            func = decorator(func)
+        return func
+
+    return apply
+
+
+frames_option = click.option(
+    "--frames", "-n", type=int, default=9, show_default=True,
+    help="Number of frames, both inputs included.",
+)
+
+solver_options = _compose(
+    click.option("--solver", type=click.Choice(["local", "global"]), default="local", show_default=True,
+                 help="Per-edge local solver (Alg. 2) or one sparse system per iteration (Alg. 1)."),
+    click.option("--init", type=click.Choice(["edge", "linear"]), default="edge", show_default=True,
+                 help="Initial guess: edge-vector interpolation (Eqs. 12-13) or linear blending."),
+    click.option("--scheme", type=click.Choice(["midpoint", "paper"]), default="midpoint", show_default=True,
+                 help="Time discretisation of the energy (Eq. 6)."),
+    click.option("--tol", type=float, default=5e-4, show_default=True,
+                 help="Stop when no vertex moves more than tol x bounding-box diagonal (Eq. 11)."),
+    click.option("--max-iter", type=int, default=100, show_default=True, help="Iteration limit."),
+    click.option("--method", default="aiap", show_default=True,
+                 help="aiap, or a baseline: linear, intrinsic, arap, arap-baxter, shapespace."),
+)
+
+output_options = _compose(
+    click.option("-o", "--output", "output", required=True,
+                 help="Output: .gif .mp4 .html .png (strip) .npz .json (sequence) or a folder."),
+    click.option("--format", "fmt", type=click.Choice(FRAME_FORMATS), default=None,
+                 help="Write one file per frame in this format into the -o folder."),
+    click.option("--texture", default=None, help="Image mapped through the shape's uv in rendered outputs."),
+    click.option("--plot", default=None, help="Also plot the energy per iteration to this image file."),
+    click.option("--quiet", "-q", is_flag=True, help="No progress bar."),
+)
+
+
+def solver_kwargs(params):
+    """The keyword arguments of `isotween.interpolate` among a command's parameters."""
+    return {k: params[k] for k in SOLVER_KEYS if k in params}
+
+
+def check_outputs(output, fmt=None, texture=None, plot=None):
+    """Fail before any computation when an output cannot be written.
+
+    Raises
+    ------
+    FileFormatError
+        Unknown output kind, missing folder, missing texture image.
+    """
+    output_kind(output, fmt)
+    if texture is not None and not Path(texture).is_file():
+        raise FileFormatError(f"{texture}: no such texture image")
+    if plot is not None:
+        parent = Path(plot).parent
+        if not parent.is_dir():
+            raise FileFormatError(f"cannot write {plot}: {parent} does not exist")
+        if Path(plot).suffix.lower() not in (".png", ".pdf", ".svg"):
+            raise FileFormatError(f"{plot}: the energy plot must be a .png, .pdf or .svg file")
+
+
+def ensure_compatible(source, target, source_path, target_path):
+    """`check_compatible` with a message that names both files and the way out.
+
+    Raises
+    ------
+    IncompatibleShapesError
+    """
+    from ..correspondence import check_compatible
+
+    try:
+        check_compatible(source, target, names=[str(source_path), str(target_path)])
+    except IncompatibleShapesError as exc:
+        raise IncompatibleShapesError(
+            f"{source_path} and {target_path} are not compatible: {exc}. Make them compatible first, "
+            f"e.g. `isotween prepare {source_path} {target_path} --resample N` "
+            "(same vertex count N and connectivity for both)"
+        ) from None
+
+
+@contextmanager
+def progress(quiet=False, total=None, desc="iterations"):
+    """A progress bar on stderr; yields the ``callback(iteration, energy, max_move)``.
+
+    The bar appears only for runs longer than half a second and never with
+    ``quiet``.
+    """
+    if quiet:
+        yield None
+        return
+    from tqdm import tqdm
+
+    bar = tqdm(total=total, desc=desc, unit="it", file=sys.stderr, leave=False, delay=0.5)
+
+    def callback(iteration, energy, max_move):
+        bar.set_postfix(energy=f"{energy:.4g}", move=f"{max_move:.2g}", refresh=False)
+        bar.update(1)
+
+    try:
+        yield callback
+    finally:
+        bar.close()
+
+
+def summary(seq, seconds, written):
+    """One line: frames, vertices, edges, iterations, converged, energy, seconds, outputs."""
+    energy = seq.energy[-1] if len(seq.energy) else math.nan
+    return (
+        f"frames={len(seq)} vertices={seq.shape.n_vertices} edges={seq.shape.n_edges} "
+        f"iterations={seq.iterations} converged={'yes' if seq.converged else 'no'} "
+        f"energy={energy:.4g} seconds={seconds:.3f} -> {', '.join(str(p) for p in written)}"
+    )
+
+
+def emit(seq, out, fmt=None, texture=None, quiet=False, plot=None, seconds=None):
+    """Write ``seq`` to ``out`` (a path or a list of paths) and print the summary line.
+
+    Parameters
+    ----------
+    seq : Sequence
+    out : path-like or list of path-like
+    fmt : str, optional
+        Frame format for a folder output.
+    texture : path-like, optional
+    quiet : bool
+        No progress bars.
+    plot : path-like, optional
+        Energy plot (`isotween.render.plot_energy`).
+    seconds : float, optional
+        Time to report; defaults to the sequence's ``timings['total']``.
+    """
+    outs = out if isinstance(out, (list, tuple)) else [out]
+    written = []
+    for o in outs:
+        written += write_output(seq, o, format=fmt, texture=texture, quiet=quiet)
+    if plot is not None:
+        render = require("isotween.render", "cli")
+        with atomic_path(plot) as tmp:
+            render.plot_energy(seq, tmp)
+        written.append(Path(plot))
+    if seconds is None:
+        seconds = float(seq.timings.get("total", math.nan))
+    click.echo(summary(seq, seconds, written))
+    return written
+
+
+def timer():
+    """Seconds since the call, as a function (``elapsed = timer(); ...; elapsed()``)."""
+    start = time.perf_counter()
+    return lambda: time.perf_counter() - start

@@ -1,0 +1,41 @@
+"""Easing of the time parameter: where the frames of a sequence fall in [0, 1]."""
+
+import numpy as np
+
+from .errors import ParameterError
+
+__all__ = ["EASINGS", "frame_times"]
+
+EASINGS = {
+    "linear": lambda s: s,
+    "ease-in": lambda s: s * s,
+    "ease-out": lambda s: s * (2.0 - s),
+    "ease-in-out": lambda s: s * s * (3.0 - 2.0 * s),
+}
+
+
+def frame_times(frames, easing="linear"):
+    """Times t_k = u(k / (frames - 1)) of every frame.
+
+    Parameters
+    ----------
+    frames : int
+    easing : str or callable
+        One of :data:`EASINGS` or a monotone curve u: [0, 1] -> [0, 1] with
+        u(0) = 0 and u(1) = 1, applied elementwise to an array.
+
+    Returns
+    -------
+    (frames,) float array, strictly increasing from 0 to 1.
+    """
+    curve = EASINGS.get(easing) if isinstance(easing, str) else easing
+    if curve is None or not callable(curve):
+        raise ParameterError(f"unknown easing {easing!r}; choose one of {', '.join(EASINGS)} or pass a function")
+    s = np.linspace(0.0, 1.0, int(frames))
+    t = np.asarray(curve(s), dtype=float)
+    if t.shape != s.shape or not np.all(np.isfinite(t)):
+        raise ParameterError("the easing curve must map an array of times to finite times")
+    if abs(t[0]) > 1e-12 or abs(t[-1] - 1.0) > 1e-12 or np.any(np.diff(t) <= 0):
+        raise ParameterError("the easing curve must increase strictly from u(0) = 0 to u(1) = 1")
+    t[0], t[-1] = 0.0, 1.0
+    return t

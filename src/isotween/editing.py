@@ -1,0 +1,129 @@
+"""Sequence editing (Sec. 5.2): change some frames, keep the motion style."""
+
+import numbers
+
+import numpy as np
+
+from .correspondence.compatibility import as_shape, check_compatible
+from .errors import ParameterError
+from .initialisation import edge_rotations
+from .optimisation.assembly import FrameAssembler
+from .sequence import Sequence
+
+__all__ = ["edit"]
+
+
+def edit(sequence, frame=None, shape=None, edits=None, keep_ends=True):
+    """Edit frames of a sequence and carry the change through its motion.
+
+    Each edited frame k gives every edge a similarity S~_ij(t_k) with
+    S~ e(t_k) = e~(t_k). The relative velocities are warped by it (Eq. 14)
+    and the edge vectors rebuilt by minimising Eq. (15) with the edited frames
+    (and, with ``keep_ends``, the first and last frames) held; frames are then
+    assembled by Eq. (10). With one edit and ``keep_ends=False`` this is the
+    paper's procedure (S~ constant in time). With several held frames, S~ is
+    blended between them (log-scale and angle linear in time) and the
+    mismatch left by Eq. (15) is spread linearly between held frames, so an
+    edit fades out towards the held frames around it.
+
+    Parameters
+    ----------
+    sequence : Sequence
+    frame : int, optional
+        Index of the edited frame (with ``shape``).
+    shape : Shape, optional
+        The edited frame.
+    edits : dict {int: Shape}, optional
+        Several edited frames at once.
+    keep_ends : bool
+        Hold the first and last frames unless they are edited.
+
+    Returns
+    -------
+    Sequence
+        Same length and connectivity; the edited frames are matched exactly.
+    """
+    edits = dict(edits or {})
+    if frame is not None or shape is not None:
+        if frame is None or shape is None:
+            raise ParameterError("give both frame= and shape= (or edits={frame: shape})")
+        edits[frame] = shape
+    if not edits:
+        raise ParameterError("nothing to edit: give frame= and shape=, or edits={frame: shape}")
+    F = len(sequence)
+    for k in edits:
+        if isinstance(k, bool) or not isinstance(k, numbers.Integral) or not 0 <= k < F:
+            raise ParameterError(f"frame index {k!r} is out of range for a sequence of {F} frames (0..{F - 1})")
+    names = ["sequence"] + [f"edited frame {k}" for k in edits]
+    check_compatible(sequence.shape, *[as_shape(s, f"edited frame {k}") for k, s in edits.items()],
+                     names=names)
+    base = sequence.shape
+    z = sequence.z.T  # (n, F)
+    e = base.edge_vectors(z.T).T  # (E, F)
+    held = set(edits) | ({0, F - 1} if keep_ends else set())
+    keys = np.array(sorted(held))
+    target = {k: (edits[k].z if k in edits else z[:, k]) for k in keys}
+    # log S~ at held frames, blended in time (constant outside the held range)
+    logs = np.empty((len(keys), base.n_edges), dtype=complex)
+    for i, k in enumerate(keys):
+        s, theta = edge_rotations(base, e[:, k], base.edge_vectors(target[k]))
+        logs[i] = np.log(s) + 1j * theta
+    t = sequence.times
+    mid = 0.5 * (t[:-1] + t[1:])
+    S = np.exp(_interp_rows(mid, t[keys], logs))  # (E, F-1)
+    d = S * np.diff(e, axis=1)  # Eq. (14), times h
+    new = _integrate_held(d, keys, {k: base.edge_vectors(target[k]) for k in keys})  # Eq. (15)
+    # translations: component centroids shifted by a blend of the held frames' shifts
+    avg = base.topology.avg
+    c = avg @ z
+    shift = np.stack([avg @ target[k] - c[:, k] for k in keys])  # (K, C)
+    centroids = c + _interp_rows(t, t[keys], shift)
+    asm = FrameAssembler(base, 1.0 / np.abs(e).mean(axis=1))
+    out = asm.positions(new, centroids)  # Eq. (10)
+    for k in keys:
+        out[:, k] = target[k]
+    return Sequence(np.stack([out.real.T, out.imag.T], axis=-1), base, times=t.copy(),
+                    scheme=sequence.scheme, method="edit",
+                    info={"edited_frames": sorted(edits), "held_frames": keys.tolist(),
+                          "source": sequence})
+
+
+def _interp_rows(x, xp, fp):
+    """Piecewise-linear interpolation of every column of fp (K, k) at x -> (k, len(x))."""
+    fp = np.asarray(fp)
+    if len(xp) == 1:
+        return np.repeat(fp.T, len(x), axis=1)
+    i = np.clip(np.searchsorted(xp, x, side="right") - 1, 0, len(xp) - 2)
+    w = np.clip((x - xp[i]) / (xp[i + 1] - xp[i]), 0.0, 1.0)
+    return (fp[i] * (1 - w)[:, None] + fp[i + 1] * w[:, None]).T
+
+
+def _integrate_held(d, keys, values):
+    """Minimise sum_k |x_{k+1} - x_k - d_k|^2 with x held at the frames `keys`.
+
+    Between two held frames the increments are integrated and the mismatch is
+    spread evenly over the steps (the exact minimiser); before the first and
+    after the last held frame the increments are integrated from it.
+
+    Parameters
+    ----------
+    d : (E, F-1) complex
+    keys : (K,) int, sorted
+    values : dict {k: (E,) complex}
+
+    Returns
+    -------
+    (E, F) complex
+    """
+    E, F = d.shape[0], d.shape[1] + 1
+    x = np.zeros((E, F), dtype=complex)
+    x[:, 1:] = np.cumsum(d, axis=1)  # x_k - x_0 along the increments
+    out = np.empty_like(x)
+    first, last = keys[0], keys[-1]
+    out[:, : first + 1] = values[first][:, None] + x[:, : first + 1] - x[:, first : first + 1]
+    out[:, last:] = values[last][:, None] + x[:, last:] - x[:, last : last + 1]
+    for a, b in zip(keys[:-1], keys[1:]):
+        gap = values[b] - values[a] - (x[:, b] - x[:, a])
+        w = np.arange(b - a + 1) / (b - a)
+        out[:, a : b + 1] = values[a][:, None] + x[:, a : b + 1] - x[:, a : a + 1] + gap[:, None] * w
+    return out

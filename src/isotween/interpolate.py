@@ -1,0 +1,144 @@
+"""`interpolate`: the public entry point of AIAP interpolation of two shapes."""
+
+import numbers
+import time
+
+import numpy as np
+
+from ._heap import keep_heap
+from .correspondence.compatibility import as_shape, check_compatible
+from .errors import MethodError, ParameterError
+from .initialisation import INITIALISERS, initial_edges
+from .optimisation.assembly import FrameAssembler, centroid_path
+from .optimisation.global_solver import LINEAR_SOLVERS, global_solve
+from .optimisation.local_solver import ASSEMBLY, local_solve
+from .optimisation.schemes import SCHEMES
+from .sequence import Sequence
+
+__all__ = ["interpolate", "SOLVERS"]
+
+SOLVERS = ("local", "global")
+
+
+def interpolate(source, target, frames=9, solver="local", init="edge", scheme="midpoint",
+                tol=5e-4, max_iter=100, callback=None, method="aiap", times=None,
+                assembly="shared", linear_solver="cg"):
+    """Interpolate two compatible shapes as-isometrically-as-possible.
+
+    Parameters
+    ----------
+    source, target : Shape
+        Same vertex count and connectivity.
+    frames : int
+        Number of frames, both inputs included (``frames=2`` returns the inputs).
+    solver : {'local', 'global'}
+        Algorithm 2 (per-edge solves plus frame assembly) or Algorithm 1 (all
+        intermediate vertices in one sparse system per iteration).
+    init : {'edge', 'linear'}
+        Edge-vector initialisation (Eqs. 12-13, angles propagated breadth-first)
+        or linear blending of vertex positions.
+    scheme : {'midpoint', 'paper'}
+        Time discretisation of Eq. (6): the time-symmetric midpoint residual
+        (default; see benchmarks/RESULTS.md) or the paper's forward differences
+        with the reverse sampling of Sec. 3.2.
+    tol : float
+        Eq. (11): stop when no vertex moves more than ``tol`` times the
+        bounding-box diagonal of both inputs between two iterations.
+    max_iter : int
+    callback : callable(iteration, energy, max_move), optional
+        Called after every iteration.
+    method : str
+        'aiap' (this paper) or a baseline from :mod:`isotween.baselines`
+        ('linear', 'intrinsic', 'arap', 'arap-baxter', 'shapespace').
+    times : (frames,) array_like, optional
+        Increasing frame times from 0 to 1 (default: uniform).
+    assembly : {'shared', 'per-frame'}
+        Local solver only: one factorisation of Eq. (10) with frozen weights
+        2 / (|e(0)| + |e(1)|) for every frame (fast), or the paper's weights
+        1 / |e(t_k)| refactorised per frame and iteration (reference).
+    linear_solver : {'cg', 'direct'}
+        Global solver only: preconditioned conjugate gradients or sparse LU.
+
+    Returns
+    -------
+    Sequence
+        ``frames`` is a (frames, n, 2) float64 array.
+    """
+    keep_heap()
+    start = time.perf_counter()
+    source, target = as_shape(source, "source"), as_shape(target, "target")
+    t = _frame_times(frames, times)
+    _check_choice("solver", solver, SOLVERS)
+    _check_choice("init", init, INITIALISERS)
+    _check_choice("scheme", scheme, SCHEMES)
+    _check_choice("assembly", assembly, ASSEMBLY)
+    _check_choice("linear_solver", linear_solver, LINEAR_SOLVERS)
+    if not (isinstance(tol, numbers.Real) and tol > 0):
+        raise ParameterError(f"tol must be a positive number, got {tol!r}")
+    if not (isinstance(max_iter, numbers.Integral) and max_iter >= 1):
+        raise ParameterError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+    options = dict(frames=len(t), solver=solver, init=init, scheme=scheme, tol=tol,
+                   max_iter=max_iter, method=method, times=times, assembly=assembly,
+                   linear_solver=linear_solver)
+    if method != "aiap":
+        return _baseline(method, source, target, t, options)
+    check_compatible(source, target)
+    z0, z1 = source.z, target.z
+    diag = float(np.hypot(*np.ptp(np.vstack([source.vertices, target.vertices]), axis=0)))
+    timings = {}
+    if len(t) == 2:
+        out, info = np.array([z0, z1]).T, {"energy": [], "iterations": 0, "converged": True}
+    else:
+        t0 = time.perf_counter()
+        edges = initial_edges(init, source, z0, z1, t)
+        timings["init"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        z = np.empty((len(z0), len(t)), dtype=complex)
+        z[:, 0], z[:, -1] = z0, z1
+        centroids = centroid_path(source, z0, z1, t)
+        if solver == "local":
+            out, info = local_solve(source, z, t, edges, centroids, scheme, tol * diag, max_iter,
+                                    assembly=assembly, callback=callback)
+        else:
+            z[:, 1:-1] = FrameAssembler(source).positions(edges[:, 1:-1], centroids[:, 1:-1])
+            out, info = global_solve(source, z0, z1, t, z, scheme, tol * diag,
+                                     max_iter, linear_solver=linear_solver, callback=callback)
+        timings["solve"] = time.perf_counter() - t0
+        timings.update({f"solve.{k}": v for k, v in info.pop("timings", {}).items()})
+    timings["total"] = time.perf_counter() - start
+    return Sequence(
+        frames=np.stack([out.real.T, out.imag.T], axis=-1), shape=source, times=t, scheme=scheme,
+        energy=info.pop("energy"), iterations=info.pop("iterations"),
+        converged=info.pop("converged"), timings=timings, method="aiap",
+        info={"options": options, **info},
+    )
+
+
+def _frame_times(frames, times):
+    if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
+        raise ParameterError(f"frames must be an integer >= 2 (both inputs included), got {frames!r}")
+    if times is None:
+        return np.linspace(0.0, 1.0, int(frames))
+    t = np.asarray(times, dtype=float)
+    if t.shape != (frames,):
+        raise ParameterError(f"times must have one value per frame ({frames}), got shape {t.shape}")
+    if not np.all(np.isfinite(t)) or t[0] != 0.0 or t[-1] != 1.0 or np.any(np.diff(t) <= 0):
+        raise ParameterError("times must increase strictly from 0 to 1")
+    return t
+
+
+def _check_choice(name, value, choices):
+    if value not in choices:
+        raise ParameterError(f"unknown {name} {value!r}; choose one of {', '.join(choices)}")
+
+
+def _baseline(method, source, target, t, options):
+    try:
+        from . import baselines
+    except ImportError as exc:  # pragma: no cover - baselines ship with the package
+        raise MethodError(f"unknown method {method!r}") from exc
+    start = time.perf_counter()
+    seq = baselines.run(method, source, target, len(t))
+    seq.timings.setdefault("total", time.perf_counter() - start)
+    seq.info.setdefault("options", options)
+    return seq

@@ -1,0 +1,135 @@
+"""JSON helpers shared by the shape and sequence files: parsing with line numbers."""
+
+import json
+import math
+import numbers
+
+import numpy as np
+
+from ..errors import FileFormatError
+from ._files import read_text
+
+__all__ = ["JsonDocument", "dumps_rows"]
+
+_DECODER = json.JSONDecoder()
+_WS = " \t\n\r"
+
+
+class JsonDocument:
+    """A parsed JSON file that can say on which line an element starts.
+
+    Parameters
+    ----------
+    path : path-like
+
+    Attributes
+    ----------
+    data : object
+        The decoded document.
+    """
+
+    def __init__(self, path):
+        self.path = path
+        self.text = read_text(path)
+        try:
+            self.data = json.loads(self.text)
+        except json.JSONDecodeError as exc:
+            raise FileFormatError(f"{path}, line {exc.lineno}: invalid JSON: {exc.msg}") from None
+
+    # ------------------------------------------------------------ locating
+    def _skip_ws(self, pos):
+        while pos < len(self.text) and self.text[pos] in _WS:
+            pos += 1
+        return pos
+
+    def line_of(self, *keys):
+        """Line (1-based) where the element at ``keys`` (object keys, list indices) starts."""
+        pos = self._skip_ws(0)
+        for key in keys:
+            opener = self.text[pos]
+            pos = self._skip_ws(pos + 1)
+            if opener == "{":
+                while self.text[pos] != "}":
+                    name, pos = _DECODER.raw_decode(self.text, pos)
+                    pos = self._skip_ws(self._skip_ws(pos) + 1)  # past ':'
+                    if name == key:
+                        break
+                    pos = self._after_value(pos)
+                else:
+                    break
+            elif opener == "[":
+                for _ in range(key):
+                    pos = self._after_value(pos)
+            else:
+                break
+        return self.text.count("\n", 0, pos) + 1
+
+    def _after_value(self, pos):
+        _, end = _DECODER.raw_decode(self.text, pos)
+        end = self._skip_ws(end)
+        return self._skip_ws(end + 1) if self.text[end] == "," else end
+
+    def error(self, message, *keys):
+        """`FileFormatError` naming the file, the line of ``keys`` and the element."""
+        where = "".join(f"[{k}]" if isinstance(k, int) else (f".{k}" if i else k) for i, k in enumerate(keys))
+        return FileFormatError(f"{self.path}, line {self.line_of(*keys)}: {where}: {message}")
+
+    # ------------------------------------------------------------ validating
+    def require_object(self):
+        if not isinstance(self.data, dict):
+            raise FileFormatError(f"{self.path}, line 1: expected a JSON object {{...}} at the top")
+        return self.data
+
+    def array(self, key, width, kind, required=False, container=None, keys=()):
+        """Validate ``container[key]`` as a list of ``width``-long rows of ``kind`` numbers.
+
+        Parameters
+        ----------
+        key : str or int
+        width : int or None
+            Row length, or None for a flat list.
+        kind : {'float', 'int'}
+        required : bool
+        container : dict, optional
+            Object holding ``key`` (the top level by default).
+        keys : tuple
+            Where ``container`` sits in the document (for line numbers).
+
+        Returns
+        -------
+        ndarray or None
+            (k, width) or (k,) array; None when absent and not required.
+        """
+        container = self.data if container is None else container
+        where = keys + (key,)
+        present = key < len(container) if isinstance(container, list) else key in container
+        if not present or container[key] is None:
+            if required:
+                raise self.error(f"missing the required key '{key}'", *keys) if keys else FileFormatError(
+                    f"{self.path}, line 1: missing the required key '{key}'"
+                )
+            return None
+        rows = container[key]
+        if not isinstance(rows, list):
+            raise self.error("expected a list", *where)
+        number = numbers.Integral if kind == "int" else numbers.Real
+        for i, row in enumerate(rows):
+            items = row if width is not None else [row]
+            if width is not None and (not isinstance(row, list) or len(row) != width):
+                raise self.error(f"expected a list of {width} numbers, got {json.dumps(row)}", *where, i)
+            if not all(isinstance(x, number) and not isinstance(x, bool) for x in items):
+                what = "integers" if kind == "int" else "numbers"
+                raise self.error(f"expected {what}, got {json.dumps(row)}", *where, i)
+            if kind != "int" and not all(math.isfinite(x) for x in items):
+                raise self.error(f"non-finite value in {json.dumps(row)}", *where, i)
+        dtype = np.int64 if kind == "int" else np.float64
+        shape = (len(rows), width) if width is not None else (len(rows),)
+        return np.array(rows, dtype=dtype).reshape(shape)
+
+
+def dumps_rows(rows, indent="  "):
+    """A JSON list written one row per line (floats as shortest round-trip decimals)."""
+    if not len(rows):
+        return "[]"
+    body = f",\n{indent}  ".join(json.dumps(r) for r in rows)
+    return f"[\n{indent}  {body}\n{indent}]"

@@ -1,0 +1,100 @@
+"""NumPy ``.npz`` shape files: named arrays, exact to the bit."""
+
+import zipfile
+
+import numpy as np
+
+from ..errors import FileFormatError, ShapeError
+from ..shape import Shape
+from ._files import atomic_path, check_readable
+
+__all__ = ["read_npz", "write_npz", "open_npz", "connectivity_arrays", "connectivity_from"]
+
+
+def open_npz(path):
+    """All arrays of an ``.npz`` file as a dict (no pickles)."""
+    path = check_readable(path)
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            return {k: data[k] for k in data.files}
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
+        raise FileFormatError(f"{path}: not a valid .npz file ({exc})") from None
+
+
+def connectivity_arrays(shape):
+    """Arrays that store the connectivity of ``shape`` (edges, faces?, uv?, paths?)."""
+    out = {"edges": shape.edges}
+    if shape.faces is not None:
+        out["faces"] = shape.faces
+    if shape.uv is not None:
+        out["uv"] = shape.uv
+    if shape.paths is not None:
+        sizes = [len(p) for p, _ in shape.paths]
+        out["path_indices"] = np.concatenate([p for p, _ in shape.paths]) if sizes else np.zeros(0, np.int64)
+        out["path_sizes"] = np.array(sizes, dtype=np.int64)
+        out["path_closed"] = np.array([c for _, c in shape.paths], dtype=bool)
+    return out
+
+
+def _get(path, arrays, name, ndim, width=None, kind="f", required=False):
+    a = arrays.get(name)
+    if a is None:
+        if required:
+            raise FileFormatError(f"{path}: missing the array '{name}'")
+        return None
+    ok_kind = a.dtype.kind in ("iu" if kind == "i" else "iuf" if kind == "f" else "b")
+    if a.ndim != ndim or (width is not None and a.shape[-1] != width) or not ok_kind:
+        want = {"i": "integers", "f": "numbers", "b": "booleans"}[kind]
+        shape = f"(k, {width})" if width is not None and ndim == 2 else f"{ndim}-d"
+        raise FileFormatError(f"{path}: array '{name}' must hold {want} of shape {shape}, got {a.dtype} {a.shape}")
+    return a
+
+
+def connectivity_from(path, arrays, vertices):
+    """Shape with ``vertices`` and the connectivity stored in ``arrays``."""
+    edges = _get(path, arrays, "edges", 2, 2, "i")
+    faces = _get(path, arrays, "faces", 2, 3, "i")
+    uv = _get(path, arrays, "uv", 2, 2, "f")
+    paths = None
+    if "path_indices" in arrays:
+        idx = _get(path, arrays, "path_indices", 1, kind="i")
+        sizes = _get(path, arrays, "path_sizes", 1, kind="i", required=True)
+        closed = _get(path, arrays, "path_closed", 1, kind="b", required=True)
+        if sizes.sum() != len(idx) or len(closed) != len(sizes) or np.any(sizes < 0):
+            raise FileFormatError(f"{path}: arrays 'path_indices', 'path_sizes' and 'path_closed' disagree")
+        paths = list(zip(np.split(idx, np.cumsum(sizes)[:-1]), closed.tolist()))
+    if uv is not None and len(uv) != len(vertices):
+        raise FileFormatError(f"{path}: array 'uv' has {len(uv)} rows for {len(vertices)} vertices")
+    try:
+        return Shape(vertices, edges, faces, uv=uv, paths=paths)
+    except ShapeError as exc:
+        raise FileFormatError(f"{path}: {exc}") from exc
+
+
+def read_npz(path):
+    """Read a shape from ``.npz`` arrays ``vertices`` (n, 2), ``edges`` (E, 2),
+    and optional ``faces`` (F, 3), ``uv`` (n, 2), ``path_indices``,
+    ``path_sizes``, ``path_closed``.
+
+    Raises
+    ------
+    FileFormatError
+        Naming the file and the missing or malformed array.
+    """
+    arrays = open_npz(path)
+    if "frames" in arrays:
+        raise FileFormatError(f"{path}: is a sequence file (it has 'frames'); read it with load_sequence")
+    vertices = _get(path, arrays, "vertices", 2, 2, "f", required=True)
+    return connectivity_from(path, arrays, vertices)
+
+
+def write_npz(shape, path):
+    """Write a shape as ``.npz`` (exact round trip with `read_npz`)."""
+    save_arrays(path, {"vertices": shape.vertices, **connectivity_arrays(shape)})
+
+
+def save_arrays(path, arrays):
+    """``np.savez_compressed`` through a temporary file (atomic)."""
+    with atomic_path(path) as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez_compressed(fh, **arrays)

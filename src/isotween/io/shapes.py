@@ -1,0 +1,64 @@
+"""`load` and `save` of one shape, dispatching on the file extension."""
+
+from pathlib import Path
+
+from ..errors import FileFormatError
+from ..shape import Shape
+from .json_shape import read_json, write_json
+from .npz import read_npz, write_npz
+from .obj import read_obj, write_obj
+from .off import read_off, write_off
+from .svg import read_svg, write_svg
+
+__all__ = ["load", "save", "SHAPE_FORMATS"]
+
+#: extension -> (reader, writer)
+SHAPE_FORMATS = {
+    ".obj": (read_obj, write_obj),
+    ".off": (read_off, write_off),
+    ".svg": (read_svg, write_svg),
+    ".json": (read_json, write_json),
+    ".npz": (read_npz, write_npz),
+}
+
+
+def _codec(path, verb):
+    ext = Path(path).suffix.lower()
+    if ext not in SHAPE_FORMATS:
+        known = ", ".join(SHAPE_FORMATS)
+        raise FileFormatError(f"{path}: cannot {verb} '{ext or 'no extension'}' files; use one of {known}")
+    return SHAPE_FORMATS[ext]
+
+
+def load(path, **options):
+    """Read a shape from ``.obj``, ``.off``, ``.svg``, ``.json`` or ``.npz``.
+
+    Parameters
+    ----------
+    path : path-like
+    **options
+        Passed to the reader (``curve_segments`` for SVG).
+
+    Returns
+    -------
+    Shape
+
+    Raises
+    ------
+    FileFormatError
+        Missing file, unknown extension, or malformed content (naming the
+        file and the line or element).
+    """
+    reader = _codec(path, "read")[0]
+    return reader(path, **options)
+
+
+def save(shape, path):
+    """Write a shape; the extension picks the format (see `load`).
+
+    The file is written atomically; an unwritable path raises `FileFormatError`.
+    """
+    if not isinstance(shape, Shape):
+        raise FileFormatError(f"{path}: save expects an isotween.Shape, got {type(shape).__name__}")
+    writer = _codec(path, "write")[1]
+    writer(shape, path)

@@ -1,0 +1,238 @@
+"""SVG outlines: every subpath of the drawing becomes a ring or a polyline.
+
+Reading uses svgelements (transforms applied, shapes turned into paths).
+Mapping rule (docs/formats.md): each closed subpath (ending in ``Z``, and
+every polygon, rect, circle, ellipse) is a closed ring; each open subpath,
+polyline and line is an open polyline; all of them, in document order, form
+one Shape. Coordinates stay in the root's user units with y pointing down
+(the viewBox and the width/height of the root are ignored).
+"""
+
+import io
+import re
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+from ..errors import FileFormatError, ShapeError, require
+from ..shape import Shape
+from ._files import check_readable, write_text
+from ._mesh import chains
+
+__all__ = ["read_svg", "write_svg", "CURVE_SEGMENTS"]
+
+#: straight pieces each curved segment (quadratic, cubic, arc) is sampled into;
+#: a circle or ellipse (four arcs) gives 4 * CURVE_SEGMENTS vertices
+CURVE_SEGMENTS = 16
+
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_LENGTH = re.compile(rf"^\s*{_NUMBER}\s*(?:px|pt|pc|mm|cm|in|em|ex|%)?\s*$")
+_POINTS = re.compile(rf"^[\s,]*(?:{_NUMBER}[\s,]*)*$")
+_GEOMETRY = {
+    "rect": ("x", "y", "width", "height", "rx", "ry"),
+    "circle": ("cx", "cy", "r"),
+    "ellipse": ("cx", "cy", "rx", "ry"),
+    "line": ("x1", "y1", "x2", "y2"),
+}
+
+
+def _label(tag, element_id, index):
+    return f"<{tag} id=\"{element_id}\">" if element_id else f"<{tag}> number {index} (in document order)"
+
+
+def _check_attributes(path, se, el, tag, label):
+    """Raise on attribute text that svgelements would silently ignore."""
+    values = el.values
+    if tag == "path":
+        try:
+            se.Path(values.get("d", ""))
+        except ValueError:
+            raise FileFormatError(f"{path}: {label}: malformed path data d=\"{values.get('d', '')}\"") from None
+    elif tag in ("polygon", "polyline"):
+        pts = values.get("points", "")
+        if not _POINTS.match(pts) or len(re.findall(_NUMBER, pts)) % 2:
+            raise FileFormatError(f"{path}: {label}: malformed points=\"{pts}\" (need x,y pairs)")
+    for name in _GEOMETRY.get(tag, ()):
+        text = values.get(name)
+        if text is not None and text != "auto" and not _LENGTH.match(str(text)):
+            raise FileFormatError(f"{path}: {label}: {name}=\"{text}\" is not a length")
+
+
+def _subpaths(se, element, curve_segments):
+    """(points (k, 2), closed) of every subpath of a svgelements shape."""
+    out, current, closed = [], None, False
+    steps = np.linspace(0.0, 1.0, curve_segments + 1)[1:]
+    for seg in se.Path(element).segments():
+        if isinstance(seg, se.Move) or current is None:
+            if current:
+                out.append((current, closed))
+            start = seg.end if isinstance(seg, se.Move) else seg.start
+            current, closed = [np.array([[start.x, start.y]])], False
+            if isinstance(seg, se.Move):
+                continue
+        if isinstance(seg, se.Close):
+            closed = True
+            out.append((current, closed))
+            current = None  # a segment after Z starts a new subpath at the same point
+            continue
+        if isinstance(seg, se.Line):
+            current.append(np.array([[seg.end.x, seg.end.y]]))
+        else:  # quadratic, cubic or arc
+            current.append(np.asarray(seg.npoint(steps), dtype=np.float64).reshape(-1, 2))
+    if current:
+        out.append((current, closed))
+    return [(np.vstack(parts), c) for parts, c in out]
+
+
+def _clean(points, closed):
+    """Drop repeated consecutive points (and the closing repeat of a ring)."""
+    scale = max(float(np.ptp(points, axis=0).max()), 1e-300) if len(points) else 1.0
+    tol = 1e-9 * scale
+    keep = np.ones(len(points), dtype=bool)
+    keep[1:] = np.any(np.abs(np.diff(points, axis=0)) > tol, axis=1)
+    points = points[keep]
+    if closed and len(points) > 1 and np.all(np.abs(points[-1] - points[0]) <= tol):
+        points = points[:-1]
+    return points
+
+
+def read_svg(path, curve_segments=CURVE_SEGMENTS):
+    """Read every drawn outline of an SVG file as one Shape.
+
+    Parameters
+    ----------
+    path : path-like
+    curve_segments : int
+        Straight pieces per curved segment (quadratic, cubic Bezier, arc).
+
+    Returns
+    -------
+    Shape
+        Vertices (n, 2) in SVG user units (y down), one path per subpath:
+        closed subpaths, polygons, rects, circles and ellipses as closed
+        rings; open subpaths, polylines and lines as open polylines.
+
+    Raises
+    ------
+    FileFormatError
+        Naming the file and line (XML errors) or the element (its id, or its
+        tag and number) that is malformed or degenerate.
+    """
+    se = require("svgelements", "cli")
+    path = check_readable(path)
+    if curve_segments < 1:
+        raise FileFormatError(f"{path}: curve_segments must be at least 1, got {curve_segments}")
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        reason = re.sub(r": line \d+, column \d+$", "", str(exc))
+        raise FileFormatError(f"{path}, line {exc.position[0]}: malformed XML ({reason})") from None
+    except OSError as exc:
+        raise FileFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    if root.tag.rsplit("}", 1)[-1] != "svg":
+        raise FileFormatError(f"{path}: the root element is <{root.tag.rsplit('}', 1)[-1]}>, not <svg>")
+    # keep user coordinates: no viewBox-to-viewport scaling
+    for attr in ("viewBox", "width", "height", "preserveAspectRatio"):
+        root.attrib.pop(attr, None)
+    try:
+        document = se.SVG.parse(io.BytesIO(ET.tostring(root)), reify=True)
+    except (ValueError, TypeError, ZeroDivisionError) as exc:
+        raise FileFormatError(f"{path}: cannot interpret the drawing ({exc})") from None
+    rings, counts = [], {}
+    for el in document.elements():
+        if not isinstance(el, se.Shape):
+            continue
+        tag = el.values.get("tag", type(el).__name__.lower())
+        counts[tag] = counts.get(tag, 0) + 1
+        label = _label(tag, el.id, counts[tag])
+        _check_attributes(path, se, el, tag, label)
+        for k, (points, closed) in enumerate(_subpaths(se, el, curve_segments)):
+            points = _clean(points, closed)
+            if not np.all(np.isfinite(points)):
+                raise FileFormatError(f"{path}: {label}: subpath {k} has a non-finite coordinate")
+            need = 3 if closed else 2
+            if len(points) < need:
+                kind = "closed subpath" if closed else "open subpath"
+                raise FileFormatError(
+                    f"{path}: {label}: {kind} {k} has {len(points)} distinct point(s), needs {need}"
+                )
+            rings.append((points, closed))
+    if not rings:
+        raise FileFormatError(
+            f"{path}: nothing to read (no path, polygon, polyline, rect, circle, ellipse or line)"
+        )
+    return _shape_of_rings(path, rings)
+
+
+def _shape_of_rings(path, rings):
+    """One Shape from (points, closed) subpaths, in order."""
+    sizes = np.array([len(p) for p, _ in rings])
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    paths, edges = [], []
+    for (points, closed), s, k in zip(rings, starts, sizes):
+        idx = np.arange(s, s + k)
+        paths.append((idx, closed))
+        edges.append(np.column_stack([idx, np.roll(idx, -1)] if closed else [idx[:-1], idx[1:]]))
+    try:
+        return Shape(np.vstack([p for p, _ in rings]), np.vstack(edges), paths=paths)
+    except ShapeError as exc:
+        raise FileFormatError(f"{path}: {exc}") from exc
+
+
+def _subpath_data(points, closed):
+    coords = " L ".join(f"{x!r} {y!r}" for x, y in points.tolist())
+    return f"M {coords}{' Z' if closed else ''}"
+
+
+def write_svg(shape, path):
+    """Write the outline of a shape as SVG.
+
+    Each shape path becomes one ``<path>`` element (``Z`` for a closed ring);
+    edges outside every path (triangle sides, edge soups) are drawn as chains
+    in one more ``<path id="edges">``. Numbers are shortest round-trip
+    decimals in user units (y down, no flip), so a shape whose edges are its
+    paths, listing the vertices in order (what `read_svg` returns), reads back
+    identically. uv and faces are not stored.
+    """
+    v = shape.vertices
+    lo, hi = (v.min(axis=0), v.max(axis=0)) if len(v) else (np.zeros(2), np.ones(2))
+    size = np.maximum(hi - lo, 1e-9 * max(float(np.abs(v).max(initial=1.0)), 1.0))
+    pad = 0.05 * float(size.max())
+    x0, y0 = (float(c) for c in lo - pad)
+    w, h = (float(c) for c in size + 2 * pad)
+    stroke = 0.004 * float(np.hypot(w, h))
+    elements = []
+    covered = np.zeros(0, dtype=np.int64)
+    paths = shape.paths or []
+    for k, (idx, closed) in enumerate(paths):
+        elements.append(f'  <path id="path{k}" d="{_subpath_data(v[idx], closed)}"/>')
+    if paths:
+        pe = np.vstack([np.column_stack([p, np.roll(p, -1)] if c else [p[:-1], p[1:]]) for p, c in paths])
+        covered = np.unique(np.sort(pe, axis=1), axis=0)
+    rest = shape.edges
+    if len(covered):
+        key = np.sort(rest, axis=1)
+        rest = rest[~_member(key, covered)]
+    if len(rest):
+        parts = []
+        for c in chains(rest):
+            closed = len(c) >= 4 and c[0] == c[-1]
+            parts.append(_subpath_data(v[c[:-1] if closed else c], closed))
+        elements.append(f'  <path id="edges" d="{" ".join(parts)}"/>')
+    text = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{x0!r} {y0!r} {w!r} {h!r}" '
+        f'width="{512 * w / max(w, h):.6g}" height="{512 * h / max(w, h):.6g}">\n'
+        f'<g fill="none" stroke="black" stroke-width="{stroke!r}" stroke-linejoin="round">\n'
+        + "\n".join(elements)
+        + "\n</g>\n</svg>\n"
+    )
+    write_text(path, text)
+
+
+def _member(rows, table):
+    """Whether each row of ``rows`` (k, 2) occurs in the sorted unique ``table`` (m, 2)."""
+    view = np.dtype((np.void, rows.dtype.itemsize * 2))
+    a = np.ascontiguousarray(rows).view(view).ravel()
+    b = np.ascontiguousarray(table.astype(rows.dtype)).view(view).ravel()
+    return np.isin(a, b)

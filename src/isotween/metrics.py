@@ -1,0 +1,135 @@
+"""Distortion metrics of a shape sequence (definitions in SPEC.md).
+
+Every function takes a :class:`~isotween.Sequence`. ``reduce`` picks the
+summary: 'max' or 'mean' over all frames and elements, or None for per-frame
+values (an (F,) array).
+"""
+
+import numpy as np
+
+from .errors import ParameterError
+from .optimisation.schemes import SCHEMES
+from .optimisation.schemes import isometric_energy as _energy
+
+__all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped_faces",
+           "symmetry_error", "report", "loop_areas"]
+
+
+def isometric_energy(seq, scheme=None):
+    """Eq. (6) with the sequence's scheme (or ``scheme``), over sum |e(0)|^2.
+
+    For the paper scheme the forward and reverse samplings are averaged.
+    """
+    scheme = scheme or (seq.scheme if seq.scheme in SCHEMES else "midpoint")
+    return _energy(seq.edge_vectors().T, np.diff(seq.times), scheme)
+
+
+def _reduce(values, per_frame, reduce):
+    """values: (F, k) deviations; per_frame: how to fold one frame."""
+    if reduce is None:
+        return per_frame(values, axis=1) if values.shape[1] else np.zeros(len(values))
+    if values.size == 0:
+        return float("nan")
+    if reduce == "max":
+        return float(values.max())
+    if reduce == "mean":
+        return float(values.mean())
+    raise ParameterError(f"unknown reduce {reduce!r}; choose 'max', 'mean' or None")
+
+
+def _blend(first, last, t):
+    t = t[:, None]
+    return (1 - t) * first[None] + t * last[None]
+
+
+def edge_length_deviation(seq, reduce="max"):
+    """| |e(t_k)| / ((1 - t_k)|e(0)| + t_k|e(1)|) - 1 | over edges and frames."""
+    L = np.abs(seq.edge_vectors())
+    dev = np.abs(L / _blend(L[0], L[-1], seq.times) - 1.0)
+    return _reduce(dev, np.max, reduce)
+
+
+def loop_areas(seq):
+    """(F, k) signed areas of the sequence's faces, or of its closed paths."""
+    shape = seq.shape
+    if shape.faces is not None and len(shape.faces):
+        return shape.face_areas(seq.frames)
+    loops = [p for p, closed in (shape.paths or []) if closed]
+    if not loops:
+        return np.zeros((len(seq), 0))
+    idx = np.concatenate(loops)
+    nxt = np.concatenate([np.roll(p, -1) for p in loops])
+    owner = np.repeat(np.arange(len(loops)), [len(p) for p in loops])
+    z = seq.z
+    cross = 0.5 * (z[:, idx].conj() * z[:, nxt]).imag  # shoelace terms
+    out = np.zeros((len(seq), len(loops)))
+    np.add.at(out.T, owner, cross.T)
+    return out
+
+
+def area_deviation(seq, reduce="max"):
+    """Relative deviation of every face's (or closed loop's) signed area from
+    the linear blend of its two end areas."""
+    A = loop_areas(seq)
+    blend = _blend(A[0], A[-1], seq.times) if A.shape[1] else A
+    scale = np.maximum(np.abs(blend), 1e-300)
+    return _reduce(np.abs(A - blend) / scale, np.max, reduce)
+
+
+def flipped_faces(seq, reduce="sum"):
+    """Faces whose signed area has the other sign than in the source.
+
+    reduce : 'sum' (over the intermediate frames), 'max' (the largest count in
+    one frame) or None (per-frame counts, (F,) int).
+    """
+    A = seq.shape.face_areas(seq.frames)
+    flips = (np.sign(A) != np.sign(A[0])[None]) & (A[0] != 0)[None] if A.size else np.zeros((len(seq), 0), bool)
+    counts = flips.sum(axis=1)
+    if reduce is None:
+        return counts
+    inner = counts[1:-1]
+    if reduce == "sum":
+        return int(inner.sum())
+    if reduce == "max":
+        return int(inner.max(initial=0))
+    raise ParameterError(f"unknown reduce {reduce!r}; choose 'sum', 'max' or None")
+
+
+def symmetry_error(seq, backward=None):
+    """Max distance between frame k of A->B and frame m-k of B->A over the
+    bounding-box diagonal. ``backward`` is recomputed with the same options
+    when not given."""
+    if backward is None:
+        from .interpolate import interpolate
+
+        options = dict(seq.info.get("options", {}))
+        options.pop("frames", None)
+        times = options.pop("times", None)
+        if times is not None:
+            options["times"] = 1.0 - np.asarray(times)[::-1]
+        backward = interpolate(seq[-1], seq[0], frames=len(seq), **options)
+    if len(backward) != len(seq):
+        raise ParameterError(f"sequences differ in length: {len(seq)} and {len(backward)}")
+    ends = np.vstack([seq.frames[0], seq.frames[-1]])
+    diag = float(np.hypot(*np.ptp(ends, axis=0)))
+    return float(np.max(np.linalg.norm(seq.frames - backward.frames[::-1], axis=-1)) / diag)
+
+
+def report(seq, symmetry=False):
+    """Every metric of ``seq`` as a dict of floats (symmetry error on request:
+    it costs a second interpolation)."""
+    out = {
+        "isometric_energy": isometric_energy(seq),
+        "edge_length_deviation": edge_length_deviation(seq, "max"),
+        "edge_length_deviation_mean": edge_length_deviation(seq, "mean"),
+        "area_deviation": area_deviation(seq, "max"),
+        "area_deviation_mean": area_deviation(seq, "mean"),
+        "flipped_faces": flipped_faces(seq, "sum"),
+        "flipped_faces_max_frame": flipped_faces(seq, "max"),
+        "iterations": seq.iterations,
+        "converged": bool(seq.converged),
+        "seconds": float(seq.timings.get("total", float("nan"))),
+    }
+    if symmetry:
+        out["symmetry_error"] = symmetry_error(seq)
+    return out

@@ -1,0 +1,107 @@
+"""Algorithm 2: the local solver.
+
+Each iteration assembles every frame from the current edge vectors (Eq. 10),
+fits the angular speeds to the assembled frames (Eq. 8) and re-solves every
+edge's vector sequence (Eq. 9), until the assembled frames move less than the
+tolerance (Eq. 11). Arrays are laid out with time last: edges (E, m+1),
+vertices (n, m+1).
+"""
+
+import time
+
+import numpy as np
+
+from .assembly import FrameAssembler
+from .edge_solve import solve_edges
+from .schemes import normal_equations, step_angle
+
+__all__ = ["ASSEMBLY", "local_solve"]
+
+ASSEMBLY = ("shared", "per-frame")
+
+
+def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="shared",
+                callback=None, fixed=None, smooth=1.0):
+    """Run Algorithm 2.
+
+    Parameters
+    ----------
+    shape : Shape
+    z : (n, m+1) complex
+        Vertex positions; the fixed frames (the inputs) are read from it.
+    t : (m+1,) float
+        Frame times, t[0] = 0 and t[-1] = 1.
+    edges : (E, m+1) complex
+        Initial edge vectors (Eq. 13 or linear); fixed frames' must be exact.
+    centroids : (C, m+1) complex
+        Centroid of every component in every frame (SPEC.md, defect 5).
+    scheme : {'midpoint', 'paper'}
+    tol : float
+        Absolute tolerance of Eq. (11) (tau times the bounding-box diagonal).
+    max_iter : int
+    assembly : {'shared', 'per-frame'}
+        'per-frame' uses the paper's weights w = 1/|e_ij(t_k)| with a new
+        factorisation per frame and iteration; 'shared' factorises once with
+        w = 2 / (|e(0)| + |e(1)|) for all frames and iterations.
+    callback : callable(iteration, energy, max_move), optional
+    fixed : (m+1,) bool array, optional
+        Frames held (keyframes); default the first and the last.
+    smooth : float
+        Weight of the term that lets the velocity turn smoothly through an
+        interior fixed frame (see :func:`solve_edges`).
+
+    Returns
+    -------
+    z : (n, m+1) complex
+        Vertex positions of every frame.
+    info : dict
+        energy (list), iterations, converged, max_move, timings.
+    """
+    h = np.diff(t)
+    D = shape.topology.D
+    norm = float(np.sum(np.abs(edges[:, 0]) ** 2))
+    if fixed is None:
+        fixed = np.zeros(len(t), dtype=bool)
+        fixed[[0, -1]] = True
+    free = np.flatnonzero(~fixed)
+    keys = np.flatnonzero(fixed[1:-1]) + 1
+    centroids = centroids[:, free]
+    z = z.copy()
+    if assembly == "shared":
+        shared = FrameAssembler(shape, 2.0 / (np.abs(edges[:, 0]) + np.abs(edges[:, -1])))
+    energies, prev, converged, move = [], None, False, np.inf
+    timing = {"assemble": 0.0, "edges": 0.0}
+    for it in range(1, max_iter + 1):
+        t0 = time.perf_counter()
+        if assembly == "shared":
+            z[:, free] = shared.positions(edges[:, free], centroids)  # Eq. (10)
+        else:  # Eq. (10) with the paper's per-frame weights
+            for i, k in enumerate(free):
+                a = FrameAssembler(shape, 1.0 / np.abs(edges[:, k]))
+                z[:, k] = a.positions(edges[:, k : k + 1], centroids[:, i : i + 1])[:, 0]
+        timing["assemble"] += time.perf_counter() - t0
+        t0 = time.perf_counter()
+        e = D @ z
+        diag, lower, energy = normal_equations(e, h, scheme)  # Eq. (8), Eq. (6)
+        energies.append(energy / norm)
+        if prev is not None:
+            move = float(np.max(np.abs(z[:, free] - prev), initial=0.0))  # Eq. (11)
+        if callback is not None:
+            callback(it, energies[-1], move)
+        if move < tol:
+            converged = True
+            timing["edges"] += time.perf_counter() - t0
+            break
+        prev = z[:, free]
+        couplings = [(k, _turn(e, k), smooth / h[k]) for k in keys] if smooth else []
+        edges = solve_edges(e, diag, lower, fixed, couplings)  # Eq. (9)
+        timing["edges"] += time.perf_counter() - t0
+    return z, {"energy": energies, "iterations": it, "converged": converged,
+               "max_move": move, "timings": timing}
+
+
+def _turn(e, k):
+    """(E,) unit complex: per-step rotation of every edge around frame k."""
+    omega = step_angle(e[:, k - 1] + e[:, k], 2 * (e[:, k] - e[:, k - 1]))
+    omega += step_angle(e[:, k] + e[:, k + 1], 2 * (e[:, k + 1] - e[:, k]))
+    return np.exp(0.5j * omega)
