@@ -4,7 +4,7 @@ import numpy as np
 
 from .. import errors
 from ..errors import ParameterError
-from ._atomic import atomic_path
+from ..io._files import atomic_path
 from ._frames import SequenceRenderer
 
 __all__ = ["write_gif", "write_mp4"]

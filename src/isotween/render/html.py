@@ -10,7 +10,7 @@ from importlib import resources
 
 import numpy as np
 
-from ._atomic import atomic_path
+from ..io._files import atomic_path
 from ._framestats import frame_stats
 from ._frames import sequence_frames
 from ._view import bbox_of

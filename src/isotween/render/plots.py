@@ -7,7 +7,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from ..errors import ParameterError
-from ._atomic import atomic_path
+from ..io._files import atomic_path
 from ._framestats import frame_stats
 
 __all__ = ["plot_energy"]
@@ -42,7 +42,7 @@ def plot_energy(seq, path, dpi=100):
     left.grid(alpha=0.3)
     t = np.asarray(seq.times, dtype=np.float64)
     right.plot(t, 100 * stats["edge_length_deviation"], "o-", color="#e6550d", ms=3, label="edge length")
-    if stats["flipped"].shape[1]:
+    if seq.shape.n_faces or any(closed for _, closed in (seq.shape.paths or [])):
         right.plot(t, 100 * stats["area_deviation"], "s--", color="#31a354", ms=3, label="area")
     right.set_xlabel("t")
     right.set_ylabel("max deviation from linear blend (%)")
