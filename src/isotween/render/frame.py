@@ -195,7 +195,9 @@ def write_frame_png(shape, path, texture=None, size=None, bbox=None, *, dpi=100,
         Longest side in pixels (default 600), or exactly ``(width, height)``.
     bbox : (4,) array_like, optional
         ``(x0, y0, x1, y1)`` to show (default: the shape's bounding box); pass
-        the same box for several shapes to draw them at one scale.
+        the same box for several shapes to draw them at one scale. The image
+        shows the box centred, with a margin of 5 % of its longer side on
+        every side, grown along one axis to the image's aspect ratio.
     dpi : float
         Pixels per inch (line widths are in points).
     uv : (n, 2) array_like, optional
