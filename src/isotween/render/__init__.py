@@ -1,0 +1,24 @@
+"""Rendering: frames on matplotlib axes, PNG strips, GIF/MP4 animations, an HTML viewer.
+
+Everything draws through matplotlib's Agg backend (no display needed); every
+file is written atomically.
+"""
+
+from .animation import write_gif, write_mp4
+from .frame import draw_frame, write_frame_png
+from .html import write_html
+from .plots import plot_energy
+from .strip import write_strip
+from .texture import load_texture, texture_uv
+
+__all__ = [
+    "draw_frame",
+    "write_frame_png",
+    "write_strip",
+    "write_gif",
+    "write_mp4",
+    "write_html",
+    "plot_energy",
+    "load_texture",
+    "texture_uv",
+]

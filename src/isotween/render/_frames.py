@@ -1,0 +1,65 @@
+"""Turning a Sequence into same-size RGB images at one common scale."""
+
+import numpy as np
+
+from ..errors import ParameterError, ShapeError
+from ._view import bbox_of, check_frames, image_size
+from .frame import FramePainter
+from .texture import load_texture
+
+__all__ = ["sequence_frames", "SequenceRenderer"]
+
+
+def sequence_frames(seq):
+    """Validated ``(F, n, 2)`` frames of a Sequence."""
+    frames = getattr(seq, "frames", None)
+    shape = getattr(seq, "shape", None)
+    if frames is None or shape is None:
+        raise ParameterError(f"expected an isotween Sequence, got {type(seq).__name__}")
+    frames = np.asarray(frames, dtype=np.float64)
+    if frames.ndim != 3 or frames.shape[1:] != (shape.n_vertices, 2) or not len(frames):
+        raise ShapeError(
+            f"sequence frames must have shape (F >= 1, {shape.n_vertices}, 2), got {frames.shape}"
+        )
+    return check_frames(frames)
+
+
+class SequenceRenderer:
+    """Draws the frames of a sequence over the bounding box of all of them.
+
+    Parameters
+    ----------
+    seq : Sequence
+    size : int or (2,) int
+        Longest side in pixels, or ``(width, height)``.
+    texture : path or array, optional
+    style : str
+        See `draw_frame`.
+    even : bool
+        Round the pixel size to even numbers (video).
+    dpi : float
+    """
+
+    def __init__(self, seq, size, texture=None, style="auto", even=False, dpi=100):
+        self.seq = seq
+        self.frames = sequence_frames(seq)
+        self.bbox = bbox_of(self.frames)
+        self.width, self.height = image_size(self.bbox, size, even=even)
+        self.texture = None if texture is None else load_texture(texture)
+        self.style = style
+        self.painter = FramePainter(self.width, self.height, self.bbox, dpi=dpi)
+
+    def __len__(self):
+        return len(self.frames)
+
+    def image(self, k, label=None):
+        """(H, W, 3) uint8 image of frame ``k``."""
+        shape = self.seq.shape
+        return self.painter.render(
+            shape.with_vertices(self.frames[k]),
+            texture=self.texture,
+            uv=shape.uv,
+            style=self.style,
+            source=shape.vertices,
+            label=label,
+        )

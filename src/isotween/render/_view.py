@@ -1,0 +1,94 @@
+"""World-to-pixel framing shared by every raster output."""
+
+import numpy as np
+
+from ..errors import ParameterError, ShapeError
+
+__all__ = ["check_frames", "bbox_of", "image_size", "fit_view"]
+
+PAD = 0.05  # margin around the shape, as a fraction of the bounding box's longer side
+
+
+def check_frames(frames):
+    """Reject frames with non-finite coordinates, naming frame and vertex.
+
+    Parameters
+    ----------
+    frames : (F, n, 2) or (n, 2) array_like of float
+    """
+    f = np.asarray(frames, dtype=np.float64)
+    bad = ~np.all(np.isfinite(f), axis=-1)
+    if bad.any():
+        where = np.argwhere(bad)[0]
+        if f.ndim == 3:
+            raise ShapeError(f"frame {where[0]} vertex {where[1]} has a non-finite coordinate")
+        raise ShapeError(f"vertex {where[0]} has a non-finite coordinate")
+    return f
+
+
+def bbox_of(points):
+    """Bounding box ``(x0, y0, x1, y1)`` of points of shape (..., 2)."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    if not len(p):
+        raise ShapeError("cannot draw a shape with no vertices")
+    return (*p.min(axis=0), *p.max(axis=0))
+
+
+def _as_bbox(bbox):
+    b = np.asarray(bbox, dtype=np.float64).ravel()
+    if b.shape != (4,) or not np.all(np.isfinite(b)) or b[2] < b[0] or b[3] < b[1]:
+        raise ParameterError(f"bbox must be finite (x0, y0, x1, y1) with x0 <= x1, y0 <= y1, got {bbox!r}")
+    return b
+
+
+def _padded(bbox):
+    x0, y0, x1, y1 = _as_bbox(bbox)
+    side = max(x1 - x0, y1 - y0)
+    if side <= 0:
+        side = max(abs(x0), abs(y0), 1.0)
+    m = PAD * side
+    w, h = max(x1 - x0, side * 1e-3), max(y1 - y0, side * 1e-3)
+    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+    return cx, cy, w + 2 * m, h + 2 * m
+
+
+def image_size(bbox, size, even=False):
+    """Pixel size ``(W, H)`` for a bounding box.
+
+    Parameters
+    ----------
+    bbox : (4,) array_like
+        ``(x0, y0, x1, y1)`` of what is drawn.
+    size : int or (2,) int
+        Longest side in pixels (the other follows the padded box's aspect), or
+        exactly ``(W, H)``.
+    even : bool
+        Round both sides to even numbers (video encoders need it).
+    """
+    if np.ndim(size) == 0:
+        if int(size) != size or size < 8:
+            raise ParameterError(f"size must be an integer >= 8 pixels or (width, height), got {size!r}")
+        _, _, w, h = _padded(bbox)
+        s = int(size)
+        wh = (s, max(8, round(s * h / w))) if w >= h else (max(8, round(s * w / h)), s)
+    else:
+        wh = tuple(int(v) for v in np.ravel(size))
+        if len(wh) != 2 or min(wh) < 8 or any(v != s for v, s in zip(wh, np.ravel(size))):
+            raise ParameterError(f"size must be an integer >= 8 pixels or (width, height), got {size!r}")
+    if even:
+        wh = tuple(v + (v % 2) for v in wh)
+    return wh
+
+
+def fit_view(bbox, width, height):
+    """Data limits ``(x0, x1, y0, y1)`` around ``bbox`` with exactly the pixel aspect.
+
+    The padded box is grown along one axis so that one data unit spans the same
+    number of pixels horizontally and vertically.
+    """
+    cx, cy, w, h = _padded(bbox)
+    if w / h < width / height:
+        w = h * width / height
+    else:
+        h = w * height / width
+    return cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2
