@@ -197,3 +197,15 @@ def test_bad_parameters(kwargs, words):
 def test_errors_share_one_hierarchy():
     for cls in (ShapeError, IncompatibleShapesError, ParameterError):
         assert issubclass(cls, IsotweenError)
+
+
+@pytest.mark.parametrize("solver", ["local", "global"])
+@pytest.mark.parametrize("assembly", ["shared", "per-frame"])
+def test_linear_init_through_collapsed_edges(bar, solver, assembly):
+    # halfway through a half turn the linear blend collapses edges to zero length
+    src, tgt = bar
+    z = src.z.mean() + (src.z - src.z.mean()) * -1
+    flipped = src.with_vertices(np.c_[z.real, z.imag])
+    seq = interpolate(src, flipped, frames=9, init="linear", solver=solver, assembly=assembly)
+    assert np.all(np.isfinite(seq.frames)) and np.all(np.isfinite(seq.energy))
+    assert seq.energy[-1] <= seq.energy[0] * (1 + 1e-9)

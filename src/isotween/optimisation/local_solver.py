@@ -81,7 +81,8 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
             z[:, free] = shared.positions(edges[:, free], centroids)  # Eq. (10)
         else:  # Eq. (10) with the paper's per-frame weights
             for i, k in enumerate(np.arange(len(t))[free]):
-                a = FrameAssembler(shape, 1.0 / np.abs(edges[:, k]))
+                length = np.abs(edges[:, k])
+                a = FrameAssembler(shape, 1.0 / np.maximum(length, 1e-9 * length.max()))
                 z[:, k] = a.positions(edges[:, k : k + 1], centroids[:, i : i + 1])[:, 0]
         timing["assemble"] += time.perf_counter() - t0
         t0 = time.perf_counter()

@@ -29,8 +29,18 @@ __all__ = ["SCHEMES", "step_angle", "coefficients", "energy_terms", "isometric_e
 SCHEMES = ("midpoint", "paper")
 
 
+def _ratio(num, den):
+    """num / den, and 0 where den vanishes (a degenerate edge has no rotation)."""
+    tiny = 1e-24 * float(np.mean(den)) if den.size else 0.0
+    ok = den > tiny
+    return np.divide(num, den, out=np.zeros_like(num), where=ok)
+
+
 def step_angle(e, de):
     """Corrected Eq. (8) times h: omega = Im(conj(e) de) / |e|^2.
+
+    Zero where e has (numerically) zero length, e.g. an edge that a linear
+    initialisation collapses halfway through a half turn.
 
     Parameters
     ----------
@@ -39,7 +49,7 @@ def step_angle(e, de):
     de : complex array, same shape
         Edge vector change over the step.
     """
-    return (e.conj() * de).imag / (e.real**2 + e.imag**2)
+    return _ratio((e.conj() * de).imag, e.real**2 + e.imag**2)
 
 
 def coefficients(e, scheme):
@@ -122,7 +132,7 @@ def normal_equations(e, h, scheme):
         s = e0 + e1
         p = s.conj() * (e1 - e0)
         s2 = s.real**2 + s.imag**2
-        w = 2.0 * p.imag / s2
+        w = 2.0 * _ratio(p.imag, s2)
         q = 0.25 * w * w
         a2 = (1.0 + q) * inv_h
         diag[:, 1:] += a2
@@ -130,7 +140,9 @@ def normal_equations(e, h, scheme):
         lower = np.empty(w.shape, dtype=complex)
         lower.real = -(1.0 - q) * inv_h
         lower.imag = -w * inv_h
-        energy = float(np.sum(p.real**2 / s2 @ inv_h))
+        # |r|^2 = |d|^2 - (Im p)^2 / |s|^2 = (Re p)^2 / |s|^2, also where s = 0
+        d2 = (e1 - e0).real ** 2 + (e1 - e0).imag ** 2
+        energy = float(np.sum((d2 - 0.5 * w * p.imag) @ inv_h))
         return diag, lower, energy
     if scheme == "paper":
         d = e1 - e0
@@ -138,8 +150,8 @@ def normal_equations(e, h, scheme):
         pr = e1.conj() * d  # reverse: omega_r = -Im(pr) / |e1|^2
         n0 = e0.real**2 + e0.imag**2
         n1 = e1.real**2 + e1.imag**2
-        wf = pf.imag / n0
-        wr = -pr.imag / n1
+        wf = _ratio(pf.imag, n0)
+        wr = -_ratio(pr.imag, n1)
         half = 0.5 * inv_h
         # forward (1, -(1 + i wf)) and reverse (-(1 + i wr), 1), weight 1/2 each
         diag[:, 1:] += half * (2.0 + wr * wr)
@@ -147,6 +159,7 @@ def normal_equations(e, h, scheme):
         lower = np.empty(wf.shape, dtype=complex)
         lower.real = -2.0 * half
         lower.imag = half * (wr - wf)
-        energy = float(np.sum((pf.real**2 / n0 + pr.real**2 / n1) @ half))
+        d2 = d.real**2 + d.imag**2
+        energy = float(np.sum((2.0 * d2 - wf * pf.imag + wr * pr.imag) @ half))
         return diag, lower, energy
     raise ParameterError(f"unknown scheme {scheme!r}; choose one of {', '.join(SCHEMES)}")

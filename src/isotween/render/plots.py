@@ -32,8 +32,9 @@ def plot_energy(seq, path, dpi=100):
     if energy.size:
         it = np.arange(energy.size)
         left.plot(it, energy, "o-", color="#08519c", ms=4)
-        if np.all(energy > 0):
-            left.set_yscale("log")
+        left.set_xticks(it if it.size <= 12 else left.get_xticks())
+        if np.all(energy > 0) and energy.max() > 10 * energy.min():
+            left.set_yscale("log")  # only when the energy spans a decade or more
     else:
         left.text(0.5, 0.5, "no iterations recorded", ha="center", va="center", transform=left.transAxes)
     left.set_xlabel("iteration")
