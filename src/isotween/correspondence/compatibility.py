@@ -44,8 +44,9 @@ def check_compatible(*shapes, names=None):
                 f"{names[0]} has {ref.n_edges} edges but {name} has {s.n_edges}; "
                 "both shapes need the same connectivity"
             )
-        same = np.all(ref.edges == s.edges, axis=1) | np.all(ref.edges == s.edges[:, ::-1], axis=1)
-        if not same.all():
+        same = s.edges is ref.edges or (  # shapes made by with_vertices share the arrays
+            np.all(ref.edges == s.edges, axis=1) | np.all(ref.edges == s.edges[:, ::-1], axis=1))
+        if not np.all(same):
             k = int(np.flatnonzero(~same)[0])
             raise IncompatibleShapesError(
                 f"edge {k} joins vertices {ref.edges[k].tolist()} in {names[0]} "
@@ -57,7 +58,7 @@ def check_compatible(*shapes, names=None):
             raise IncompatibleShapesError(
                 f"{names[0]} has {ref.n_faces} faces but {name} has {s.n_faces}"
             )
-        if ref.faces is not None and len(ref.faces):
+        if ref.faces is not None and len(ref.faces) and s.faces is not ref.faces:
             diff = np.flatnonzero(np.any(ref.faces != s.faces, axis=1))
             if diff.size:
                 k = int(diff[0])
@@ -68,8 +69,11 @@ def check_compatible(*shapes, names=None):
 
 
 def _check_edge_lengths(shape, name):
-    lengths = np.abs(shape.edge_vectors())
-    zero = np.flatnonzero(lengths <= 1e-12 * max(shape.bbox_diagonal(), 1e-300))
+    e = shape.edge_vectors()
+    squared = e.real**2 + e.imag**2
+    if not squared.size or squared.min() > (1e-12 * max(shape.bbox_diagonal(), 1e-300)) ** 2:
+        return
+    zero = np.flatnonzero(squared <= (1e-12 * max(shape.bbox_diagonal(), 1e-300)) ** 2)
     if zero.size:
         k = int(zero[0])
         raise ShapeError(

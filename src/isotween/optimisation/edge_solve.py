@@ -11,6 +11,9 @@ from scipy.linalg import get_lapack_funcs, solve_banded
 
 __all__ = ["tridiagonal", "TridiagonalSolver", "solve_edges"]
 
+# LAPACK's Hermitian positive-definite tridiagonal factorisation and solve
+_PTTRF, _PTTRS = get_lapack_funcs(("pttrf", "pttrs"), dtype=np.complex128)
+
 
 def tridiagonal(coeffs, h):
     """Normal equations of ``sum_k w |alpha_k x_{k+1} + beta_k x_k|^2 / h_k``.
@@ -60,8 +63,7 @@ class TridiagonalSolver:
         sub = sub.ravel()[:-1]
         self.lower = lower
         if d.size:
-            pttrf, self._pttrs = get_lapack_funcs(("pttrf", "pttrs"), (d, sub))
-            self._d, self._e, info = pttrf(d, sub)
+            self._d, self._e, info = _PTTRF(d, sub)
             if info != 0:
                 raise np.linalg.LinAlgError("Eq. (9) system is not positive definite")
 
@@ -69,7 +71,7 @@ class TridiagonalSolver:
         """(E, m-1) complex -> (E, m-1) complex."""
         if rhs.size == 0:
             return rhs.copy()
-        x, info = self._pttrs(self._d, self._e, rhs.ravel(), lower=1)
+        x, info = _PTTRS(self._d, self._e, rhs.ravel(), lower=1)
         return x.reshape(self.shape)
 
     def boundary_rhs(self, first, last):
