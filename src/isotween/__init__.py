@@ -6,6 +6,7 @@ outputs (metrics, files, rendering).
 """
 
 from . import easing, io, metrics
+from .compare import compare
 from .correspondence import check_compatible
 from .editing import edit
 from .errors import IsotweenError
@@ -20,7 +21,7 @@ from .velocity import RelativeVelocityField, relative_velocity_field
 __version__ = "0.1.0"
 
 __all__ = [
-    "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "check_compatible", "easing",
+    "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "check_compatible", "compare", "easing",
     "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "metrics",
     "relative_velocity_field", "save", "save_sequence", "transfer", "write_output",
 ]

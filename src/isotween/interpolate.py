@@ -81,7 +81,7 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
                    max_iter=max_iter, method=method, times=times, assembly=assembly,
                    linear_solver=linear_solver)
     if method != "aiap":
-        return _baseline(method, source, target, t, options)
+        return _baseline(method, source, target, t, options, callback)
     check_compatible(source, target)
     z0, z1 = source.z, target.z
     diag = float(np.hypot(*np.ptp(np.vstack([source.vertices, target.vertices]), axis=0)))
@@ -132,13 +132,14 @@ def _check_choice(name, value, choices):
         raise ParameterError(f"unknown {name} {value!r}; choose one of {', '.join(choices)}")
 
 
-def _baseline(method, source, target, t, options):
+def _baseline(method, source, target, t, options, callback):
     try:
         from . import baselines
     except ImportError as exc:  # pragma: no cover - baselines ship with the package
         raise MethodError(f"unknown method {method!r}") from exc
     start = time.perf_counter()
-    seq = baselines.run(method, source, target, len(t))
+    seq = baselines.run(method, source, target, len(t), times=t, tol=options["tol"],
+                        max_iter=options["max_iter"], callback=callback)
     seq.timings.setdefault("total", time.perf_counter() - start)
     seq.info.setdefault("options", options)
     return seq

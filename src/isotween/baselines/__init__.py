@@ -1,0 +1,93 @@
+"""The methods the paper compares with, under one interface.
+
+``run(method, source, target, frames)`` returns a :class:`~isotween.Sequence`
+like :func:`isotween.interpolate` does, so every method is measured by the same
+metrics (:mod:`isotween.metrics`).
+
+=============  ===========================================  ==================
+method         what is blended                              needs
+=============  ===========================================  ==================
+'linear'       vertex positions                             any shape
+'intrinsic'    edge lengths and turning angles              polygons/polylines
+               (Sederberg et al. 1993)                      (``shape.paths``)
+'arap'         per-triangle rotation and stretch            triangle mesh
+               (Alexa et al. 2000)
+'arap-baxter'  the same, rotation angles made consistent    triangle mesh
+               across triangles (Baxter et al. 2008)
+'shapespace'   geodesic of an isometric metric, Gauss-      any shape
+               Newton over all frames (Kilian et al. 2007)
+=============  ===========================================  ==================
+"""
+
+import time
+
+import numpy as np
+
+from ..correspondence.compatibility import as_shape, check_compatible
+from ..errors import MethodError
+from ..sequence import Sequence
+from . import arap, arap_baxter, intrinsic, linear, shapespace
+
+__all__ = ["METHODS", "run"]
+
+#: method name -> module with ``interpolate(source, target, t, **options)``
+_MODULES = {
+    "linear": linear,
+    "intrinsic": intrinsic,
+    "arap": arap,
+    "arap-baxter": arap_baxter,
+    "shapespace": shapespace,
+}
+METHODS = tuple(_MODULES)
+
+
+def run(method, source, target, n_frames, times=None, **options):
+    """Interpolate two compatible shapes with a baseline method.
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`METHODS`.
+    source, target : Shape
+        Same vertex count and connectivity.
+    n_frames : int
+        Frames, both inputs included.
+    times : (n_frames,) array_like, optional
+        Increasing frame times from 0 to 1 (default: uniform).
+    **options
+        ``tol``, ``max_iter``, ``callback`` (iterative methods only; others
+        ignore them).
+
+    Returns
+    -------
+    Sequence
+        ``method``, ``iterations``, ``energy`` (iterative methods), ``timings``
+        and, in ``info``, what the method needs to say (see each module).
+
+    Raises
+    ------
+    MethodError
+        Unknown method, or a shape the method cannot take (the message says
+        which input it needs).
+    """
+    if method not in _MODULES:
+        raise MethodError(f"unknown method {method!r}; choose one of aiap, {', '.join(METHODS)}")
+    start = time.perf_counter()
+    source, target = as_shape(source, "source"), as_shape(target, "target")
+    check_compatible(source, target)
+    t = np.linspace(0.0, 1.0, int(n_frames)) if times is None else np.asarray(times, dtype=float)
+    module = _MODULES[method]
+    frames, info = module.interpolate(source, target, t, **_accepted(module, options))
+    total = time.perf_counter() - start
+    energy = info.pop("energy", [])
+    return Sequence(
+        frames=np.stack([frames.real, frames.imag], axis=-1), shape=source, times=t,
+        scheme="midpoint", energy=energy, iterations=info.pop("iterations", 0),
+        converged=info.pop("converged", True), timings={"solve": total, "total": total},
+        method=method, info=info,
+    )
+
+
+def _accepted(module, options):
+    names = getattr(module, "OPTIONS", ())
+    return {k: v for k, v in options.items() if k in names and v is not None}

@@ -1,0 +1,147 @@
+"""As-rigid-as-possible interpolation (Alexa et al. 2000).
+
+Each triangle's affine map from source to target, written for planar vectors u
+as A u = P u + Q conj(u), is split by the polar decomposition A = R(theta) S:
+theta = arg P in (-pi, pi] (the closest rotation), S = R(-theta) A symmetric.
+At time t the triangle's map is A(t) = R(t theta) ((1 - t) I + t S), and the
+vertex positions are the least-squares fit of every triangle's three sides to
+A(t) applied to its source sides:
+
+    min_z  sum_triangles sum_sides |(z_b - z_a) - A(t) (u_b - u_a)|^2,
+
+a Laplace equation over the triangle sides (each side weighted by the number
+of triangles it borders, its target the mean of their predictions), factorised
+once for all frames. Each component's centroid moves linearly (as in AIAP).
+
+Plain ARAP takes every triangle's angle in (-pi, pi] on its own; triangles that
+turn by more than half a turn then rotate the wrong way round, the artefact that
+:mod:`isotween.baselines.arap_baxter` removes.
+"""
+
+import numpy as np
+
+from ..errors import MethodError
+from ..optimisation.assembly import FrameAssembler, centroid_path
+from ..shape import Shape
+
+__all__ = ["interpolate", "affine_maps", "predicted_edges"]
+
+
+def _check_mesh(shape, method):
+    if shape.faces is None or not len(shape.faces):
+        raise MethodError(
+            f"method {method!r} needs a triangle mesh (faces, e.g. from .obj/.off or "
+            f"Shape.from_mesh); this shape has {shape.n_edges} edges and no faces"
+        )
+
+
+def affine_maps(source, target):
+    """Per-triangle affine map A u = P u + Q conj(u) from source to target.
+
+    Parameters
+    ----------
+    source, target : Shape
+        Same faces.
+
+    Returns
+    -------
+    P, Q : (T,) complex
+
+    Raises
+    ------
+    MethodError
+        A source triangle has zero area (its map is undefined).
+    """
+    f = source.faces
+    u1, u2 = (source.z[f[:, k]] - source.z[f[:, 0]] for k in (1, 2))
+    v1, v2 = (target.z[f[:, k]] - target.z[f[:, 0]] for k in (1, 2))
+    det = u1 * u2.conj() - u1.conj() * u2  # 2i x twice the signed area
+    bad = np.flatnonzero(np.abs(det) <= 1e-12 * (np.abs(u1) ** 2 + np.abs(u2) ** 2))
+    if bad.size:
+        raise MethodError(f"face {bad[0]} {f[bad[0]].tolist()} has zero area in the source; ARAP cannot map it")
+    return (v1 * u2.conj() - u1.conj() * v2) / det, (u1 * v2 - u2 * v1) / det
+
+
+def _sides(faces, mesh):
+    """Every triangle side a -> b as an edge of ``mesh`` and its orientation.
+
+    Returns
+    -------
+    edge : (3T,) int
+    sign : (3T,) float
+        +1 where the side runs along the edge's direction, else -1.
+    """
+    a, b = faces.ravel(), faces[:, [1, 2, 0]].ravel()
+    n = mesh.n_vertices
+    edge_key = np.sort(mesh.edges, axis=1) @ [n, 1]
+    order = np.argsort(edge_key)
+    edge = order[np.searchsorted(edge_key[order], np.sort(np.c_[a, b], axis=1) @ [n, 1])]
+    return edge, np.where(mesh.edges[edge, 0] == a, 1.0, -1.0)
+
+
+def predicted_edges(source, mesh, theta, P, Q, t):
+    """Targets of the least-squares fit: mean predicted vector of every side.
+
+    A(t) u = R(t theta) [((1 - t) + t |P|) u + t e^{-i arg P} Q conj(u)].
+
+    Parameters
+    ----------
+    source : Shape
+        Triangle mesh.
+    mesh : Shape
+        The same vertices with the triangle sides as edges.
+    theta : (T,) float
+        Rotation angle of every triangle (arg P up to multiples of 2 pi).
+    P, Q : (T,) complex
+        Affine maps (:func:`affine_maps`).
+    t : (F,) float
+
+    Returns
+    -------
+    edges : (E, F) complex
+    count : (E,) float
+        Triangles bordering every edge (its weight in the fit).
+    """
+    faces = source.faces
+    edge, sign = _sides(faces, mesh)
+    tri = np.repeat(np.arange(len(faces)), 3)
+    u = (source.z[faces[:, [1, 2, 0]].ravel()] - source.z[faces.ravel()])[:, None]  # (3T, 1)
+    t = np.asarray(t, dtype=float)[None, :]
+    stretch = ((1 - t) + t * np.abs(P)[tri, None]) * u
+    stretch += t * (np.exp(-1j * np.angle(P)) * Q)[tri, None] * u.conj()
+    pred = np.exp(1j * t * theta[tri, None]) * stretch  # (3T, F)
+    count = np.bincount(edge, minlength=mesh.n_edges).astype(float)
+    out = np.zeros((mesh.n_edges, pred.shape[1]), dtype=complex)
+    np.add.at(out, edge, sign[:, None] * pred)
+    return out / count[:, None], count
+
+
+def interpolate(source, target, t, consistent=False):
+    """Frames of the ARAP interpolation.
+
+    Parameters
+    ----------
+    source, target : Shape
+        Same triangles.
+    t : (F,) float
+    consistent : bool
+        Propagate rotation angles across adjacent triangles (Baxter et al.);
+        see :mod:`isotween.baselines.arap_baxter`.
+
+    Returns
+    -------
+    frames : (F, n) complex
+    info : dict
+        ``rotation_span``: largest minus smallest triangle angle used (radians).
+    """
+    _check_mesh(source, "arap-baxter" if consistent else "arap")
+    P, Q = affine_maps(source, target)
+    theta = np.angle(P)
+    if consistent:
+        from .arap_baxter import propagate_angles
+
+        theta = propagate_angles(source.faces, theta, source.n_vertices)
+    mesh = Shape(source.vertices, faces=source.faces)  # the triangle sides, whatever other edges source has
+    edges, count = predicted_edges(source, mesh, theta, P, Q, t)
+    z = FrameAssembler(mesh, weights=count).positions(edges, centroid_path(mesh, source.z, target.z, t))
+    return z.T, {"rotation_span": float(np.ptp(theta))}

@@ -1,0 +1,166 @@
+"""`compare`: every interpolation method on one pair of shapes, measured alike.
+
+Runs AIAP and the baselines of :mod:`isotween.baselines`, measures each
+sequence with :mod:`isotween.metrics`, and optionally writes a report folder:
+``methods.png`` (one row per method, one column per selected frame, all at one
+scale), ``metrics.png`` (distortion per frame, one line per method),
+``table.md`` and ``table.csv``.
+"""
+
+import csv
+import io
+import math
+
+import numpy as np
+
+from . import metrics
+from .baselines import METHODS as BASELINES
+from .correspondence.compatibility import as_shape, check_compatible
+from .errors import MethodError, ParameterError
+from .interpolate import interpolate
+
+__all__ = ["compare", "METHODS", "COLUMNS"]
+
+METHODS = ("aiap",) + BASELINES
+#: columns of the comparison table, in order
+COLUMNS = ("method", "status", "edge_length_deviation", "area_deviation", "flipped_faces",
+           "isometric_energy", "iterations", "seconds", "note")
+
+
+def compare(source, target, methods=METHODS, frames=9, report_dir=None, columns=7, **options):
+    """Interpolate with several methods and measure each with the same metrics.
+
+    Parameters
+    ----------
+    source, target : Shape
+        Same vertex count and connectivity.
+    methods : sequence of str
+        Any of :data:`METHODS`.
+    frames : int
+        Frames per sequence, both inputs included.
+    report_dir : path-like, optional
+        Folder to write ``methods.png``, ``metrics.png``, ``table.md`` and
+        ``table.csv`` into (created if missing; all files or none).
+    columns : int
+        Frames shown per method in ``methods.png``.
+    **options
+        Passed to :func:`isotween.interpolate` (``tol``, ``max_iter``, ...).
+
+    Returns
+    -------
+    list of dict
+        One row per method with the keys of :data:`COLUMNS`: ``status`` is
+        'ok', or 'skipped' when the method cannot take these shapes (``note``
+        then says why and the numbers are NaN). ``edge_length_deviation`` and
+        ``area_deviation`` are maxima (SPEC.md), ``flipped_faces`` is summed
+        over the intermediate frames, ``seconds`` is the method's own time.
+
+    Raises
+    ------
+    ParameterError
+        An unknown or repeated method name.
+    """
+    methods = list(methods)
+    unknown = [m for m in methods if m not in METHODS]
+    if unknown or not methods or len(set(methods)) < len(methods):
+        raise ParameterError(f"methods must be distinct names among {', '.join(METHODS)}; got {', '.join(methods) or 'none'}")
+    source, target = as_shape(source, "source"), as_shape(target, "target")
+    check_compatible(source, target)
+    rows, sequences = [], {}
+    for method in methods:
+        try:
+            seq = interpolate(source, target, frames=frames, method=method, **options)
+        except MethodError as exc:
+            rows.append(dict.fromkeys(COLUMNS, math.nan) | {"method": method, "status": "skipped", "note": str(exc)})
+            continue
+        sequences[method] = seq
+        rows.append({
+            "method": method, "status": "ok",
+            "edge_length_deviation": metrics.edge_length_deviation(seq),
+            "area_deviation": metrics.area_deviation(seq),
+            "flipped_faces": metrics.flipped_faces(seq),
+            "isometric_energy": metrics.isometric_energy(seq, "midpoint"),
+            "iterations": seq.iterations, "seconds": float(seq.timings["total"]),
+            "note": "" if seq.converged else "not converged",
+        })
+    if report_dir is not None:
+        write_report(report_dir, rows, sequences, columns)
+    return rows
+
+
+def table_markdown(rows):
+    """The comparison table as Markdown text."""
+    lines = ["| " + " | ".join(COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
+    lines += ["| " + " | ".join(_cell(r[c]) for c in COLUMNS) + " |" for r in rows]
+    return "\n".join(lines) + "\n"
+
+
+def table_csv(rows):
+    """The comparison table as CSV text (numbers at full precision)."""
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=COLUMNS, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return out.getvalue()
+
+
+def _cell(value):
+    if isinstance(value, float):
+        return "" if math.isnan(value) else f"{value:.4g}"
+    return str(value).replace("|", "/")
+
+
+def write_report(report_dir, rows, sequences, columns=7):
+    """Write the report files of :func:`compare` into ``report_dir`` atomically."""
+    from .errors import require
+    from .io._files import atomic_dir
+
+    require("matplotlib", "cli")
+    with atomic_dir(report_dir) as tmp:
+        (tmp / "table.md").write_text(table_markdown(rows), encoding="utf-8")
+        (tmp / "table.csv").write_text(table_csv(rows), encoding="utf-8")
+        if sequences:
+            _methods_figure(sequences, tmp / "methods.png", columns)
+            _metrics_figure(sequences, tmp / "metrics.png")
+
+
+def _methods_figure(sequences, path, columns):
+    """Rows = methods, columns = evenly spaced frames, one common window."""
+    from .render._view import bbox_of, image_size
+    from .render.frame import FramePainter, save_png
+
+    seqs = list(sequences.values())
+    box = bbox_of(np.concatenate([s.frames.reshape(-1, 2) for s in seqs]))
+    w, h = image_size(box, 200)
+    painter = FramePainter(w, h, box)
+    picked = np.unique(np.round(np.linspace(0, len(seqs[0]) - 1, min(columns, len(seqs[0])))).astype(int))
+    sheet = np.full((len(seqs) * h, len(picked) * w, 3), 255, np.uint8)
+    for r, (method, seq) in enumerate(sequences.items()):
+        for c, k in enumerate(picked):
+            label = f"{method}  t={seq.times[k]:.2f}" if c == 0 else f"t={seq.times[k]:.2f}"
+            sheet[r * h:(r + 1) * h, c * w:(c + 1) * w] = painter.render(seq[int(k)], label=label)
+    sheet[:, w - 1:len(picked) * w - 1:w] = 200  # hairlines between cells
+    sheet[h - 1:len(seqs) * h - 1:h, :] = 200
+    save_png(sheet, path)
+
+
+def _metrics_figure(sequences, path):
+    """Edge-length deviation, area deviation and flipped faces per frame."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(13, 3.8), dpi=100, layout="constrained")
+    canvas = FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 3)
+    for method, seq in sequences.items():
+        t = seq.times
+        axes[0].plot(t, 100 * metrics.edge_length_deviation(seq, reduce=None), ".-", label=method)
+        axes[1].plot(t, 100 * metrics.area_deviation(seq, reduce=None), ".-", label=method)
+        axes[2].plot(t, metrics.flipped_faces(seq, reduce=None), ".-", label=method)
+    titles = ("max edge-length deviation (%)", "max area deviation (%)", "flipped faces")
+    for ax, title in zip(axes, titles):
+        ax.set_xlabel("t")
+        ax.set_title(title)
+        ax.grid(alpha=0.3)
+    axes[0].legend(loc="best", fontsize=8)
+    canvas.print_figure(path, format="png")
