@@ -16,8 +16,9 @@ import numpy as np
 from . import metrics
 from .baselines import METHODS as BASELINES
 from .correspondence.compatibility import as_shape, check_compatible
-from .errors import MethodError, ParameterError
+from .errors import MethodError, ParameterError, require
 from .interpolate import interpolate
+from .io._files import atomic_dir
 
 __all__ = ["compare", "METHODS", "COLUMNS"]
 
@@ -112,10 +113,7 @@ def _cell(value):
 
 def write_report(report_dir, rows, sequences, columns=7):
     """Write the report files of :func:`compare` into ``report_dir`` atomically."""
-    from .errors import require
-    from .io._files import atomic_dir
-
-    require("matplotlib", "cli")
+    require("isotween.render", "cli")
     with atomic_dir(report_dir) as tmp:
         (tmp / "table.md").write_text(table_markdown(rows), encoding="utf-8")
         (tmp / "table.csv").write_text(table_csv(rows), encoding="utf-8")

@@ -96,9 +96,7 @@ def interpolate(source, target, t):
     out = np.empty((len(t), source.n_vertices), dtype=complex)
     worst = 0.0
     for idx, closed in paths:  # loop over rings, vectorised over their vertices and frames
-        e0, e1 = path_edges(ends, idx, closed)
-        if np.any(e0 == 0) or np.any(e1 == 0):
-            raise MethodError(f"method 'intrinsic' needs edges of non-zero length on path starting at vertex {idx[0]}")
+        e0, e1 = path_edges(ends, idx, closed)  # no zero lengths (check_compatible)
         L = (1 - t) * np.abs(e0) + t * np.abs(e1)  # (F, k)
         turn0, turn1 = np.angle(e0[1:] / e0[:-1]), np.angle(e1[1:] / e1[:-1])  # in (-pi, pi]
         first = np.angle(e0[0]) + t * np.angle(e1[0] / e0[0])  # (F, 1), shorter way round
