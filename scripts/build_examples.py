@@ -198,7 +198,7 @@ def ex_soup():
 
 
 EXAMPLES = [
-    ("worm", "a meshed worm curls up: its tail turns by 300 degrees (triangle mesh from an outline)",
+    ("worm", "a worm meshed from its outline curls up by 300 degrees, head against tail",
      ex_worm, None, {"frames": 17}),
     ("glyphs", "'S' into '5': DejaVu Sans glyph outlines with different point counts, resampled",
      ex_glyphs, 160, {"frames": 13}),

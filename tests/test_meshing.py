@@ -45,11 +45,12 @@ def test_rigid_motion_gives_a_rigidly_moved_mesh(washer):
 
 
 def test_mesh_fills_the_polygon_and_leaves_the_hole(washer):
-    src, _, _ = mesh_pair(washer, washer, max_area=0.05, min_angle=25)
+    small = washer.with_vertices(washer.vertices * 0.01)  # areas written 5e-06 must still reach Triangle
+    src, _, _ = mesh_pair(small, small, max_area=5e-6, min_angle=25)
     areas = src.face_areas()
     assert np.all(areas > 0)
-    np.testing.assert_allclose(areas.sum(), polygon_area(washer), rtol=1e-12)
-    assert areas.max() <= 0.05 * (1 + 1e-9)
+    np.testing.assert_allclose(areas.sum(), polygon_area(small), rtol=1e-12)
+    assert areas.max() <= 5e-6 * (1 + 1e-9) and src.n_faces > polygon_area(small) / 5e-6
     # interior triangles meet the angle bound (the outline's own vertices may not)
     inner = np.all(src.faces >= washer.n_vertices, axis=1)
     p = src.z[src.faces[inner]]

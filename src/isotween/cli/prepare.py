@@ -16,8 +16,8 @@ correspondence_options = _compose(click.option(
     help="Resample both outlines to N vertices in all (arc length, best start and orientation).",
 ), click.option(
     "--mesh", "mesh_area", is_flag=False, flag_value="auto", default=None, metavar="[MAX_AREA]",
-    help="Triangulate the source outline (largest triangle area MAX_AREA, default from the "
-         "outline's edge length) and map the mesh onto the target outline (needs isotween[mesh]).",
+    help="Triangulate the source outline (largest triangle area MAX_AREA; default: none, triangles "
+         "grow from the outline inwards) and map the mesh onto the target outline (needs isotween[mesh]).",
 ))
 
 

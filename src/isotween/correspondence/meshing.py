@@ -11,6 +11,7 @@ extension of that boundary: the cotangent Laplacian of the source mesh,
 moved outline gives a rigidly moved mesh.
 """
 
+import numbers
 import warnings
 from typing import NamedTuple
 
@@ -52,8 +53,8 @@ def mesh_pair(source, target, max_area=None, min_angle=30.0):
         A compatible pair of polygon shapes: closed rings only (outer
         boundaries and holes, by the even-odd rule), e.g. from `resample`.
     max_area : float, optional
-        Largest triangle area. Default: the area of an equilateral triangle
-        whose side is the mean outline edge length of the source.
+        Largest triangle area. Default: none; triangles then grow from the
+        outline's edge length near the outline to larger ones inside.
     min_angle : float
         Smallest triangle angle in degrees (at most 34; Triangle's quality
         bound). Near short outline edges meeting at sharp corners it may not
@@ -79,13 +80,14 @@ def mesh_pair(source, target, max_area=None, min_angle=30.0):
     source, target = as_shape(source, "source"), as_shape(target, "target")
     check_compatible(source, target)
     segments = _outline(source)
-    if max_area is None:
-        h = float(np.mean(np.abs(source.edge_vectors())))
-        max_area = np.sqrt(3.0) / 4.0 * h * h
-    if not (np.isfinite(max_area) and max_area > 0):
-        raise ParameterError(f"max_area must be a positive number, got {max_area!r}")
-    if not (0 <= min_angle <= 34):
+    switches = "pY"
+    if max_area is not None:
+        if not (isinstance(max_area, numbers.Real) and np.isfinite(max_area) and max_area > 0):
+            raise ParameterError(f"max_area must be a positive number, got {max_area!r}")
+        switches += "a" + np.format_float_positional(max_area, trim="-")  # no exponent: 'e' is a switch
+    if not (isinstance(min_angle, numbers.Real) and 0 <= min_angle <= 34):
         raise ParameterError(f"min_angle must lie between 0 and 34 degrees, got {min_angle!r}")
+    switches += "q" + np.format_float_positional(min_angle, trim="-")
     n = source.n_vertices
     _check_distinct(source)
     plain = triangle.triangulate({"vertices": source.vertices, "segments": segments}, "p")
@@ -94,7 +96,7 @@ def mesh_pair(source, target, max_area=None, min_angle=30.0):
     data = {"vertices": source.vertices, "segments": segments}
     if len(holes):
         data["holes"] = holes
-    mesh = triangle.triangulate(data, f"pq{min_angle:.6g}a{max_area:.17g}Y")
+    mesh = triangle.triangulate(data, switches)
     _check_outline(source, segments, mesh)
     vertices, faces = mesh["vertices"], mesh["triangles"].astype(np.int64)
     z = _harmonic(vertices, faces, n, target.z)
