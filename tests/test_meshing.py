@@ -139,6 +139,20 @@ def test_cli_mesh_on_the_fly_matches_prepare(tmp_path):
     np.testing.assert_allclose(seq.frames[-1], expected.target.vertices, atol=1e-12)
 
 
+def test_cli_warns_about_flipped_triangles(tmp_path, washer):
+    z = washer.z.copy()
+    z[:8] = z[:8] - 4.5  # as in test_flipped_target_triangles_are_reported
+    io.save(washer, tmp_path / "a.svg")
+    io.save(washer.with_vertices(np.c_[z.real, z.imag]), tmp_path / "b.svg")
+    result = CliRunner().invoke(main, ["prepare", str(tmp_path / "a.svg"), str(tmp_path / "b.svg"),
+                                       "--mesh", "-o", str(tmp_path / "p")])
+    assert result.exit_code == 0, result.output
+    with pytest.warns(UserWarning):
+        pair = mesh_pair(io.load(tmp_path / "a.svg"), io.load(tmp_path / "b.svg"))
+    assert result.stderr.startswith(f"warning: the target mesh has {pair.flipped.size} flipped triangle(s)")
+    assert io.load(tmp_path / "p" / "target.obj").n_faces == pair.target.n_faces
+
+
 def test_cli_errors_leave_no_output(tmp_path):
     a, b = svg_pair(tmp_path)
     run = CliRunner().invoke

@@ -13,7 +13,7 @@ from .options import (
     solver_options,
     timer,
 )
-from .prepare import make_compatible, correspondence_options
+from .prepare import correspondence_options, make_compatible
 
 
 @main.command("interpolate")

@@ -130,6 +130,7 @@ def _outline(shape):
 
 
 def _ring_of(shape, vertex):
+    """(ring, position in the ring) of an outline vertex, for messages."""
     for r, (idx, _) in enumerate(shape.paths):
         hit = np.flatnonzero(idx == vertex)
         if hit.size:
@@ -156,7 +157,8 @@ def _check_outline(shape, segments, mesh):
     """Raise if the mesher merged, split or added outline vertices."""
     n = shape.n_vertices
     v = mesh["vertices"]
-    added = np.flatnonzero(mesh["vertex_markers"].ravel()[n:] != 0) + n
+    markers = mesh.get("vertex_markers", np.zeros(len(v), dtype=np.int64)).ravel()
+    added = np.flatnonzero(markers[n:] != 0) + n
     used = np.zeros(n, dtype=bool)
     tri = mesh.get("triangles", np.zeros((0, 3), dtype=np.int64))
     used[tri[tri < n]] = True

@@ -110,9 +110,8 @@ class _Ring:
 
     def __init__(self, z, closed):
         self.z, self.closed = z, closed
-        ext = np.append(z, z[0]) if closed else z
-        self.knots = ext
-        self.cum = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(ext)))])
+        self.knots = np.append(z, z[0]) if closed else z
+        self.cum = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(self.knots)))])
         self.length = float(self.cum[-1])
 
     def reversed(self):
