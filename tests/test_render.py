@@ -281,3 +281,33 @@ def test_draw_frame_on_user_axes(bent_bar):
     lo, hi = bent_bar.frames[-1].min(axis=0), bent_bar.frames[-1].max(axis=0)
     assert x0 <= lo[0] and x1 >= hi[0] and y0 <= lo[1] and y1 >= hi[1]
     assert len(ax.images) == 1
+
+
+def test_y_down_shape_is_drawn_as_in_its_file(tmp_path):
+    # an L: a bar along y = 0 and a leg down to y = 3, in SVG's y-down sense
+    ell = Shape.from_polygon([[0, 0], [3, 0], [3, 1], [1, 1], [1, 3], [0, 3]])
+    down = Shape(ell.vertices, ell.edges, paths=ell.paths, y_down=True)
+    bbox = (0.0, 0.0, 3.0, 3.0)
+    render.write_frame_png(ell, tmp_path / "up.png", size=(120, 120), bbox=bbox)
+    render.write_frame_png(down, tmp_path / "down.png", size=(120, 120), bbox=bbox)
+    up, dn = ink(read_rgb(tmp_path / "up.png")), ink(read_rgb(tmp_path / "down.png"))
+    # the same drawing mirrored top to bottom, with the bar (y = 0..1) on top when y points down
+    assert np.mean(up != dn[::-1]) < 0.03 and np.mean(up != dn) > 0.2  # edges may shift a pixel
+    rows = np.flatnonzero(dn.any(axis=1))
+    assert dn[rows[0] + 3].sum() > 2.5 * dn[rows[-1] - 3].sum()
+
+
+def test_y_down_default_texture_is_upright(tmp_path):
+    tex = np.zeros((8, 8, 3), np.uint8)
+    tex[:4] = [255, 0, 0]  # top half red
+    tex[4:] = [0, 0, 255]  # bottom half blue
+    sq = square_mesh(n=5, side=1.0)
+    down = Shape(sq.vertices, sq.edges, sq.faces, y_down=True)
+    for shape, name in ((sq, "up.png"), (down, "down.png")):
+        render.write_frame_png(shape, tmp_path / name, texture=tex, size=(100, 100))
+        img = read_rgb(tmp_path / name)
+        red = (img[..., 0] > 200) & (img[..., 2] < 60)
+        blue = (img[..., 2] > 200) & (img[..., 0] < 60)
+        # whichever way y points, the image appears upright on screen
+        assert red[:45].sum() > 1000 and blue[55:].sum() > 1000
+        assert red[55:].sum() == 0 and blue[:45].sum() == 0
