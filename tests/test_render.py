@@ -311,3 +311,58 @@ def test_y_down_default_texture_is_upright(tmp_path):
         # whichever way y points, the image appears upright on screen
         assert red[:45].sum() > 1000 and blue[55:].sum() > 1000
         assert red[55:].sum() == 0 and blue[:45].sum() == 0
+
+
+def _svg_animation(path):
+    """{fill-or-line: (static d, [d per frame], dur)} of an animated SVG."""
+    import xml.etree.ElementTree as ET
+
+    ns = "{http://www.w3.org/2000/svg}"
+    out = {}
+    for p in ET.parse(path).getroot().iter(f"{ns}path"):
+        anim = p.find(f"{ns}animate")
+        kind = "line" if p.get("fill") == "none" else "fill"
+        out[kind] = (p.get("d"), anim.get("values").split(";"), anim.get("dur"))
+    return out
+
+
+def _numbers(d):
+    import re
+
+    return np.array([float(x) for x in re.findall(r"-?\d+\.?\d*(?:e-?\d+)?", d)]).reshape(-1, 2)
+
+
+def test_svg_animation_holds_every_frame(tmp_path, bent_bar):
+    io = pytest.importorskip("isotween.io")
+    io.write_output(bent_bar, tmp_path / "bar.svg")
+    anim = _svg_animation(tmp_path / "bar.svg")
+    d0, values, dur = anim["fill"]
+    assert set(anim) == {"fill"} and len(values) == 7 and d0 == values[0] and dur == f"{7 / 12:.6g}s"
+    faces = bent_bar.shape.faces
+    for k, d in enumerate(values):
+        assert d.count("M") == len(faces) and d.count("Z") == len(faces)
+        # every triangle's corners, y mirrored: the bar is y-up
+        expected = bent_bar.frames[k][faces.ravel()] * [1, -1]
+        np.testing.assert_allclose(_numbers(d), expected, atol=1e-4 * 4.0)
+
+
+def test_svg_animation_of_outlines_and_soups(tmp_path):
+    ring = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    hole = np.array([[1, 1], [1, 3], [3, 3], [3, 1]], float)
+    outline = Shape.from_polygon([ring, hole])
+    square = Shape(outline.vertices, outline.edges, paths=outline.paths, y_down=True)
+    seq = Sequence(square.vertices[None] + np.arange(3)[:, None, None], square)
+    render.write_svg_animation(seq, tmp_path / "ring.svg", fps=6, bounce=True)
+    anim = _svg_animation(tmp_path / "ring.svg")
+    _, values, dur = anim["fill"]
+    # the hole is a second subpath of one even-odd path; bounce plays 0 1 2 1; y-down kept as is
+    assert set(anim) == {"fill"} and len(values) == 4 and dur == f"{4 / 6:.6g}s"
+    for k, d in zip([0, 1, 2, 1], values):
+        assert d.count("M") == 2
+        np.testing.assert_allclose(_numbers(d), seq.frames[k], atol=1e-4)
+    soup = Shape(ring, [[0, 1], [2, 3]])
+    render.write_svg_animation(Sequence(np.stack([ring, ring * 2]), soup), tmp_path / "soup.svg")
+    anim = _svg_animation(tmp_path / "soup.svg")
+    _, values, _ = anim["line"]
+    assert set(anim) == {"line"} and [d.count("M") for d in values] == [2, 2]
+    np.testing.assert_allclose(_numbers(values[1]), (ring * 2 * [1, -1])[[0, 1, 2, 3]], atol=1e-4)
