@@ -61,7 +61,7 @@ def path_data(runs, frames, digits):
     template = " ".join(
         "M" + " L".join([f"{num},{num}"] * len(r)) + (" Z" if closed else "") for r, closed in runs
     )
-    return [template.format(*xy) for xy in frames[:, order].reshape(len(frames), -1)]
+    return [template.format(*xy) for xy in frames[:, order].reshape(len(frames), -1).tolist()]
 
 
 def write_svg_animation(seq, path, fps=12, bounce=False):
@@ -86,7 +86,7 @@ def write_svg_animation(seq, path, fps=12, bounce=False):
     x0, y0, x1, y1 = bbox_of(frames)
     pad = PAD * max(x1 - x0, y1 - y0, 1e-12)
     box = (x0 - pad, y0 - pad, x1 - x0 + 2 * pad, y1 - y0 + 2 * pad)
-    digits = _decimals(frames)
+    digits = max(_decimals(frames) - 1, 0)  # 1e-4 of the size: below a pixel at any display size
     fill, line = _pieces(shape)
     styles = (
         (fill, f'fill="{FILL}" fill-rule="evenodd" stroke="{FILL_EDGE}" stroke-width="0.5" stroke-linejoin="round"'),
