@@ -131,6 +131,7 @@ def test_cli_mesh_on_the_fly_matches_prepare(tmp_path):
     expected = mesh_pair(*outlines)
     np.testing.assert_array_equal(src.faces, expected.source.faces)
     np.testing.assert_array_equal(tgt.vertices, expected.target.vertices)
+    assert expected.source.y_down and expected.target.y_down  # drawn like the SVG files
     result = run(main, ["interpolate", str(a), str(b), "--resample", "80", "--mesh", "-n", "5",
                         "-o", str(tmp_path / "s.npz"), "-q"])
     assert result.exit_code == 0, result.output

@@ -34,7 +34,7 @@ class MeshPair(NamedTuple):
     ----------
     source, target : Shape
         Triangle meshes with the same faces; vertices 0..n-1 are the outline
-        vertices, in order, and ``paths`` the input rings.
+        vertices, in order, ``paths`` the input rings, ``y_down`` the source's.
     flipped : (k,) int array
         Triangles of the target whose orientation differs from the source's.
     """
@@ -100,7 +100,7 @@ def mesh_pair(source, target, max_area=None, min_angle=30.0):
     _check_outline(source, segments, mesh)
     vertices, faces = mesh["vertices"], mesh["triangles"].astype(np.int64)
     z = _harmonic(vertices, faces, n, target.z)
-    src = Shape(vertices, faces=faces, paths=source.paths)
+    src = Shape(vertices, faces=faces, paths=source.paths, y_down=source.y_down)
     tgt = src.with_vertices(np.column_stack([z.real, z.imag]))
     a0, a1 = src.face_areas(), tgt.face_areas()
     flipped = np.flatnonzero(np.sign(a1) != np.sign(a0))

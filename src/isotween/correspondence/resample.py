@@ -57,7 +57,8 @@ def resample(source_rings, target_rings, points=None, closed=None, corners=None,
     -------
     source, target : Shape
         Outline shapes with the same vertex count, edges and paths; vertex 0
-        of each source ring stays at the source ring's first point.
+        of each source ring stays at the source ring's first point. Each keeps
+        the ``y_down`` of its input Shape.
 
     Raises
     ------
@@ -94,7 +95,8 @@ def resample(source_rings, target_rings, points=None, closed=None, corners=None,
         out_s.append(x)
         out_t.append(ring.at(ring.grid(u, n), corners))
     closed_flags = [c for _, c in src]
-    return _shape(out_s, closed_flags), _shape(out_t, closed_flags)
+    return (_shape(out_s, closed_flags, getattr(source_rings, "y_down", False)),
+            _shape(out_t, closed_flags, getattr(target_rings, "y_down", False)))
 
 
 # ---------------------------------------------------------------------- rings
@@ -230,7 +232,7 @@ def _counts(points, src, tgt):
     return counts
 
 
-def _shape(rings, closed):
+def _shape(rings, closed, y_down):
     """One outline Shape of complex rings, paths in order."""
     sizes = np.array([len(z) for z in rings])
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
@@ -240,7 +242,7 @@ def _shape(rings, closed):
         paths.append((idx, c))
         edges.append(np.column_stack([idx, np.roll(idx, -1)] if c else [idx[:-1], idx[1:]]))
     z = np.concatenate(rings)
-    return Shape(np.column_stack([z.real, z.imag]), np.vstack(edges), paths=paths)
+    return Shape(np.column_stack([z.real, z.imag]), np.vstack(edges), paths=paths, y_down=y_down)
 
 
 # ---------------------------------------------------------------------- matching
