@@ -92,6 +92,22 @@ def test_svg_writes_mesh_edges_as_a_drawing(tmp_path):
     assert seg(back) == seg(shape)
 
 
+def test_y_down_travels_with_the_shape(tmp_path):
+    svg = tmp_path / "a.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg"><polygon points="0,0 4,0 4,1"/></svg>')
+    shape = io.load(svg)
+    assert shape.y_down and not path_shape().y_down
+    for ext in (".json", ".npz"):
+        io.save(shape, tmp_path / f"s{ext}")
+        assert io.load(tmp_path / f"s{ext}").y_down
+        io.save(path_shape(), tmp_path / f"u{ext}")
+        assert not io.load(tmp_path / f"u{ext}").y_down
+        seq = Sequence(np.stack([shape.vertices, shape.vertices + 1]), shape)
+        io.save_sequence(seq, tmp_path / f"q{ext}")
+        assert io.load_sequence(tmp_path / f"q{ext}").shape.y_down
+    assert shape.with_vertices(shape.vertices * 2).y_down
+
+
 def test_svg_keeps_y_down_and_user_units(tmp_path):
     shape = Shape.from_polygon([[0.0, 0.0], [10.0, 0.0], [10.0, 5.0]])
     io.save(shape, tmp_path / "t.svg")

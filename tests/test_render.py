@@ -281,3 +281,88 @@ def test_draw_frame_on_user_axes(bent_bar):
     lo, hi = bent_bar.frames[-1].min(axis=0), bent_bar.frames[-1].max(axis=0)
     assert x0 <= lo[0] and x1 >= hi[0] and y0 <= lo[1] and y1 >= hi[1]
     assert len(ax.images) == 1
+
+
+def test_y_down_shape_is_drawn_as_in_its_file(tmp_path):
+    # an L: a bar along y = 0 and a leg down to y = 3, in SVG's y-down sense
+    ell = Shape.from_polygon([[0, 0], [3, 0], [3, 1], [1, 1], [1, 3], [0, 3]])
+    down = Shape(ell.vertices, ell.edges, paths=ell.paths, y_down=True)
+    bbox = (0.0, 0.0, 3.0, 3.0)
+    render.write_frame_png(ell, tmp_path / "up.png", size=(120, 120), bbox=bbox)
+    render.write_frame_png(down, tmp_path / "down.png", size=(120, 120), bbox=bbox)
+    up, dn = ink(read_rgb(tmp_path / "up.png")), ink(read_rgb(tmp_path / "down.png"))
+    # the same drawing mirrored top to bottom, with the bar (y = 0..1) on top when y points down
+    assert np.mean(up != dn[::-1]) < 0.03 and np.mean(up != dn) > 0.2  # edges may shift a pixel
+    rows = np.flatnonzero(dn.any(axis=1))
+    assert dn[rows[0] + 3].sum() > 2.5 * dn[rows[-1] - 3].sum()
+
+
+def test_y_down_default_texture_is_upright(tmp_path):
+    tex = np.zeros((8, 8, 3), np.uint8)
+    tex[:4] = [255, 0, 0]  # top half red
+    tex[4:] = [0, 0, 255]  # bottom half blue
+    sq = square_mesh(n=5, side=1.0)
+    down = Shape(sq.vertices, sq.edges, sq.faces, y_down=True)
+    for shape, name in ((sq, "up.png"), (down, "down.png")):
+        render.write_frame_png(shape, tmp_path / name, texture=tex, size=(100, 100))
+        img = read_rgb(tmp_path / name)
+        red = (img[..., 0] > 200) & (img[..., 2] < 60)
+        blue = (img[..., 2] > 200) & (img[..., 0] < 60)
+        # whichever way y points, the image appears upright on screen
+        assert red[:45].sum() > 1000 and blue[55:].sum() > 1000
+        assert red[55:].sum() == 0 and blue[:45].sum() == 0
+
+
+def _svg_animation(path):
+    """{fill-or-line: (static d, [d per frame], dur)} of an animated SVG."""
+    import xml.etree.ElementTree as ET
+
+    ns = "{http://www.w3.org/2000/svg}"
+    out = {}
+    for p in ET.parse(path).getroot().iter(f"{ns}path"):
+        anim = p.find(f"{ns}animate")
+        kind = "line" if p.get("fill") == "none" else "fill"
+        out[kind] = (p.get("d"), anim.get("values").split(";"), anim.get("dur"))
+    return out
+
+
+def _numbers(d):
+    import re
+
+    return np.array([float(x) for x in re.findall(r"-?\d+\.?\d*(?:e-?\d+)?", d)]).reshape(-1, 2)
+
+
+def test_svg_animation_holds_every_frame(tmp_path, bent_bar):
+    io = pytest.importorskip("isotween.io")
+    io.write_output(bent_bar, tmp_path / "bar.svg")
+    anim = _svg_animation(tmp_path / "bar.svg")
+    d0, values, dur = anim["fill"]
+    assert set(anim) == {"fill"} and len(values) == 7 and d0 == values[0] and dur == f"{7 / 12:.6g}s"
+    faces = bent_bar.shape.faces
+    for k, d in enumerate(values):
+        assert d.count("M") == len(faces) and d.count("Z") == len(faces)
+        # every triangle's corners, y mirrored: the bar is y-up
+        expected = bent_bar.frames[k][faces.ravel()] * [1, -1]
+        np.testing.assert_allclose(_numbers(d), expected, atol=1e-4 * 4.0)
+
+
+def test_svg_animation_of_outlines_and_soups(tmp_path):
+    ring = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    hole = np.array([[1, 1], [1, 3], [3, 3], [3, 1]], float)
+    outline = Shape.from_polygon([ring, hole])
+    square = Shape(outline.vertices, outline.edges, paths=outline.paths, y_down=True)
+    seq = Sequence(square.vertices[None] + np.arange(3)[:, None, None], square)
+    render.write_svg_animation(seq, tmp_path / "ring.svg", fps=6, bounce=True)
+    anim = _svg_animation(tmp_path / "ring.svg")
+    _, values, dur = anim["fill"]
+    # the hole is a second subpath of one even-odd path; bounce plays 0 1 2 1; y-down kept as is
+    assert set(anim) == {"fill"} and len(values) == 4 and dur == f"{4 / 6:.6g}s"
+    for k, d in zip([0, 1, 2, 1], values):
+        assert d.count("M") == 2
+        np.testing.assert_allclose(_numbers(d), seq.frames[k], atol=1e-4)
+    soup = Shape(ring, [[0, 1], [2, 3]])
+    render.write_svg_animation(Sequence(np.stack([ring, ring * 2]), soup), tmp_path / "soup.svg")
+    anim = _svg_animation(tmp_path / "soup.svg")
+    _, values, _ = anim["line"]
+    assert set(anim) == {"line"} and [d.count("M") for d in values] == [2, 2]
+    np.testing.assert_allclose(_numbers(values[1]), (ring * 2 * [1, -1])[[0, 1, 2, 3]], atol=1e-4)

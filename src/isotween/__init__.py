@@ -7,7 +7,7 @@ outputs (metrics, files, rendering).
 
 from . import easing, io, metrics
 from .compare import compare
-from .correspondence import check_compatible
+from .correspondence import check_compatible, mesh_pair, resample
 from .editing import edit
 from .errors import IsotweenError
 from .interpolate import interpolate
@@ -22,6 +22,6 @@ __version__ = "0.1.0"
 
 __all__ = [
     "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "check_compatible", "compare", "easing",
-    "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "metrics",
-    "relative_velocity_field", "save", "save_sequence", "transfer", "write_output",
+    "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "mesh_pair", "metrics",
+    "relative_velocity_field", "resample", "save", "save_sequence", "transfer", "write_output",
 ]

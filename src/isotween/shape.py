@@ -45,6 +45,10 @@ class Shape:
         methods (intrinsic baseline, resampling, SVG output).
     duplicates : {'error', 'merge'}
         What to do with an edge listed twice (in either direction).
+    y_down : bool
+        The y axis points down (SVG and image coordinates). Only drawing
+        depends on it: renderers show such a shape with y growing downwards,
+        so it appears as in the file it came from.
 
     Attributes
     ----------
@@ -54,7 +58,8 @@ class Shape:
     n_components : int
     """
 
-    def __init__(self, vertices, edges=None, faces=None, uv=None, paths=None, duplicates="error"):
+    def __init__(self, vertices, edges=None, faces=None, uv=None, paths=None, duplicates="error",
+                 y_down=False):
         v = np.array(vertices, dtype=np.float64)
         if v.ndim != 2 or v.shape[1] != 2:
             raise ShapeError(f"vertices must be an array of shape (n, 2), got {v.shape}")
@@ -99,6 +104,7 @@ class Shape:
         self.faces = f
         self.uv = None if uv is None else np.array(uv, dtype=np.float64).reshape(n, 2)
         self.paths = None if paths is None else [(np.asarray(p, dtype=np.int64), bool(c)) for p, c in paths]
+        self.y_down = bool(y_down)
         graph = coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n, n))
         self.n_components, self.components = connected_components(graph, directed=False)
 

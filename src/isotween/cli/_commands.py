@@ -4,3 +4,4 @@ from . import demo  # noqa: F401
 from . import info  # noqa: F401
 from . import interpolate  # noqa: F401
 from . import motion  # noqa: F401
+from . import prepare  # noqa: F401

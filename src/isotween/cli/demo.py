@@ -14,7 +14,8 @@ from .options import SOLVER_KEYS, progress, summary, timer
 @click.argument("name", required=False)
 @click.option("-o", "--output", "outdir", default="isotween-demo", show_default=True,
               help="Folder for NAME.gif and NAME.html (created if missing).")
-@click.option("--list", "list_names", is_flag=True, help="List the built-in examples and exit.")
+@click.option("--list", "list_names", is_flag=True,
+              help="List the built-in examples (name and what it shows) and exit.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
 def demo_command(name, outdir, list_names, quiet):
     """Interpolate the built-in example NAME (default: the first one).
@@ -30,7 +31,8 @@ def demo_command(name, outdir, list_names, quiet):
 
     names = list(examples.names())
     if list_names:
-        click.echo("\n".join(names))
+        width = max(map(len, names), default=0)
+        click.echo("\n".join(f"{n:<{width}}  {examples.describe(n)}" for n in names))
         return
     if not names:
         raise ParameterError("no built-in examples are installed")

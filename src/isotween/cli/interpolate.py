@@ -6,7 +6,6 @@ from . import main
 from .options import (
     check_outputs,
     emit,
-    ensure_compatible,
     frames_option,
     output_options,
     progress,
@@ -14,6 +13,7 @@ from .options import (
     solver_options,
     timer,
 )
+from .prepare import correspondence_options, make_compatible
 
 
 @main.command("interpolate")
@@ -21,12 +21,15 @@ from .options import (
 @click.argument("target")
 @frames_option
 @solver_options
+@correspondence_options
 @output_options
-def interpolate_command(source, target, output, fmt, texture, plot, quiet, **params):
+def interpolate_command(source, target, output, fmt, texture, plot, quiet, resample_points, mesh_area,
+                        **params):
     """Interpolate SOURCE into TARGET as-isometrically-as-possible.
 
     SOURCE and TARGET are shape files (.obj .off .svg .json .npz) with the
-    same vertex count and connectivity. The output kind follows -o: an
+    same vertex count and connectivity, or outlines made compatible on the
+    fly with --resample N and/or --mesh. The output kind follows -o: an
     animation (.gif .mp4 .html), a strip of frames (.png), a sequence file
     (.npz .json), or a folder of frame files (with --format).
     """
@@ -35,8 +38,7 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, **par
 
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
-    src, tgt = load(source), load(target)
-    ensure_compatible(src, tgt, source, target)
+    src, tgt = make_compatible(load(source), load(target), source, target, resample_points, mesh_area)
     kwargs = solver_kwargs(params)
     with progress(quiet, total=kwargs.get("max_iter")) as callback:
         seq = interpolate(src, tgt, callback=callback, **kwargs)

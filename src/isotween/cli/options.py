@@ -71,7 +71,7 @@ solver_options = _compose(
 
 output_options = _compose(
     click.option("-o", "--output", "output", required=True,
-                 help="Output: .gif .mp4 .html .png (strip) .npz .json (sequence) or a folder."),
+                 help="Output: .gif .mp4 .svg .html (animation) .png (strip) .npz .json (sequence) or a folder."),
     click.option("--format", "fmt", type=click.Choice(FRAME_FORMATS), default=None,
                  help="Write one file per frame in this format into the -o folder."),
     click.option("--texture", default=None, help="Image mapped through the shape's uv in rendered outputs."),

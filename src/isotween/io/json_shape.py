@@ -13,7 +13,7 @@ __all__ = ["read_json", "write_json", "shape_fields", "shape_from_fields"]
 
 
 def shape_fields(doc, vertices_key="vertices"):
-    """Validated connectivity of a JSON document: (edges, faces, uv, paths).
+    """Validated connectivity of a JSON document: (edges, faces, uv, paths, y_down).
 
     Shared by the shape and sequence files. ``paths`` is a list of
     ``{"indices": [...], "closed": bool}`` objects.
@@ -35,10 +35,13 @@ def shape_fields(doc, vertices_key="vertices"):
             if not isinstance(closed, bool):
                 raise doc.error(f"'closed' must be true or false, got {json.dumps(closed)}", "paths", k)
             paths.append((idx, closed))
-    return edges, faces, uv, paths
+    y_down = doc.data.get("y_down", False)
+    if not isinstance(y_down, bool):
+        raise doc.error(f"must be true or false, got {json.dumps(y_down)}", "y_down")
+    return edges, faces, uv, paths, y_down
 
 
-def shape_from_fields(doc, vertices, edges, faces, uv, paths):
+def shape_from_fields(doc, vertices, edges, faces, uv, paths, y_down=False):
     """Build the Shape; edges come from the paths when only paths are given."""
     n = len(vertices)
     for key, rows in (("edges", edges), ("faces", faces)):
@@ -62,7 +65,7 @@ def shape_from_fields(doc, vertices, edges, faces, uv, paths):
     if uv is not None and len(uv) != len(vertices):
         raise doc.error(f"has {len(uv)} rows for {len(vertices)} vertices", "uv")
     try:
-        return Shape(vertices, edges, faces, uv=uv, paths=paths)
+        return Shape(vertices, edges, faces, uv=uv, paths=paths, y_down=y_down)
     except ShapeError as exc:
         raise FileFormatError(f"{doc.path}: {exc}") from exc
 
@@ -71,7 +74,8 @@ def read_json(path):
     """Read a shape from the isotween JSON schema.
 
     ``{"vertices": [[x, y], ...], "edges": [[i, j], ...], "faces": [[i, j, k], ...],
-    "uv": [[u, v], ...], "paths": [{"indices": [...], "closed": true}, ...]}``;
+    "uv": [[u, v], ...], "paths": [{"indices": [...], "closed": true}, ...],
+    "y_down": false}``;
     only ``vertices`` is required, indices are 0-based. Without ``edges`` the
     edges follow the paths, else the face sides.
 
@@ -98,6 +102,8 @@ def fields_text(shape, indent="  "):
     if shape.paths is not None:
         rows = [{"indices": p.tolist(), "closed": c} for p, c in shape.paths]
         parts.append(f'{indent}"paths": {dumps_rows(rows, indent)}')
+    if shape.y_down:
+        parts.append(f'{indent}"y_down": true')
     return parts
 
 

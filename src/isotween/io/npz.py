@@ -33,6 +33,8 @@ def connectivity_arrays(shape):
         out["path_indices"] = np.concatenate([p for p, _ in shape.paths]) if sizes else np.zeros(0, np.int64)
         out["path_sizes"] = np.array(sizes, dtype=np.int64)
         out["path_closed"] = np.array([c for _, c in shape.paths], dtype=bool)
+    if shape.y_down:
+        out["y_down"] = np.array(True)
     return out
 
 
@@ -65,8 +67,9 @@ def connectivity_from(path, arrays, vertices):
         paths = list(zip(np.split(idx, np.cumsum(sizes)[:-1]), closed.tolist()))
     if uv is not None and len(uv) != len(vertices):
         raise FileFormatError(f"{path}: array 'uv' has {len(uv)} rows for {len(vertices)} vertices")
+    y_down = _get(path, arrays, "y_down", 0, kind="b")
     try:
-        return Shape(vertices, edges, faces, uv=uv, paths=paths)
+        return Shape(vertices, edges, faces, uv=uv, paths=paths, y_down=bool(y_down))
     except ShapeError as exc:
         raise FileFormatError(f"{path}: {exc}") from exc
 

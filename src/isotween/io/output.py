@@ -17,6 +17,7 @@ OUTPUT_KINDS = {
     ".mp4": "mp4",
     ".html": "html",
     ".png": "strip",
+    ".svg": "svg",
 }
 
 
@@ -31,7 +32,7 @@ def output_kind(out, format=None):
 
     Returns
     -------
-    {'sequence', 'gif', 'mp4', 'html', 'strip', 'frames'}
+    {'sequence', 'gif', 'mp4', 'html', 'strip', 'svg', 'frames'}
 
     Raises
     ------
@@ -53,14 +54,14 @@ def output_kind(out, format=None):
         kind = "frames"
     elif ext in OUTPUT_KINDS:
         kind = OUTPUT_KINDS[ext]
-    elif ext in (".obj", ".off", ".svg"):
+    elif ext in (".obj", ".off"):
         raise FileFormatError(
             f"{out}: a {ext} file holds one shape, not a sequence; write a folder of frames "
             f"(-o FOLDER --format {ext[1:]}) or a .npz/.json sequence"
         )
     else:
         raise FileFormatError(
-            f"{out}: unknown output kind '{ext}'; use .npz, .json, .gif, .mp4, .html, .png or a folder with --format"
+            f"{out}: unknown output kind '{ext}'; use .npz, .json, .gif, .mp4, .html, .png, .svg or a folder with --format"
         )
     parent = out.parent
     if not parent.is_dir():
@@ -76,7 +77,7 @@ def write_output(seq, out, format=None, texture=None, quiet=False):
     """Write a sequence as the kind of output ``out`` names.
 
     ``.npz`` / ``.json``: sequence file (`save_sequence`); ``.gif``, ``.mp4``,
-    ``.html``: animation (`isotween.render`); ``.png``: a strip of frames;
+    ``.html``, ``.svg`` (SMIL): animation (`isotween.render`); ``.png``: a strip of frames;
     a folder (existing, without extension, or with ``format``): one file per
     frame (`write_frames`, ``format`` defaulting to ``obj``).
 
@@ -117,6 +118,8 @@ def write_output(seq, out, format=None, texture=None, quiet=False):
             render.write_mp4(seq, tmp, texture=texture)
         elif kind == "html":
             render.write_html(seq, tmp, texture=texture)
+        elif kind == "svg":
+            render.write_svg_animation(seq, tmp)
         else:
             render.write_strip(seq, tmp, texture=texture)
     return [out]

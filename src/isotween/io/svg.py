@@ -174,7 +174,7 @@ def _shape_of_rings(path, rings):
         paths.append((idx, closed))
         edges.append(np.column_stack([idx, np.roll(idx, -1)] if closed else [idx[:-1], idx[1:]]))
     try:
-        return Shape(np.vstack([p for p, _ in rings]), np.vstack(edges), paths=paths)
+        return Shape(np.vstack([p for p, _ in rings]), np.vstack(edges), paths=paths, y_down=True)
     except ShapeError as exc:
         raise FileFormatError(f"{path}: {exc}") from exc
 

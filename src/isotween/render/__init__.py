@@ -1,4 +1,4 @@
-"""Rendering: frames on matplotlib axes, PNG strips, GIF/MP4 animations, an HTML viewer.
+"""Rendering: frames on matplotlib axes, PNG strips, GIF/MP4/SVG animations, an HTML viewer.
 
 Everything draws through matplotlib's Agg backend (no display needed); every
 file is written atomically.
@@ -9,6 +9,7 @@ from .frame import draw_frame, write_frame_png
 from .html import write_html
 from .plots import plot_energy
 from .strip import write_strip
+from .svg_animation import write_svg_animation
 from .texture import load_texture, texture_uv
 
 __all__ = [
@@ -18,6 +19,7 @@ __all__ = [
     "write_gif",
     "write_mp4",
     "write_html",
+    "write_svg_animation",
     "plot_energy",
     "load_texture",
     "texture_uv",

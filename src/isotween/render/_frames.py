@@ -47,7 +47,7 @@ class SequenceRenderer:
         self.width, self.height = image_size(self.bbox, size, even=even)
         self.texture = None if texture is None else load_texture(texture)
         self.style = style
-        self.painter = FramePainter(self.width, self.height, self.bbox, dpi=dpi)
+        self.painter = FramePainter(self.width, self.height, self.bbox, dpi=dpi, y_down=seq.shape.y_down)
 
     def __len__(self):
         return len(self.frames)

@@ -133,6 +133,8 @@ def draw_frame(ax, shape, texture=None, uv=None, style="auto", *, source=None, c
         artists.extend(ax.plot(xy[:, 0], xy[:, 1], color=edge_color, lw=lw, zorder=2, solid_capstyle="round"))
     ax.set_aspect("equal")
     ax.autoscale_view()
+    if shape.y_down and not ax.yaxis_inverted():
+        ax.invert_yaxis()
     return artists
 
 
@@ -154,11 +156,14 @@ class FramePainter:
     dpi : float
         Pixels per inch; line widths are in points, so a higher dpi draws
         thicker lines relative to the image.
+    y_down : bool
+        Draw y growing downwards (shapes read from SVG, see `Shape.y_down`).
     """
 
-    def __init__(self, width, height, bbox, dpi=100):
+    def __init__(self, width, height, bbox, dpi=100, y_down=False):
         self.width, self.height = int(width), int(height)
-        self.view = fit_view(bbox, self.width, self.height)
+        x0, x1, y0, y1 = fit_view(bbox, self.width, self.height)
+        self.view = (x0, x1, y1, y0) if y_down else (x0, x1, y0, y1)
         self.figure = Figure(figsize=(self.width / dpi, self.height / dpi), dpi=dpi, facecolor="white")
         self.canvas = FigureCanvasAgg(self.figure)
         self.ax = self.figure.add_axes([0, 0, 1, 1])
@@ -208,7 +213,7 @@ def write_frame_png(shape, path, texture=None, size=None, bbox=None, *, dpi=100,
     box = bbox_of(v) if bbox is None else bbox
     w, h = image_size(box, 600 if size is None else size)
     tex = None if texture is None else load_texture(texture)
-    painter = FramePainter(w, h, box, dpi=dpi)
+    painter = FramePainter(w, h, box, dpi=dpi, y_down=shape.y_down)
     rgb = painter.render(shape, texture=tex, uv=uv, style=style)
     save_png(rgb, path)
 

@@ -68,6 +68,7 @@ def page_data(seq, texture=None, title=None, fps=12):
         "frames": np.round(frames.reshape(len(frames), -1), digits).tolist(),
         "times": np.round(np.asarray(seq.times, dtype=np.float64), 6).tolist(),
         "bbox": [float(x) for x in bbox_of(frames)],
+        "yDown": bool(getattr(shape, "y_down", False)),
         "edges": shape.edges.ravel().tolist(),
         "faces": [] if not shape.n_faces else shape.faces.ravel().tolist(),
         "rings": [idx.tolist() for idx, closed in (shape.paths or []) if closed],

@@ -64,7 +64,8 @@ def texture_uv(shape, uv=None, source=None):
     shape : Shape
     uv : (n, 2) array_like, optional
         Explicit coordinates; otherwise ``shape.uv``; otherwise ``source``
-        normalised into [0, 1]^2 (aspect ratio kept, centred).
+        normalised into [0, 1]^2 (aspect ratio kept, centred, v pointing the
+        way the shape is drawn up: against y when ``shape.y_down``).
     source : (n, 2) array_like, optional
         Geometry the default coordinates come from (the source shape of a
         sequence); ``shape.vertices`` when omitted.
@@ -89,7 +90,10 @@ def texture_uv(shape, uv=None, source=None):
     p = shape.vertices if source is None else np.asarray(source, dtype=np.float64)
     lo, hi = p.min(axis=0), p.max(axis=0)
     side = float(np.max(hi - lo)) or 1.0
-    return (p - 0.5 * (lo + hi)) / side + 0.5
+    uv = (p - 0.5 * (lo + hi)) / side + 0.5
+    if shape.y_down:  # the image's top row goes where the shape is drawn on top
+        uv[:, 1] = 1.0 - uv[:, 1]
+    return uv
 
 
 def rasterize_triangles(points, faces, width, height):

@@ -1,0 +1,262 @@
+"""Build the example gallery: src/isotween/examples/data/ and docs/gallery/*.png.
+
+    PYTHONPATH=src python3 scripts/build_examples.py
+
+Everything comes from data that pip packages ship, no downloads: glyph outlines
+of the DejaVu fonts bundled with matplotlib (matplotlib.textpath.TextPath), the
+Grace Hopper photograph of matplotlib's sample data, and shapes made here.
+Meshes come from `isotween.mesh_pair` (needs the ``mesh`` extra). Every example
+is then interpolated once and drawn as a strip of frames into docs/gallery/,
+and the default one is also run through ``isotween demo`` for the README's
+animation.
+"""
+
+import json
+import shutil
+import tempfile
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+from click.testing import CliRunner
+from matplotlib.font_manager import FontProperties
+from matplotlib.path import Path as MplPath
+from matplotlib.textpath import TextPath
+from PIL import Image
+
+import isotween
+from isotween import Shape, io
+from isotween.cli import main
+from isotween.examples import DATA
+from isotween.render import write_strip
+
+ROOT = Path(__file__).resolve().parents[1]
+GALLERY = ROOT / "docs" / "gallery"
+
+
+# ---------------------------------------------------------------- shapes
+def glyph(char, size=10.0, per_curve=6, weight="bold"):
+    """Closed rings of a DejaVu Sans glyph (y up): outer ring first, then holes top to bottom."""
+    path = TextPath((0, 0), char, size=size, prop=FontProperties(family="DejaVu Sans", weight=weight))
+    rings, ring = [], []
+    steps = np.linspace(0, 1, per_curve + 1)[1:]
+    for curve, code in path.iter_bezier():
+        if code == MplPath.MOVETO:
+            if ring:
+                rings.append(np.vstack(ring))
+            ring = [curve.control_points[-1:]]
+        elif code == MplPath.CLOSEPOLY:
+            continue
+        else:
+            ring.append(curve(steps) if len(curve.control_points) > 2 else curve.control_points[-1:])
+    if ring:
+        rings.append(np.vstack(ring))
+    out = []
+    for r in rings:
+        keep = np.r_[True, np.any(np.abs(np.diff(r, axis=0)) > 1e-9, axis=1)]
+        r = r[keep]
+        if np.allclose(r[0], r[-1]):
+            r = r[:-1]
+        out.append(r)
+    area = [abs(_area(r)) for r in out]
+    outer = int(np.argmax(area))
+    holes = sorted((r for i, r in enumerate(out) if i != outer), key=lambda r: -r[:, 1].mean())
+    return [out[outer]] + holes
+
+
+def _area(r):
+    x, y = r[:, 0], r[:, 1]
+    return 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
+
+
+def rectangle_outline(width, height, step):
+    """Counter-clockwise rectangle outline with vertices about ``step`` apart."""
+    nx, ny = max(2, round(width / step)), max(2, round(height / step))
+    x, y = np.linspace(0, width, nx + 1)[:-1], np.linspace(0, height, ny + 1)[:-1]
+    return np.vstack([np.c_[x, 0 * x], np.c_[0 * y + width, y], np.c_[width - x, 0 * x + height],
+                      np.c_[0 * y, height - y]])
+
+
+def worm_outline(length=8.0, head=0.55, tail=0.3, n=150):
+    """A tapered capsule along x from 0 to ``length``: half-width ``tail`` at x=0, ``head`` at the end."""
+    t = np.linspace(0, 1, n // 2)
+    x = length * t
+    w = tail + (head - tail) * t
+    cap = np.linspace(-np.pi / 2, np.pi / 2, 14)[1:-1]
+    top = np.c_[x, w]
+    bottom = np.c_[x, -w][::-1]
+    head_cap = np.c_[length + head * np.cos(cap), head * np.sin(cap)]
+    tail_cap = np.c_[-tail * np.cos(cap), -tail * np.sin(cap)]
+    return np.vstack([bottom[::-1], head_cap, top[::-1], tail_cap])
+
+
+def bend(points, angle, length):
+    """Bend the strip along the x axis from 0 to ``length`` into an arc of ``angle`` radians."""
+    R = length / angle
+    r = R - points[:, 1]
+    return np.c_[r * np.sin(points[:, 0] / R), R - r * np.cos(points[:, 0] / R)]
+
+
+def curl(n, turns, step, sign=1.0):
+    """A chain of ``n`` equal steps whose turning grows linearly (an Euler spiral of ``turns`` turns)."""
+    s = np.arange(n - 1) / (n - 2)
+    theta = sign * 2 * np.pi * turns * s**2
+    d = step * np.exp(1j * theta)
+    z = np.concatenate([[0], np.cumsum(d)])
+    return np.c_[z.real, z.imag]
+
+
+def stick_figure(joints, bones, head, ball, per_bone=6, ring=18):
+    """An edge soup: a tree of subdivided bones, a head ring and a ball ring (three components)."""
+    names = list(joints)
+    pts = [np.asarray(joints[k], dtype=float) for k in names]
+    edges = []
+    for a, b in bones:
+        i, j = names.index(a), names.index(b)
+        chain = [i]
+        for t in np.linspace(0, 1, per_bone + 1)[1:-1]:
+            pts.append((1 - t) * pts[i] + t * pts[j])
+            chain.append(len(pts) - 1)
+        chain.append(j)
+        edges += list(zip(chain[:-1], chain[1:]))
+    for centre, radius in (head, ball):
+        th = np.linspace(0, 2 * np.pi, ring, endpoint=False) + np.pi / 2
+        start = len(pts)
+        pts += list(np.c_[centre[0] + radius * np.cos(th), centre[1] + radius * np.sin(th)])
+        idx = np.arange(start, start + ring)
+        edges += list(zip(idx, np.roll(idx, -1)))
+    return Shape(np.array(pts), np.array(edges))
+
+
+def posed(lengths, angles, root):
+    """Joint positions of a skeleton from bone lengths and absolute bone angles (degrees)."""
+    out = {"pelvis": np.asarray(root, dtype=float)}
+    for (a, b), length in lengths.items():
+        out[b] = out[a] + length * np.array([np.cos(np.deg2rad(angles[b])), np.sin(np.deg2rad(angles[b]))])
+    return out
+
+
+# ---------------------------------------------------------------- examples
+def ex_worm():
+    outline = worm_outline()
+    src = Shape.from_polygon(outline)
+    tgt = src.with_vertices(bend(outline, np.deg2rad(300), 8.0))
+    pair = isotween.mesh_pair(src, tgt, max_area=0.06)
+    return pair.source, pair.target
+
+
+def ex_glyphs():
+    return Shape.from_polygon(glyph("S")), Shape.from_polygon(glyph("5"))
+
+
+def ex_holes():
+    return Shape.from_polygon(glyph("B")), Shape.from_polygon(glyph("8"))
+
+
+def ex_curls():
+    a, b = curl(60, 1.6, 0.12), curl(60, 1.1, 0.12, sign=-1.0)
+    straight_a = np.c_[np.arange(60) * 0.12, np.zeros(60)]
+    straight_b = straight_a + [0.0, -1.2]
+    src = Shape.from_polyline([straight_a, straight_b])
+    tgt = Shape.from_polyline([a + [1.0, 0.6], b + [1.0, -2.0]])
+    return src, tgt
+
+
+def ex_hopper():
+    with Image.open(DATA / "hopper.jpg") as im:
+        w, h = im.size
+    width, height = 4.0, 4.0 * h / w
+    outline = rectangle_outline(width, height, 0.2)
+    src = Shape.from_polygon(outline)
+    # a wave across, then the photo's vertical axis bent by 80 degrees
+    wave = np.c_[outline[:, 1], width / 2 - outline[:, 0] - 0.2 * np.sin(2.5 * outline[:, 1])]
+    bent = bend(wave, np.deg2rad(80), height)
+    tgt = src.with_vertices(np.c_[-bent[:, 1], bent[:, 0]])
+    pair = isotween.mesh_pair(src, tgt, max_area=0.05)
+    uv = (pair.source.vertices - pair.source.vertices.min(axis=0)) / [width, height]
+    mesh = Shape(pair.source.vertices, faces=pair.source.faces, uv=uv, paths=pair.source.paths)
+    return mesh, mesh.with_vertices(pair.target.vertices)
+
+
+def ex_soup():
+    lengths = {("pelvis", "neck"): 2.0, ("neck", "l_elbow"): 1.1, ("l_elbow", "l_hand"): 1.0,
+               ("neck", "r_elbow"): 1.1, ("r_elbow", "r_hand"): 1.0, ("pelvis", "l_knee"): 1.3,
+               ("l_knee", "l_foot"): 1.3, ("pelvis", "r_knee"): 1.3, ("r_knee", "r_foot"): 1.3}
+    bones = list(lengths)
+    stand = {"neck": 90, "l_elbow": 240, "l_hand": 265, "r_elbow": 300, "r_hand": 275,
+             "l_knee": 255, "l_foot": 268, "r_knee": 285, "r_foot": 272}
+    kick = {"neck": 100, "l_elbow": 150, "l_hand": 100, "r_elbow": 10, "r_hand": 70,
+            "l_knee": 250, "l_foot": 270, "r_knee": 340, "r_foot": 10}
+    shapes = []
+    for angles, ball in ((stand, ((2.2, -2.4), 0.35)), (kick, ((5.2, 1.5), 0.35))):
+        joints = posed(lengths, angles, (0.0, 0.0))
+        neck = joints["neck"]
+        direction = (neck - joints["pelvis"]) / np.linalg.norm(neck - joints["pelvis"])
+        head = (tuple(neck + 0.55 * direction), 0.45)
+        shapes.append(stick_figure(joints, bones, head, ball))
+    return shapes[0], shapes[1]
+
+
+EXAMPLES = [
+    ("worm", "a worm meshed from its outline curls up by 300 degrees, head against tail",
+     ex_worm, None, {"frames": 17}),
+    ("glyphs", "'S' into '5': DejaVu Sans glyph outlines with different point counts, resampled",
+     ex_glyphs, 160, {"frames": 13}),
+    ("holes", "'B' into '8': a polygon with two holes (outer ring and holes paired in order)",
+     ex_holes, 200, {"frames": 13}),
+    ("curls", "two open polylines curling into spirals, one by 1.6 turns, one by 1.1 the other way",
+     ex_curls, None, {"frames": 17}),
+    ("hopper", "a textured mesh: Grace Hopper's photograph bends and waves",
+     ex_hopper, None, {"frames": 13}),
+    ("soup", "an edge soup of three components: a stick figure kicks a ball",
+     ex_soup, None, {"frames": 13}),
+]
+
+
+def build_texture():
+    """A small copy of matplotlib's sample photograph (public domain, US Navy)."""
+    sample = Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg"
+    out = DATA / "hopper.jpg"
+    with Image.open(sample) as im:
+        im.convert("RGB").resize((192, 225), Image.LANCZOS).save(out, quality=85)
+    return out
+
+
+def main_build():
+    for old in DATA.glob("*"):
+        old.unlink()
+    texture = build_texture()
+    index = []
+    for name, description, make, points, options in EXAMPLES:
+        src, tgt = make()
+        io.save(src, DATA / f"{name}-source.npz")
+        io.save(tgt, DATA / f"{name}-target.npz")
+        entry = {"name": name, "description": description, "source": f"{name}-source.npz",
+                 "target": f"{name}-target.npz", "options": options}
+        if points:
+            entry["resample"] = points
+        if name == "hopper":
+            entry["texture"] = texture.name
+        index.append(entry)
+    (DATA / "index.json").write_text(json.dumps({"examples": index}, indent=1) + "\n")
+    isotween.examples._index.cache_clear()
+
+    GALLERY.mkdir(parents=True, exist_ok=True)
+    for name in isotween.examples.names():
+        src, tgt, options = isotween.examples.load_example(name)
+        texture = options.pop("texture", None)
+        seq = isotween.interpolate(src, tgt, **options)
+        picked = np.unique(np.round(np.linspace(0, len(seq) - 1, 6)).astype(int))
+        write_strip(seq, GALLERY / f"{name}.png", frames=picked, texture=texture, cell=200)
+        print(f"{name}: {src.n_vertices} vertices, {src.n_edges} edges, {src.n_faces} faces, "
+              f"{len(seq)} frames, {(GALLERY / f'{name}.png').stat().st_size // 1024} KiB strip")
+    default = isotween.examples.names()[0]
+    with tempfile.TemporaryDirectory() as tmp:
+        result = CliRunner().invoke(main, ["demo", "-o", tmp, "-q"])
+        assert result.exit_code == 0, result.output
+        shutil.copy(Path(tmp) / f"{default}.gif", GALLERY / "demo.gif")
+    print(f"isotween demo: {(GALLERY / 'demo.gif').stat().st_size // 1024} KiB GIF")
+
+
+if __name__ == "__main__":
+    main_build()

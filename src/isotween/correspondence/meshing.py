@@ -1,0 +1,251 @@
+"""Meshes from outlines: a quality triangulation of the source polygon and a
+compatible target mesh from a harmonic map.
+
+The source polygon (rings with holes) is triangulated by Shewchuk's Triangle
+(the ``triangle`` package, the ``mesh`` extra; free for non-commercial use
+only) with no extra vertices on the outline (switch ``Y``), so the outline
+vertices are the mesh's boundary vertices and the target boundary is the
+target outline itself. The interior vertices of the target are the harmonic
+extension of that boundary: the cotangent Laplacian of the source mesh,
+``L_II z_I = -L_IB z_B``. It reproduces affine maps exactly, so a rigidly
+moved outline gives a rigidly moved mesh.
+"""
+
+import numbers
+import warnings
+from typing import NamedTuple
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.sparse.linalg import splu
+
+from ..errors import ParameterError, ShapeError, require
+from ..shape import Shape
+from .compatibility import as_shape, check_compatible
+
+__all__ = ["mesh_pair", "MeshPair"]
+
+
+class MeshPair(NamedTuple):
+    """What `mesh_pair` returns.
+
+    Attributes
+    ----------
+    source, target : Shape
+        Triangle meshes with the same faces; vertices 0..n-1 are the outline
+        vertices, in order, ``paths`` the input rings, ``y_down`` the source's.
+    flipped : (k,) int array
+        Triangles of the target whose orientation differs from the source's.
+    """
+
+    source: Shape
+    target: Shape
+    flipped: np.ndarray
+
+
+def mesh_pair(source, target, max_area=None, min_angle=30.0):
+    """Triangulate the source outline and map the mesh onto the target outline.
+
+    Parameters
+    ----------
+    source, target : Shape
+        A compatible pair of polygon shapes: closed rings only (outer
+        boundaries and holes, by the even-odd rule), e.g. from `resample`.
+    max_area : float, optional
+        Largest triangle area. Default: none; triangles then grow from the
+        outline's edge length near the outline to larger ones inside.
+    min_angle : float
+        Smallest triangle angle in degrees (at most 34; Triangle's quality
+        bound). Near short outline edges meeting at sharp corners it may not
+        be reached, since no vertex is added on the outline.
+
+    Returns
+    -------
+    MeshPair
+        ``(source, target, flipped)``; a warning names the flipped target
+        triangles if there are any.
+
+    Raises
+    ------
+    ShapeError
+        Open paths, an outline that touches or crosses itself (the mesher
+        would add or merge outline vertices), or no enclosed area.
+    IncompatibleShapesError
+        The outlines do not share vertex count and connectivity.
+    MissingDependencyError
+        ``triangle`` is not installed (``pip install 'isotween[mesh]'``).
+    """
+    triangle = require("triangle", "mesh")
+    source, target = as_shape(source, "source"), as_shape(target, "target")
+    check_compatible(source, target)
+    segments = _outline(source)
+    switches = "pY"
+    if max_area is not None:
+        if not (isinstance(max_area, numbers.Real) and np.isfinite(max_area) and max_area > 0):
+            raise ParameterError(f"max_area must be a positive number, got {max_area!r}")
+        switches += "a" + np.format_float_positional(max_area, trim="-")  # no exponent: 'e' is a switch
+    if not (isinstance(min_angle, numbers.Real) and 0 <= min_angle <= 34):
+        raise ParameterError(f"min_angle must lie between 0 and 34 degrees, got {min_angle!r}")
+    switches += "q" + np.format_float_positional(min_angle, trim="-")
+    n = source.n_vertices
+    _check_distinct(source)
+    plain = triangle.triangulate({"vertices": source.vertices, "segments": segments}, "p")
+    _check_outline(source, segments, plain)
+    holes = _hole_points(source, segments, plain)
+    data = {"vertices": source.vertices, "segments": segments}
+    if len(holes):
+        data["holes"] = holes
+    mesh = triangle.triangulate(data, switches)
+    _check_outline(source, segments, mesh)
+    vertices, faces = mesh["vertices"], mesh["triangles"].astype(np.int64)
+    z = _harmonic(vertices, faces, n, target.z)
+    src = Shape(vertices, faces=faces, paths=source.paths, y_down=source.y_down)
+    tgt = src.with_vertices(np.column_stack([z.real, z.imag]))
+    a0, a1 = src.face_areas(), tgt.face_areas()
+    flipped = np.flatnonzero(np.sign(a1) != np.sign(a0))
+    if flipped.size:
+        warnings.warn(
+            f"the target mesh has {flipped.size} flipped triangle(s) of {len(faces)} "
+            f"(first: triangle {flipped[0]}); AIAP interpolation tolerates a few",
+            stacklevel=2,
+        )
+    return MeshPair(src, tgt, flipped)
+
+
+def _outline(shape):
+    """(E, 2) outline segments of a polygon shape; its paths must be closed rings."""
+    if shape.faces is not None and len(shape.faces):
+        raise ShapeError("the source is already a triangle mesh; mesh_pair takes outlines")
+    if not shape.paths:
+        raise ShapeError("the source has no outline rings (paths) to mesh")
+    for r, (idx, closed) in enumerate(shape.paths):
+        if not closed:
+            raise ShapeError(f"ring {r} of the source is an open polyline; meshing needs closed rings")
+    segments = np.vstack([np.column_stack([p, np.roll(p, -1)]) for p, _ in shape.paths])
+    covered = np.unique(np.concatenate([p for p, _ in shape.paths]))
+    if len(segments) != shape.n_edges or len(covered) != shape.n_vertices:
+        raise ShapeError("the source has edges or vertices outside its rings; mesh_pair takes polygon outlines")
+    return segments
+
+
+def _ring_of(shape, vertex):
+    """(ring, position in the ring) of an outline vertex, for messages."""
+    for r, (idx, _) in enumerate(shape.paths):
+        hit = np.flatnonzero(idx == vertex)
+        if hit.size:
+            return r, int(hit[0])
+    return None, vertex
+
+
+def _check_distinct(shape):
+    """Raise if two outline vertices coincide (Triangle cannot take repeated vertices)."""
+    from scipy.spatial import cKDTree
+
+    close = cKDTree(shape.vertices).query_pairs(1e-9 * shape.bbox_diagonal(), output_type="ndarray")
+    if len(close):
+        i, j = np.sort(close[np.lexsort(close.T[::-1])[0]])
+        (ri, ki), (rj, kj) = _ring_of(shape, i), _ring_of(shape, j)
+        x, y = shape.vertices[i]
+        raise ShapeError(
+            f"the source outline touches itself at ({x:.6g}, {y:.6g}): vertex {ki} of ring {ri} "
+            f"and vertex {kj} of ring {rj} coincide"
+        )
+
+
+def _check_outline(shape, segments, mesh):
+    """Raise if the mesher merged, split or added outline vertices."""
+    n = shape.n_vertices
+    v = mesh["vertices"]
+    markers = mesh.get("vertex_markers", np.zeros(len(v), dtype=np.int64)).ravel()
+    added = np.flatnonzero(markers[n:] != 0) + n
+    used = np.zeros(n, dtype=bool)
+    tri = mesh.get("triangles", np.zeros((0, 3), dtype=np.int64))
+    used[tri[tri < n]] = True
+    if added.size:
+        x, y = v[added[0]]
+        raise ShapeError(f"the source outline touches or crosses itself near ({x:.6g}, {y:.6g})")
+    if not used.all():
+        k = int(np.flatnonzero(~used)[0])
+        r, i = _ring_of(shape, k)
+        x, y = shape.vertices[k]
+        raise ShapeError(
+            f"vertex {i} of ring {r} at ({x:.6g}, {y:.6g}) touches another part of the source outline "
+            "or encloses no area"
+        )
+    if len(mesh.get("segments", ())) != len(segments):  # a vertex on another segment split it
+        key = np.sort(segments, axis=1) @ np.array([n, 1])
+        out = np.sort(mesh["segments"], axis=1)
+        split = out[~np.isin(out @ np.array([n, 1]), key)]
+        common = np.intersect1d(split[0], split[1]) if len(split) > 1 else split[0]
+        x, y = v[common[0]]
+        raise ShapeError(f"the source outline touches itself at ({x:.6g}, {y:.6g})")
+
+
+def _hole_points(shape, segments, plain):
+    """One point inside every hole of the polygon (even-odd rule).
+
+    The triangles of a plain constrained triangulation fall into regions
+    bounded by the outline; one triangle per region tells whether the region
+    is inside (odd number of rings around it) or a hole (even).
+    """
+    tri = plain["triangles"].astype(np.int64)
+    if not len(tri):
+        raise ShapeError("the source outline encloses no area")
+    sides = np.sort(tri[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    owner = np.repeat(np.arange(len(tri)), 3)
+    n = shape.n_vertices
+    key = sides[:, 0] * n + sides[:, 1]
+    seg_key = np.sort(segments, axis=1) @ np.array([n, 1])
+    free = ~np.isin(key, seg_key)
+    order = np.argsort(key[free], kind="stable")
+    k, o = key[free][order], owner[free][order]
+    pair = np.flatnonzero(k[1:] == k[:-1])
+    adj = coo_matrix((np.ones(len(pair)), (o[pair], o[pair + 1])), shape=(len(tri), len(tri)))
+    _, region = connected_components(adj, directed=False)
+    _, first = np.unique(region, return_index=True)
+    centre = plain["vertices"][tri[first]].mean(axis=1)
+    inside = _crossings(centre, shape.vertices[segments]) % 2 == 1
+    return centre[~inside]
+
+
+def _crossings(points, segments):
+    """(m,) number of segments a ray from each point towards +x crosses.
+
+    Parameters
+    ----------
+    points : (m, 2) array
+    segments : (E, 2, 2) array
+    """
+    a, b = segments[:, 0], segments[:, 1]
+    px, py = points[:, 0:1], points[:, 1:2]
+    straddle = (a[:, 1] > py) != (b[:, 1] > py)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = a[:, 0] + (py - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    return np.sum(straddle & (px < x), axis=1)
+
+
+def _harmonic(vertices, faces, n, boundary):
+    """Harmonic extension of complex boundary values ``boundary`` (n,) to the mesh.
+
+    Cotangent weights of the source mesh; vertices 0..n-1 are fixed.
+
+    Returns
+    -------
+    (N,) complex array
+    """
+    p = vertices[:, 0] + 1j * vertices[:, 1]
+    N = len(p)
+    # the angle at each corner weighs the side opposite it, (j, k)
+    j, k = np.roll(faces, -1, axis=1), np.roll(faces, -2, axis=1)
+    uv = (p[j] - p[faces]).conj() * (p[k] - p[faces])
+    w, rows, cols = 0.5 * (uv.real / np.abs(uv.imag)).ravel(), j.ravel(), k.ravel()
+    W = coo_matrix((np.r_[w, w], (np.r_[rows, cols], np.r_[cols, rows])), shape=(N, N)).tocsr()
+    L = (coo_matrix((np.asarray(W.sum(axis=1)).ravel(), (np.arange(N), np.arange(N))), shape=(N, N)) - W).tocsc()
+    z = np.empty(N, dtype=complex)
+    z[:n] = boundary
+    if N > n:
+        rhs = -(L[n:, :n] @ boundary)
+        sol = splu(L[n:, n:].tocsc()).solve(np.column_stack([rhs.real, rhs.imag]))
+        z[n:] = sol[:, 0] + 1j * sol[:, 1]
+    return z

@@ -1,0 +1,72 @@
+"""Built-in example pairs (the gallery), run by ``isotween demo NAME``.
+
+The data files in ``examples/data/`` are made by ``scripts/build_examples.py``
+from data that pip packages ship (DejaVu glyph outlines and a sample image of
+matplotlib); ``data/index.json`` lists the examples in order, the first being
+the default demo.
+"""
+
+import json
+from functools import lru_cache
+from pathlib import Path
+
+from ..errors import ParameterError
+
+__all__ = ["names", "describe", "load_example"]
+
+DATA = Path(__file__).with_name("data")
+
+
+@lru_cache(maxsize=1)
+def _index():
+    with open(DATA / "index.json", encoding="utf-8") as f:
+        return {entry["name"]: entry for entry in json.load(f)["examples"]}
+
+
+def _entry(name):
+    index = _index()
+    if name not in index:
+        raise ParameterError(f"unknown example '{name}'; available: {', '.join(index)}")
+    return index[name]
+
+
+def names():
+    """Names of the built-in examples, the default demo first (list of str)."""
+    return list(_index())
+
+
+def describe(name):
+    """One line saying what the example shows (str)."""
+    return _entry(name)["description"]
+
+
+def load_example(name):
+    """The source and target shapes of an example and how to interpolate them.
+
+    Outline examples stored with different point counts are made compatible
+    here by `isotween.resample` (their ``resample`` entry is the point count).
+
+    Parameters
+    ----------
+    name : str
+        One of `names`.
+
+    Returns
+    -------
+    source, target : Shape
+        Compatible shapes.
+    options : dict
+        Keyword arguments of `isotween.interpolate` (``frames``, ...) and,
+        for textured examples, ``texture``: the path of the image (str).
+    """
+    from ..correspondence import resample
+    from ..io import load
+
+    entry = _entry(name)
+    source, target = load(DATA / entry["source"]), load(DATA / entry["target"])
+    if entry.get("resample"):
+        source, target = resample(source, target, points=entry["resample"])
+    options = dict(entry.get("options", {}))
+    if entry.get("texture"):
+        options["texture"] = str(DATA / entry["texture"])
+    return source, target, options
