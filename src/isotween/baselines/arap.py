@@ -116,7 +116,7 @@ def predicted_edges(source, mesh, theta, P, Q, t):
     return out / count[:, None], count
 
 
-def interpolate(source, target, t, consistent=False):
+def interpolate(source, target, t, method="arap", propagate=None):
     """Frames of the ARAP interpolation.
 
     Parameters
@@ -124,9 +124,12 @@ def interpolate(source, target, t, consistent=False):
     source, target : Shape
         Same triangles.
     t : (F,) float
-    consistent : bool
-        Propagate rotation angles across adjacent triangles (Baxter et al.);
-        see :mod:`isotween.baselines.arap_baxter`.
+    method : str
+        Name used in error messages.
+    propagate : callable(faces, theta, n_vertices) -> theta, optional
+        Makes the angles consistent across triangles (Baxter et al.,
+        :func:`isotween.baselines.arap_baxter.propagate_angles`); plain ARAP
+        keeps each angle in (-pi, pi].
 
     Returns
     -------
@@ -134,13 +137,11 @@ def interpolate(source, target, t, consistent=False):
     info : dict
         ``rotation_span``: largest minus smallest triangle angle used (radians).
     """
-    _check_mesh(source, "arap-baxter" if consistent else "arap")
+    _check_mesh(source, method)
     P, Q = affine_maps(source, target)
     theta = np.angle(P)
-    if consistent:
-        from .arap_baxter import propagate_angles
-
-        theta = propagate_angles(source.faces, theta, source.n_vertices)
+    if propagate is not None:
+        theta = propagate(source.faces, theta, source.n_vertices)
     mesh = Shape(source.vertices, faces=source.faces)  # the triangle sides, whatever other edges source has
     edges, count = predicted_edges(source, mesh, theta, P, Q, t)
     z = FrameAssembler(mesh, weights=count).positions(edges, centroid_path(mesh, source.z, target.z, t))
