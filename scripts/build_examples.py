@@ -145,6 +145,18 @@ def ex_worm():
     return pair.source, pair.target
 
 
+def ex_bar():
+    """A two-row triangle strip whose boundary ring passes through every vertex, so
+    that every method of `isotween compare` takes it (mesh and outline ones)."""
+    k, length, width = 30, 8.0, 0.5
+    x = np.linspace(0.0, length, k)
+    flat = np.r_[np.c_[x, 0 * x], np.c_[x, 0 * x + width]]
+    b, t = np.arange(k), np.arange(k, 2 * k)
+    faces = np.r_[np.c_[b[:-1], b[1:], t[1:]], np.c_[b[:-1], t[1:], t[:-1]]]
+    src = Shape(flat, faces=faces, paths=[(np.r_[b, t[::-1]], True)])
+    return src, src.with_vertices(bend(flat, np.deg2rad(270), length))
+
+
 def ex_glyphs():
     return Shape.from_polygon(glyph("S")), Shape.from_polygon(glyph("5"))
 
@@ -200,6 +212,8 @@ def ex_soup():
 EXAMPLES = [
     ("worm", "a worm meshed from its outline curls up by 300 degrees, head against tail",
      ex_worm, None, {"frames": 17}),
+    ("bar", "a triangle strip curls by 270 degrees; every method of `isotween compare` takes it",
+     ex_bar, None, {"frames": 13}),
     ("glyphs", "'S' into '5': DejaVu Sans glyph outlines with different point counts, resampled",
      ex_glyphs, 160, {"frames": 13}),
     ("holes", "'B' into '8': a polygon with two holes (outer ring and holes paired in order)",

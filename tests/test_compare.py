@@ -52,24 +52,25 @@ def test_compare_command_writes_figure_plots_and_tables(tmp_path, files):
             assert img.format == "PNG" and min(img.size) > 100
 
 
-def test_compare_command_on_the_built_in_worm(tmp_path):
-    """The worm is a triangle mesh whose path is its boundary only: the
-    intrinsic method cannot take it and is listed as skipped, all others run."""
-    from isotween.examples import DATA
-
-    report = tmp_path / "worm"
-    result = CliRunner().invoke(main, ["compare", str(DATA / "worm-source.npz"), str(DATA / "worm-target.npz"),
-                                       "--frames", "5", "-o", str(report)])
+def test_compare_command_on_the_built_in_bar(tmp_path):
+    """The built-in 'bar' (a strip curled by 270 degrees) is taken by every
+    method; plain ARAP folds it where AIAP and Baxter's variant do not."""
+    report = tmp_path / "bar"
+    result = CliRunner().invoke(main, ["compare", "--example", "bar", "--frames", "9", "-o", str(report)])
     assert result.exit_code == 0, result.output
     assert sorted(p.name for p in report.iterdir()) == ["methods.png", "metrics.png", "table.csv", "table.md"]
     with open(report / "table.csv", newline="") as fh:
         rows = {r["method"]: r for r in csv.DictReader(fh)}
     assert list(rows) == list(METHODS)
-    assert rows["intrinsic"]["status"] == "skipped" and "every vertex" in rows["intrinsic"]["note"]
-    for method in set(METHODS) - {"intrinsic"}:
-        assert rows[method]["status"] == "ok"
-        assert all(math.isfinite(float(rows[method][k])) for k in COLUMNS[2:-1]), rows[method]
-    assert int(rows["aiap"]["flipped_faces"]) == 0
+    for method, row in rows.items():
+        assert row["status"] == "ok", row
+        assert all(math.isfinite(float(row[k])) for k in COLUMNS[2:-1]), row
+    flips = {m: int(r["flipped_faces"]) for m, r in rows.items()}
+    assert flips["aiap"] == flips["arap-baxter"] == 0 < flips["arap"]
+    assert float(rows["aiap"]["edge_length_deviation"]) < 0.01 < float(rows["linear"]["edge_length_deviation"])
+    for args in (["--example", "bar", "a.obj"], []):
+        bad = CliRunner().invoke(main, ["compare", *args, "-o", str(tmp_path / "no")])
+        assert bad.exit_code != 0 and bad.stderr.startswith("error: ") and not (tmp_path / "no").exists()
 
 
 def test_compare_rows_are_the_metrics_of_each_method():

@@ -2,13 +2,15 @@
 
 import click
 
+from ..errors import ParameterError
 from . import main
 from .options import ensure_compatible, frames_option, timer
 
 
 @main.command("compare")
-@click.argument("source")
-@click.argument("target")
+@click.argument("source", required=False)
+@click.argument("target", required=False)
+@click.option("--example", default=None, help="Compare on a built-in example (isotween demo --list) instead of files.")
 @click.option("--methods", default="aiap,linear,intrinsic,arap,arap-baxter,shapespace", show_default=True,
               help="Comma-separated methods to compare.")
 @frames_option
@@ -17,8 +19,8 @@ from .options import ensure_compatible, frames_option, timer
 @click.option("--max-iter", type=int, default=100, show_default=True, help="Iteration limit.")
 @click.option("-o", "--output", "report_dir", required=True,
               help="Report folder (created if missing): methods.png, metrics.png, table.md, table.csv.")
-def compare_command(source, target, methods, frames, tol, max_iter, report_dir):
-    """Interpolate SOURCE into TARGET with several methods and compare them.
+def compare_command(source, target, example, methods, frames, tol, max_iter, report_dir):
+    """Interpolate SOURCE into TARGET (or a built-in --example) with several methods and compare them.
 
     Prints the table (Markdown) and writes the report folder. A method that
     cannot take these shapes (ARAP without triangles, intrinsic without
@@ -28,8 +30,17 @@ def compare_command(source, target, methods, frames, tol, max_iter, report_dir):
     from ..io import load
 
     elapsed = timer()
-    src, tgt = load(source), load(target)
-    ensure_compatible(src, tgt, source, target)
+    if example is not None:
+        if source or target:
+            raise ParameterError("give either SOURCE and TARGET files or --example NAME, not both")
+        from ..examples import load_example
+
+        src, tgt, _ = load_example(example)
+    elif source and target:
+        src, tgt = load(source), load(target)
+        ensure_compatible(src, tgt, source, target)
+    else:
+        raise ParameterError("compare needs SOURCE and TARGET files, or --example NAME (see isotween demo --list)")
     names = [m.strip() for m in methods.split(",") if m.strip()]
     rows = compare(src, tgt, methods=names, frames=frames, report_dir=report_dir, tol=tol, max_iter=max_iter)
     click.echo(table_markdown(rows), nl=False)
