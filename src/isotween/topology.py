@@ -23,6 +23,8 @@ class Topology:
 
     Attributes
     ----------
+    first, second : (E,) int
+        Edge end points, contiguous.
     D : (E, n) sparse csr
         Incidence: (D z)_e = z_j - z_i for edge e = (i, j).
     avg : (C, n) sparse csr
@@ -43,6 +45,7 @@ class Topology:
     def __init__(self, edges, n, components, n_components):
         E = len(edges)
         self.edges, self.n, self.n_edges = edges, n, E
+        self.first, self.second = np.ascontiguousarray(edges.T)  # e = z[second] - z[first]
         self.components, self.n_components = components, n_components
         rows = np.repeat(np.arange(E), 2)
         self.D = sp.csr_matrix((np.tile([-1.0, 1.0], E), (rows, edges.ravel())), shape=(E, n))
