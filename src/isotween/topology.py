@@ -5,7 +5,7 @@ import functools
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order
+from scipy.sparse.csgraph import breadth_first_order, reverse_cuthill_mckee
 
 __all__ = ["Topology"]
 
@@ -98,6 +98,36 @@ class Topology:
         indptr = np.searchsorted(col_of, np.arange(nf + 1))
         indices = linear % max(nf, 1)
         return edge, sign, slot.ravel(), indices, indptr, indices * nf + col_of
+
+    @functools.cached_property
+    def band_pattern(self):
+        """The free-vertex Laplacian in banded form (reverse Cuthill-McKee order).
+
+        Returns
+        -------
+        order : (n_free,) int
+            Free-vertex index (into ``free``) of every banded row.
+        bw : int
+            Bandwidth in that order.
+        edge, sign : (k,) int and float
+            Every contribution to the lower band (as in ``laplacian_pattern``).
+        position : (k,) int
+            Its flat index in the (bw + 1, n_free) C-ordered band, band[i - j, j] = L[i, j].
+        D_free_T : (n_free, E) sparse csr
+            Incidence transposed, rows in banded order.
+        """
+        edge, sign, slot, indices, indptr, linear = self.laplacian_pattern
+        nf = self.free.size
+        rows, cols = indices[slot], np.searchsorted(indptr, slot, side="right") - 1
+        pattern = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(nf, nf))
+        order = reverse_cuthill_mckee(pattern, symmetric_mode=True).astype(np.int64)
+        rank = np.empty(nf, dtype=np.int64)
+        rank[order] = np.arange(nf)
+        i, j = rank[rows], rank[cols]
+        lower = i >= j
+        bw = int((i - j).max(initial=0))
+        return (order, bw, edge[lower], sign[lower], (i - j)[lower] * nf + j[lower],
+                self.D_free_T[order].tocsr())
 
     def path_sums(self, d):
         """(E,) sums of ``d`` over every edge's path to its tree root (root excluded)."""

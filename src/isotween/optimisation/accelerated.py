@@ -18,10 +18,12 @@ import os
 
 import numpy as np
 
-__all__ = ["ENABLED", "PARALLEL_SIZE", "midpoint_edge_pass"]
+__all__ = ["ENABLED", "PARALLEL_SIZE", "midpoint_edge_pass", "banded_positions"]
 
 #: below this many edge-frames one thread does the pass (thread start-up costs more)
 PARALLEL_SIZE = 1_000_000
+#: edges solved side by side by one thread
+EDGE_BLOCK = 16
 
 try:
     import numba
@@ -44,45 +46,53 @@ def _edge_vectors(r, z, first, second, out):
     return acc
 
 
-def _edge_solve(r, out, inv_h, tiny, solve):
-    """Eqs. (8), (6) and (if ``solve``) (9) for the vectors of edge r; returns its energy."""
-    m = out.shape[1] - 1
-    diag = np.zeros(m + 1)
-    lower = np.empty(m, dtype=np.complex128)
-    energy = 0.0
+def _edge_solve(r0, r1, out, inv_h, tiny, solve, energy):
+    """Eqs. (8), (6) and (if ``solve``) (9) for the vectors of edges r0..r1-1.
+
+    Frames are the outer loop and edges the inner one, so that the recurrences
+    of several edges are in flight at once.
+    """
+    R, m = r1 - r0, out.shape[1] - 1
+    diag = np.zeros((m + 1, R))
+    lower = np.empty((m, R), dtype=np.complex128)
+    energy[r0:r1] = 0.0
     for k in range(m):
-        e0, e1 = out[r, k], out[r, k + 1]
-        s, d = e0 + e1, e1 - e0
-        s2 = s.real * s.real + s.imag * s.imag
-        p_im = s.real * d.imag - s.imag * d.real  # Im(conj(s) d)
-        w = 2.0 * p_im / s2 if s2 > tiny else 0.0  # omega = h c, Eq. (8) at the midpoint
-        q = 0.25 * w * w
-        a2 = (1.0 + q) * inv_h[k]
-        diag[k] += a2
-        diag[k + 1] += a2
-        lower[k] = complex(-(1.0 - q) * inv_h[k], -w * inv_h[k])
-        energy += (d.real * d.real + d.imag * d.imag - 0.5 * w * p_im) * inv_h[k]  # Eq. (6)
+        for a in range(R):
+            e0, e1 = out[r0 + a, k], out[r0 + a, k + 1]
+            s, d = e0 + e1, e1 - e0
+            s2 = s.real * s.real + s.imag * s.imag
+            p_im = s.real * d.imag - s.imag * d.real  # Im(conj(s) d)
+            w = 2.0 * p_im / s2 if s2 > tiny else 0.0  # omega = h c, Eq. (8) at the midpoint
+            q = 0.25 * w * w
+            a2 = (1.0 + q) * inv_h[k]
+            diag[k, a] += a2
+            diag[k + 1, a] += a2
+            lower[k, a] = complex(-(1.0 - q) * inv_h[k], -w * inv_h[k])
+            energy[r0 + a] += (d.real * d.real + d.imag * d.imag - 0.5 * w * p_im) * inv_h[k]  # Eq. (6)
     if not solve or m < 2:
-        return energy
+        return
     # Eq. (9) over nodes 1..m-1 with A[k, k] = diag[k], A[k+1, k] = lower[k]:
     # forward elimination (the pivots are real and positive), then back substitution
-    cp = np.empty(m, dtype=np.complex128)
-    xp = np.empty(m, dtype=np.complex128)
-    c, x = 0.0j, 0.0j
+    c = np.zeros((m, R), dtype=np.complex128)
+    x = np.zeros((m, R), dtype=np.complex128)
+    for a in range(R):  # the held end vectors
+        x[0, a] = -lower[0, a] * out[r0 + a, 0]
+        lower[0, a] = 0.0
     for k in range(1, m):
-        b = -lower[0] * out[r, 0] if k == 1 else 0.0j  # the held end vectors
-        if k == m - 1:
-            b -= lower[m - 1].conjugate() * out[r, m]
-        sub = lower[k - 1] if k > 1 else 0.0j
-        pivot = diag[k] - (sub * c).real
-        c = lower[k].conjugate() / pivot
-        x = (b - sub * x) / pivot
-        cp[k], xp[k] = c, x
-    out[r, m - 1] = x
+        for a in range(R):
+            b = x[k - 1, a] if k == 1 else 0.0j
+            if k == m - 1:
+                b -= lower[m - 1, a].conjugate() * out[r0 + a, m]
+            sub = lower[k - 1, a]
+            inv = 1.0 / (diag[k, a] - (sub * c[k - 1, a]).real)
+            c[k, a] = lower[k, a].conjugate() * inv
+            x[k, a] = (b - sub * x[k - 1, a]) * inv
+    for a in range(R):
+        out[r0 + a, m - 1] = x[m - 1, a]
     for k in range(m - 2, 0, -1):
-        x = xp[k] - cp[k] * x
-        out[r, k] = x
-    return energy
+        for a in range(R):
+            x[k, a] -= c[k, a] * x[k + 1, a]
+            out[r0 + a, k] = x[k, a]
 
 
 def _pass_parallel(z, first, second, inv_h, solve, out, energy):
@@ -91,8 +101,8 @@ def _pass_parallel(z, first, second, inv_h, solve, out, energy):
     for r in numba.prange(E):
         sums[r] = _edge_vectors(r, z, first, second, out)
     tiny = 1e-24 * sums.sum() / max(E * m, 1)  # as in schemes._ratio
-    for r in numba.prange(E):
-        energy[r] = _edge_solve(r, out, inv_h, tiny, solve)
+    for b in numba.prange((E + EDGE_BLOCK - 1) // EDGE_BLOCK):
+        _edge_solve(b * EDGE_BLOCK, min(E, (b + 1) * EDGE_BLOCK), out, inv_h, tiny, solve, energy)
 
 
 def _pass_serial(z, first, second, inv_h, solve, out, energy):
@@ -101,11 +111,63 @@ def _pass_serial(z, first, second, inv_h, solve, out, energy):
     for r in range(E):
         total += _edge_vectors(r, z, first, second, out)
     tiny = 1e-24 * total / max(E * m, 1)
-    for r in range(E):
-        energy[r] = _edge_solve(r, out, inv_h, tiny, solve)
+    for r0 in range(0, E, EDGE_BLOCK):
+        _edge_solve(r0, min(E, r0 + EDGE_BLOCK), out, inv_h, tiny, solve, energy)
+
+
+def _laplace_block(e, c0, indptr, indices, data, band, rows, z):
+    """Eq. (10) for a block of frames, in real arithmetic on interleaved (re, im) columns.
+
+    e : (E, 2F') float; the block starts at column c0. z : (n, 2B) float, rows
+    ``rows[p]`` written for the permuted free vertices p. ``indptr, indices,
+    data``: the rows of D^T W in the same permuted order (CSR). ``band``: the
+    lower band (LAPACK pbtrf storage, band[i - j, j] = L[i, j]) of the Cholesky
+    factor of the permuted Laplacian.
+    """
+    nf, B = len(rows), z.shape[1]
+    bw = band.shape[0] - 1
+    y = np.zeros((nf, B))
+    for p in range(nf):  # y = D^T W e
+        for q in range(indptr[p], indptr[p + 1]):
+            c, edge = data[q], indices[q]
+            for f in range(B):
+                y[p, f] += c * e[edge, c0 + f]
+    for j in range(nf):  # L y' = y
+        d = 1.0 / band[0, j]
+        for f in range(B):
+            y[j, f] *= d
+        for i in range(j + 1, min(j + bw, nf - 1) + 1):
+            lij = band[i - j, j]
+            if lij != 0.0:
+                for f in range(B):
+                    y[i, f] -= lij * y[j, f]
+    for j in range(nf - 1, -1, -1):  # L^T x = y'
+        for i in range(j + 1, min(j + bw, nf - 1) + 1):
+            lij = band[i - j, j]
+            if lij != 0.0:
+                for f in range(B):
+                    y[j, f] -= lij * y[i, f]
+        d = 1.0 / band[0, j]
+        for f in range(B):
+            y[j, f] *= d
+            z[rows[j], f] = y[j, f]
+
+
+def _laplace_parallel(e, indptr, indices, data, band, rows, z, block):
+    for b in numba.prange((z.shape[1] + block - 1) // block):
+        c0 = b * block
+        _laplace_block(e, c0, indptr, indices, data, band, rows, z[:, c0 : c0 + block])
+
+
+def _laplace_serial(e, indptr, indices, data, band, rows, z, block):
+    for c0 in range(0, z.shape[1], block):
+        _laplace_block(e, c0, indptr, indices, data, band, rows, z[:, c0 : c0 + block])
 
 
 if ENABLED:
+    _laplace_block = numba.njit(cache=True)(_laplace_block)
+    _laplace_parallel = numba.njit(parallel=True, cache=True)(_laplace_parallel)
+    _laplace_serial = numba.njit(cache=True)(_laplace_serial)
     _edge_vectors = numba.njit(cache=True)(_edge_vectors)
     _edge_solve = numba.njit(cache=True)(_edge_solve)
     _pass_parallel = numba.njit(parallel=True, cache=True)(_pass_parallel)
@@ -138,3 +200,30 @@ def midpoint_edge_pass(z, first, second, inv_h, solve, out):
     kernel = _pass_parallel if out.size >= PARALLEL_SIZE else _pass_serial
     kernel(z, first, second, inv_h, solve, out, energy)
     return float(energy.sum())
+
+
+def banded_positions(e, dtw, band, rows, n):
+    """Eq. (10) with a banded Cholesky factor: (n, F) complex frames, anchors at 0.
+
+    Parameters
+    ----------
+    e : (E, F) complex
+        Edge vectors; the last axis contiguous (a column slice is fine).
+    dtw : scipy.sparse.csr_matrix, (n_free, E)
+        D^T W with rows in the banded order.
+    band : (bw + 1, n_free) float
+        Lower band of the Cholesky factor (LAPACK ``pbtrf``, ``lower=1``).
+    rows : (n_free,) int
+        Vertex of every row of the banded order.
+    n : int
+        Vertex count.
+    """
+    F = e.shape[1]
+    z = np.zeros((n, F), dtype=complex)
+    ef, zf = e.view(np.float64), z.view(np.float64)
+    if e.size * band.shape[0] >= PARALLEL_SIZE:
+        kernel, block = _laplace_parallel, 2 * max(1, -(-F // 8))
+    else:
+        kernel, block = _laplace_serial, 2 * max(1, min(F, (1 << 19) // (16 * len(rows) + 1)))
+    kernel(ef, dtw.indptr, dtw.indices, dtw.data, band, rows, zf, block)
+    return z

@@ -12,8 +12,12 @@ one solve).
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg import cho_factor, cho_solve
+from scipy.linalg import cho_factor, cho_solve, get_lapack_funcs
 from scipy.sparse.linalg import splu
+
+from . import accelerated
+
+_PBTRF = get_lapack_funcs("pbtrf", dtype=np.float64)  # banded Cholesky
 
 __all__ = ["centroid_path", "FrameAssembler"]
 
@@ -47,38 +51,54 @@ class FrameAssembler:
 
     #: below this many free vertices the Laplacian is factorised densely
     DENSE = 160
+    #: with numba, a banded factorisation (reverse Cuthill-McKee order) up to this bandwidth
+    BANDED = 48
 
     def __init__(self, shape, weights=None):
-        top = shape.topology
+        top = self._top = shape.topology
         self.n, self.components, self.n_components = top.n, top.components, top.n_components
         self.anchors, self.free, self.D_free, self._avg = top.anchors, top.free, top.D_free, top.avg
         self.weights = np.ones(top.n_edges) if weights is None else np.asarray(weights, float)
+        self._factor = self._band = None
+        nf = self.free.size
+        if nf and accelerated.ENABLED and top.band_pattern[1] <= self.BANDED:
+            order, bw, edge, sign, position, Dt = top.band_pattern
+            data = np.bincount(position, sign * self.weights[edge], minlength=(bw + 1) * nf)
+            band, info = _PBTRF(data.reshape(bw + 1, nf), lower=1, overwrite_ab=1)
+            if info == 0:
+                dtw = sp.csr_matrix((Dt.data * self.weights[Dt.indices], Dt.indices, Dt.indptr),
+                                    shape=Dt.shape)
+                self._band = band, dtw, self.free[order]
+                return
+        self._factorise()
+
+    def _factorise(self):
+        """The numpy / scipy factorisation: dense Cholesky when small, else sparse LU."""
+        top, nf = self._top, self.free.size
         Dt = top.D_free_T
         self._DtW = sp.csr_matrix((Dt.data * self.weights[Dt.indices], Dt.indices, Dt.indptr),
                                   shape=Dt.shape)
-        self._lu = self._cho = None
-        nf = self.free.size
         if nf == 0:
+            self._factor = np.zeros_like
             return
         edge, sign, slot, indices, indptr, linear = top.laplacian_pattern
         data = np.bincount(slot, sign * self.weights[edge], minlength=len(indices))
         if nf <= self.DENSE:
             L = np.zeros(nf * nf)
             L[linear] = data
-            self._cho = cho_factor(L.reshape(nf, nf), check_finite=False)
+            cho = cho_factor(L.reshape(nf, nf), check_finite=False)
+            self._factor = lambda b: cho_solve(cho, b, check_finite=False)
         else:
             L = sp.csc_matrix((data, indices, indptr), shape=(nf, nf))
-            self._lu = splu(L, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+            self._factor = splu(L, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True}).solve
 
     def solve_laplacian(self, b):
         """Apply L^{-1} to (n_free, k) complex right-hand sides."""
-        if self._cho is not None:
-            return cho_solve(self._cho, b, check_finite=False)
-        if self._lu is None:
-            return np.zeros_like(b)
-        k = b.shape[1]
-        x = self._lu.solve(np.ascontiguousarray(np.hstack([b.real, b.imag])))
-        return x[:, :k] + 1j * x[:, k:]
+        if self._factor is None:
+            self._factorise()
+        # L is real: solve for the interleaved real and imaginary parts at once
+        x = self._factor(np.ascontiguousarray(b, dtype=complex).view(np.float64))
+        return np.ascontiguousarray(x).view(complex)
 
     def positions(self, e, centroids):
         """Eq. (10) for several frames.
@@ -94,6 +114,11 @@ class FrameAssembler:
         -------
         (n, F) complex vertex positions.
         """
+        if self._band is not None:
+            return self.place(accelerated.banded_positions(e, self._band[1], self._band[0],
+                                                           self._band[2], self.n), centroids)
+        if self._factor is None:
+            self._factorise()
         F = e.shape[1]
         rhs = self._DtW @ e
         z = np.zeros((self.n, F), dtype=complex)
