@@ -208,7 +208,7 @@ def banded_positions(e, dtw, band, rows, n):
     Parameters
     ----------
     e : (E, F) complex
-        Edge vectors; the last axis contiguous (a column slice is fine).
+        Edge vectors (copied unless the last axis is contiguous).
     dtw : scipy.sparse.csr_matrix, (n_free, E)
         D^T W with rows in the banded order.
     band : (bw + 1, n_free) float
@@ -219,6 +219,8 @@ def banded_positions(e, dtw, band, rows, n):
         Vertex count.
     """
     F = e.shape[1]
+    if e.strides[1] != e.itemsize:
+        e = np.ascontiguousarray(e)
     z = np.zeros((n, F), dtype=complex)
     ef, zf = e.view(np.float64), z.view(np.float64)
     if e.size * band.shape[0] >= PARALLEL_SIZE:
