@@ -38,6 +38,8 @@ class Topology:
     parent : (E,) int
         Parent of every edge in a breadth-first tree of the graph whose nodes
         are edges, adjacent when they share a vertex (roots are their own parent).
+    tree_order : (E,) int
+        The edges in breadth-first order (every parent before its children).
     ancestors : list of (E,) int arrays
         ``parent`` composed with itself 1, 2, 4, ... times (pointer doubling).
     """
@@ -56,7 +58,7 @@ class Topology:
         self.free = np.setdiff1d(np.arange(n), self.anchors)
         self.D_free = self.D[:, self.free].tocsc()
         self.D_free_T = self.D_free.T.tocsr()
-        self.parent = _edge_tree(edges, n, components)
+        self.parent, self.tree_order = _edge_tree(edges, n, components)
         self.ancestors = []
         up = self.parent
         while np.any(up != np.arange(E)):
@@ -129,6 +131,12 @@ class Topology:
         return (order, bw, edge[lower], sign[lower], (i - j)[lower] * nf + j[lower],
                 self.D_free_T[order].tocsr())
 
+    def centroids(self, z):
+        """(C,) or (C, F) complex: centroid of every component of (n,) or (n, F) positions."""
+        if self.n_components == 1:
+            return np.add.reduce(z, axis=0, keepdims=True) / self.n
+        return self.avg @ z
+
     def path_sums(self, d):
         """(E,) sums of ``d`` over every edge's path to its tree root (root excluded)."""
         k = np.array(d, dtype=float)
@@ -138,7 +146,7 @@ class Topology:
 
 
 def _edge_tree(edges, n, components):
-    """Breadth-first tree over edges, one root (lowest edge) per component.
+    """Breadth-first tree over edges, one root (lowest edge) per component: (parent, order).
 
     Runs on the edge-vertex incidence graph (E edge nodes, n vertex nodes and a
     virtual root): every second level of it is a level of the graph of edges,
@@ -146,12 +154,13 @@ def _edge_tree(edges, n, components):
     """
     E = len(edges)
     if E == 0:
-        return np.zeros(0, dtype=np.int64)
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
     root = E + n
     first = np.unique(components[edges[:, 0]], return_index=True)[1]
     rows = np.concatenate([np.arange(E), np.arange(E), np.full(len(first), root)])
     cols = np.concatenate([E + edges[:, 0], E + edges[:, 1], first])
     g = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(root + 1, root + 1))
-    _, pred = breadth_first_order(g, root, directed=False, return_predecessors=True)
+    nodes, pred = breadth_first_order(g, root, directed=False, return_predecessors=True)
     via = pred[:E]  # vertex node (or the root) each edge was reached through
-    return np.where(via == root, np.arange(E), pred[np.minimum(via, root)])
+    parent = np.where(via == root, np.arange(E), pred[np.minimum(via, root)])
+    return parent, nodes[nodes < E].astype(np.int64)

@@ -1,24 +1,27 @@
-"""Optional numba kernel for the hot loop of the local solver (``pip install isotween[fast]``).
+"""Optional numba kernels of the local solver's hot loops (``pip install isotween[fast]``).
 
-One pass over every edge, each edge independent (parallel over edges): its
-vectors e(t_k) = z_j - z_i from the assembled frames, the midpoint fit of the
-angular speed (Eq. 8), its share of the energy (Eq. 6) and, unless the solver
-has converged, the Hermitian tridiagonal solve of Eq. (9) with the end vectors
-held (Thomas algorithm; the system is positive definite). This is the same
-arithmetic as :func:`isotween.optimisation.schemes.normal_equations` followed by
-:func:`isotween.optimisation.edge_solve.solve_edges`, fused so that the (E, m+1)
-arrays are read once instead of some thirty times.
+- :func:`midpoint_edge_pass`: one pass over every edge: its vectors
+  e(t_k) = z_j - z_i from the assembled frames, the midpoint fit of the angular
+  speed (Eq. 8), its share of the energy (Eq. 6) and, unless the solver has
+  converged, the Hermitian tridiagonal solve of Eq. (9) with the end vectors
+  held (Thomas algorithm; the system is positive definite). The same arithmetic
+  as :func:`isotween.optimisation.schemes.normal_equations` followed by
+  :func:`isotween.optimisation.edge_solve.solve_edges`, fused so that the
+  (E, m+1) arrays are read once instead of some thirty times.
+- :func:`banded_positions`: Eq. (10) for all frames with a banded Cholesky
+  factor (reverse Cuthill-McKee order), no BLAS threads, no sparse matrices.
+- :func:`edge_init`: Eqs. (12)-(13) in one pass.
 
 ``ENABLED`` is False when numba is missing or the environment sets
-``ISOTWEEN_NUMBA=0``; the numpy path is then used (and is the reference the
-tests compare this kernel with).
+``ISOTWEEN_NUMBA=0``; the numpy / scipy path is then used (and is the reference
+the tests compare these kernels with).
 """
 
 import os
 
 import numpy as np
 
-__all__ = ["ENABLED", "PARALLEL_SIZE", "midpoint_edge_pass", "banded_positions"]
+__all__ = ["ENABLED", "PARALLEL_SIZE", "midpoint_edge_pass", "banded_positions", "edge_init"]
 
 #: below this many edge-frames one thread does the pass (thread start-up costs more)
 PARALLEL_SIZE = 1_000_000
@@ -164,7 +167,34 @@ def _laplace_serial(e, indptr, indices, data, band, rows, z, block):
         _laplace_block(e, c0, indptr, indices, data, band, rows, z[:, c0 : c0 + block])
 
 
+def _edge_init(e0, e1, parent, order, t, uniform, out):
+    """Kernel of :func:`edge_init`."""
+    E, F = out.shape
+    theta = np.empty(E)
+    turns = np.zeros(E)
+    for r in range(E):
+        ratio = e1[r] / e0[r]
+        theta[r] = np.arctan2(ratio.imag, ratio.real)
+    for r in order:  # parents first: whole turns accumulated from the root (Sec. 4.3)
+        p = parent[r]
+        if p != r:
+            turns[r] = turns[p] + np.rint((theta[p] - theta[r]) / (2 * np.pi))
+    for r in range(E):
+        angle = theta[r] + 2 * np.pi * turns[r]
+        scale = abs(e1[r]) / abs(e0[r])
+        if uniform:
+            step = np.exp(1j * (t[1] - t[0]) * angle)
+            rot = 1.0 + 0.0j
+            for k in range(F):
+                out[r, k] = (1 - t[k] + t[k] * scale) * rot * e0[r]  # Eq. (13)
+                rot *= step
+        else:
+            for k in range(F):
+                out[r, k] = (1 - t[k] + t[k] * scale) * np.exp(1j * t[k] * angle) * e0[r]
+
+
 if ENABLED:
+    _edge_init = numba.njit(cache=True)(_edge_init)
     _laplace_block = numba.njit(cache=True)(_laplace_block)
     _laplace_parallel = numba.njit(parallel=True, cache=True)(_laplace_parallel)
     _laplace_serial = numba.njit(cache=True)(_laplace_serial)
@@ -202,17 +232,18 @@ def midpoint_edge_pass(z, first, second, inv_h, solve, out):
     return float(energy.sum())
 
 
-def banded_positions(e, dtw, band, rows, n):
+def banded_positions(e, band, indptr, indices, data, rows, n):
     """Eq. (10) with a banded Cholesky factor: (n, F) complex frames, anchors at 0.
 
     Parameters
     ----------
     e : (E, F) complex
         Edge vectors (copied unless the last axis is contiguous).
-    dtw : scipy.sparse.csr_matrix, (n_free, E)
-        D^T W with rows in the banded order.
     band : (bw + 1, n_free) float
-        Lower band of the Cholesky factor (LAPACK ``pbtrf``, ``lower=1``).
+        Lower band of the Cholesky factor (LAPACK ``pbtrf``, ``lower=1``) of the
+        Laplacian in banded order.
+    indptr, indices, data : arrays
+        D^T W, (n_free, E) CSR, rows in banded order.
     rows : (n_free,) int
         Vertex of every row of the banded order.
     n : int
@@ -227,5 +258,17 @@ def banded_positions(e, dtw, band, rows, n):
         kernel, block = _laplace_parallel, 2 * max(1, -(-F // 8))
     else:
         kernel, block = _laplace_serial, 2 * max(1, min(F, (1 << 19) // (16 * len(rows) + 1)))
-    kernel(ef, dtw.indptr, dtw.indices, dtw.data, band, rows, zf, block)
+    kernel(ef, indptr, indices, data, band, rows, zf, block)
     return z
+
+
+def edge_init(top, e0, e1, t):
+    """Eqs. (12)-(13) with angles propagated along the edge tree: (E, F) complex.
+
+    The same as :func:`isotween.initialisation.edge_vector_init`.
+    """
+    h = t[1:] - t[:-1]
+    uniform = len(h) > 0 and h.max() - h.min() <= 1e-12 * h[0]
+    out = np.empty((len(e0), len(t)), dtype=complex)
+    _edge_init(e0, e1, top.parent, top.tree_order, t, uniform, out)
+    return out

@@ -24,9 +24,9 @@ __all__ = ["centroid_path", "FrameAssembler"]
 
 def centroid_path(shape, z0, z1, t):
     """(C, len(t)) complex: every component's centroid blended linearly in t."""
-    avg = shape.topology.avg
-    t = np.asarray(t)[None, :]
-    return (1 - t) * (avg @ z0)[:, None] + t * (avg @ z1)[:, None]
+    top = shape.topology
+    c0, c1 = top.centroids(z0)[:, None], top.centroids(z1)[:, None]
+    return c0 + np.asarray(t)[None, :] * (c1 - c0)
 
 
 class FrameAssembler:
@@ -66,9 +66,7 @@ class FrameAssembler:
             data = np.bincount(position, sign * self.weights[edge], minlength=(bw + 1) * nf)
             band, info = _PBTRF(data.reshape(bw + 1, nf), lower=1, overwrite_ab=1)
             if info == 0:
-                dtw = sp.csr_matrix((Dt.data * self.weights[Dt.indices], Dt.indices, Dt.indptr),
-                                    shape=Dt.shape)
-                self._band = band, dtw, self.free[order]
+                self._band = band, Dt.indptr, Dt.indices, Dt.data * self.weights[Dt.indices], self.free[order]
                 return
         self._factorise()
 
@@ -115,8 +113,7 @@ class FrameAssembler:
         (n, F) complex vertex positions.
         """
         if self._band is not None:
-            return self.place(accelerated.banded_positions(e, self._band[1], self._band[0],
-                                                           self._band[2], self.n), centroids)
+            return self.place(accelerated.banded_positions(e, *self._band, self.n), centroids)
         if self._factor is None:
             self._factorise()
         F = e.shape[1]
@@ -133,6 +130,6 @@ class FrameAssembler:
 
     def place(self, z, centroids):
         """Translate each component of (n, F) frames onto the (C, F) centroids (in place)."""
-        shift = centroids - self._avg @ z
+        shift = centroids - self._top.centroids(z)
         z += shift if self.n_components == 1 else shift[self.components]
         return z

@@ -60,15 +60,18 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
     info : dict
         energy (list), iterations, converged, max_move, timings.
     """
-    h = np.diff(t)
-    norm = float(np.sum(np.abs(edges[:, 0]) ** 2))
+    h = t[1:] - t[:-1]
+    e0 = edges[:, 0]
+    norm = float(np.vdot(e0, e0).real)
     if fixed is None:
         fixed = np.zeros(len(t), dtype=bool)
         fixed[[0, -1]] = True
-    free = np.flatnonzero(~fixed)
-    if free.size and free[-1] - free[0] + 1 == free.size:
-        free = slice(free[0], free[-1] + 1)  # a view, not a copy, of the frames
-    keys = np.flatnonzero(fixed[1:-1]) + 1
+        free, keys = slice(1, len(t) - 1), np.zeros(0, dtype=np.int64)
+    else:
+        free = np.flatnonzero(~fixed)
+        if free.size and free[-1] - free[0] + 1 == free.size:
+            free = slice(free[0], free[-1] + 1)  # a view, not a copy, of the frames
+        keys = np.flatnonzero(fixed[1:-1]) + 1
     centroids = centroids[:, free]
     z = z.copy()
     if assembly == "shared":
