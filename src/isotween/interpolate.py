@@ -83,13 +83,16 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
                    linear_solver=linear_solver)
     if method != "aiap":
         return _baseline(method, source, target, t, options)
+    both = np.concatenate((source.vertices, target.vertices))
+    size = both.max(axis=0) - both.min(axis=0)
+    diag = float(np.sqrt(size @ size))  # of both inputs' bounding box
     top = source.topology
     z0, z1 = _complex(source.vertices), _complex(target.vertices)
-    e0, e1 = z0[top.second] - z0[top.first], z1[top.second] - z1[top.first]
-    check_compatible(source, target, edge_vectors=(e0, e1))
-    lo = np.minimum(source.vertices.min(axis=0), target.vertices.min(axis=0))
-    hi = np.maximum(source.vertices.max(axis=0), target.vertices.max(axis=0))
-    diag = float(np.hypot(*(hi - lo)))
+    if source.n_vertices == target.n_vertices:
+        e0, e1 = z0[top.second] - z0[top.first], z1[top.second] - z1[top.first]
+        check_compatible(source, target, edge_vectors=(e0, e1), diagonal=diag)
+    else:
+        check_compatible(source, target)  # raises
     timings = {}
     if len(t) == 2:
         out, info = np.array([z0, z1]).T, {"energy": [], "iterations": 0, "converged": True}

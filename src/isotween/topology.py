@@ -107,8 +107,8 @@ class Topology:
 
         Returns
         -------
-        order : (n_free,) int
-            Free-vertex index (into ``free``) of every banded row.
+        rows : (n_free,) int
+            Vertex of every banded row.
         bw : int
             Bandwidth in that order.
         edge, sign : (k,) int and float
@@ -128,7 +128,7 @@ class Topology:
         i, j = rank[rows], rank[cols]
         lower = i >= j
         bw = int((i - j).max(initial=0))
-        return (order, bw, edge[lower], sign[lower], (i - j)[lower] * nf + j[lower],
+        return (self.free[order], bw, edge[lower], sign[lower], (i - j)[lower] * nf + j[lower],
                 self.D_free_T[order].tocsr())
 
     def centroids(self, z):

@@ -49,15 +49,15 @@ def _edge_vectors(r, z, first, second, out):
     return acc
 
 
-def _edge_solve(r0, r1, out, inv_h, tiny, solve, energy):
+def _edge_solve(r0, r1, out, inv_h, tiny, solve, energy, diag, lower, c, x):
     """Eqs. (8), (6) and (if ``solve``) (9) for the vectors of edges r0..r1-1.
 
     Frames are the outer loop and edges the inner one, so that the recurrences
-    of several edges are in flight at once.
+    of several edges are in flight at once. ``diag`` (m+1, B) float and
+    ``lower, c, x`` (m, B) complex are scratch space, B >= r1 - r0.
     """
     R, m = r1 - r0, out.shape[1] - 1
-    diag = np.zeros((m + 1, R))
-    lower = np.empty((m, R), dtype=np.complex128)
+    diag[:, :R] = 0.0
     energy[r0:r1] = 0.0
     for k in range(m):
         for a in range(R):
@@ -76,8 +76,6 @@ def _edge_solve(r0, r1, out, inv_h, tiny, solve, energy):
         return
     # Eq. (9) over nodes 1..m-1 with A[k, k] = diag[k], A[k+1, k] = lower[k]:
     # forward elimination (the pivots are real and positive), then back substitution
-    c = np.zeros((m, R), dtype=np.complex128)
-    x = np.zeros((m, R), dtype=np.complex128)
     for a in range(R):  # the held end vectors
         x[0, a] = -lower[0, a] * out[r0 + a, 0]
         lower[0, a] = 0.0
@@ -98,6 +96,11 @@ def _edge_solve(r0, r1, out, inv_h, tiny, solve, energy):
             out[r0 + a, k] = x[k, a]
 
 
+def _scratch(m, B):
+    return (np.empty((m + 1, B)), np.empty((m, B), dtype=np.complex128),
+            np.empty((m, B), dtype=np.complex128), np.empty((m, B), dtype=np.complex128))
+
+
 def _pass_parallel(z, first, second, inv_h, solve, out, energy):
     E, m = len(first), out.shape[1] - 1
     sums = np.empty(E)
@@ -105,7 +108,9 @@ def _pass_parallel(z, first, second, inv_h, solve, out, energy):
         sums[r] = _edge_vectors(r, z, first, second, out)
     tiny = 1e-24 * sums.sum() / max(E * m, 1)  # as in schemes._ratio
     for b in numba.prange((E + EDGE_BLOCK - 1) // EDGE_BLOCK):
-        _edge_solve(b * EDGE_BLOCK, min(E, (b + 1) * EDGE_BLOCK), out, inv_h, tiny, solve, energy)
+        diag, lower, c, x = _scratch(m, EDGE_BLOCK)
+        _edge_solve(b * EDGE_BLOCK, min(E, (b + 1) * EDGE_BLOCK), out, inv_h, tiny, solve, energy,
+                    diag, lower, c, x)
 
 
 def _pass_serial(z, first, second, inv_h, solve, out, energy):
@@ -114,8 +119,9 @@ def _pass_serial(z, first, second, inv_h, solve, out, energy):
     for r in range(E):
         total += _edge_vectors(r, z, first, second, out)
     tiny = 1e-24 * total / max(E * m, 1)
+    diag, lower, c, x = _scratch(m, EDGE_BLOCK)
     for r0 in range(0, E, EDGE_BLOCK):
-        _edge_solve(r0, min(E, r0 + EDGE_BLOCK), out, inv_h, tiny, solve, energy)
+        _edge_solve(r0, min(E, r0 + EDGE_BLOCK), out, inv_h, tiny, solve, energy, diag, lower, c, x)
 
 
 def _laplace_block(e, c0, indptr, indices, data, band, rows, z):
@@ -167,9 +173,11 @@ def _laplace_serial(e, indptr, indices, data, band, rows, z, block):
         _laplace_block(e, c0, indptr, indices, data, band, rows, z[:, c0 : c0 + block])
 
 
-def _edge_init(e0, e1, parent, order, t, uniform, out):
+def _edge_init(e0, e1, parent, order, t, out):
     """Kernel of :func:`edge_init`."""
     E, F = out.shape
+    h = t[1:] - t[:-1]
+    uniform = F > 1 and h.max() - h.min() <= 1e-12 * h[0]
     theta = np.empty(E)
     turns = np.zeros(E)
     for r in range(E):
@@ -200,6 +208,7 @@ if ENABLED:
     _laplace_serial = numba.njit(cache=True)(_laplace_serial)
     _edge_vectors = numba.njit(cache=True)(_edge_vectors)
     _edge_solve = numba.njit(cache=True)(_edge_solve)
+    _scratch = numba.njit(cache=True)(_scratch)
     _pass_parallel = numba.njit(parallel=True, cache=True)(_pass_parallel)
     _pass_serial = numba.njit(cache=True)(_pass_serial)
 
@@ -267,8 +276,6 @@ def edge_init(top, e0, e1, t):
 
     The same as :func:`isotween.initialisation.edge_vector_init`.
     """
-    h = t[1:] - t[:-1]
-    uniform = len(h) > 0 and h.max() - h.min() <= 1e-12 * h[0]
     out = np.empty((len(e0), len(t)), dtype=complex)
-    _edge_init(e0, e1, top.parent, top.tree_order, t, uniform, out)
+    _edge_init(e0, e1, top.parent, top.tree_order, t, out)
     return out

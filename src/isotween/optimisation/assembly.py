@@ -62,11 +62,11 @@ class FrameAssembler:
         self._factor = self._band = None
         nf = self.free.size
         if nf and accelerated.ENABLED and top.band_pattern[1] <= self.BANDED:
-            order, bw, edge, sign, position, Dt = top.band_pattern
+            rows, bw, edge, sign, position, Dt = top.band_pattern
             data = np.bincount(position, sign * self.weights[edge], minlength=(bw + 1) * nf)
             band, info = _PBTRF(data.reshape(bw + 1, nf), lower=1, overwrite_ab=1)
             if info == 0:
-                self._band = band, Dt.indptr, Dt.indices, Dt.data * self.weights[Dt.indices], self.free[order]
+                self._band = band, Dt.indptr, Dt.indices, Dt.data * self.weights[Dt.indices], rows
                 return
         self._factorise()
 
