@@ -24,7 +24,7 @@ import numpy as np
 __all__ = ["ENABLED", "PARALLEL_SIZE", "midpoint_edge_pass", "banded_positions", "edge_init"]
 
 #: below this many edge-frames one thread does the pass (thread start-up costs more)
-PARALLEL_SIZE = 1_000_000
+PARALLEL_SIZE = 4_000_000
 #: edges solved side by side by one thread
 EDGE_BLOCK = 16
 
@@ -78,7 +78,7 @@ def _edge_solve(r0, r1, out, inv_h, tiny, solve, energy, diag, lower, c, x):
     # forward elimination (the pivots are real and positive), then back substitution
     for a in range(R):  # the held end vectors
         x[0, a] = -lower[0, a] * out[r0 + a, 0]
-        lower[0, a] = 0.0
+        lower[0, a] = c[0, a] = 0.0
     for k in range(1, m):
         for a in range(R):
             b = x[k - 1, a] if k == 1 else 0.0j
