@@ -27,6 +27,8 @@ class Topology:
         Edge end points, contiguous.
     D : (E, n) sparse csr
         Incidence: (D z)_e = z_j - z_i for edge e = (i, j).
+    inv_count : (C,) float
+        1 / vertex count of every component.
     avg : (C, n) sparse csr
         (avg z)_c = centroid of component c.
     anchors : (C,) int
@@ -52,6 +54,7 @@ class Topology:
         rows = np.repeat(np.arange(E), 2)
         self.D = sp.csr_matrix((np.tile([-1.0, 1.0], E), (rows, edges.ravel())), shape=(E, n))
         counts = np.bincount(components, minlength=n_components)
+        self.inv_count = 1.0 / counts
         self.avg = sp.csr_matrix((1.0 / counts[components], (components, np.arange(n))),
                                  shape=(n_components, n))
         self.anchors = np.unique(components, return_index=True)[1]

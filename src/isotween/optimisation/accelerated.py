@@ -124,14 +124,15 @@ def _pass_serial(z, first, second, inv_h, solve, out, energy):
         _edge_solve(r0, min(E, r0 + EDGE_BLOCK), out, inv_h, tiny, solve, energy, diag, lower, c, x)
 
 
-def _laplace_block(e, c0, indptr, indices, data, band, rows, z):
-    """Eq. (10) for a block of frames, in real arithmetic on interleaved (re, im) columns.
+def _laplace_block(e, indptr, indices, data, band, rows, anchors, comp, inv_count, centroids, z):
+    """Eq. (10) for a block of frames, placed on the centroids, written into ``z``.
 
-    e : (E, 2F') float; the block starts at column c0. z : (n, 2B) float, rows
-    ``rows[p]`` written for the permuted free vertices p. ``indptr, indices,
-    data``: the rows of D^T W in the same permuted order (CSR). ``band``: the
-    lower band (LAPACK pbtrf storage, band[i - j, j] = L[i, j]) of the Cholesky
-    factor of the permuted Laplacian.
+    Real arithmetic on interleaved (re, im) columns: e (E, 2B), centroids
+    (C, 2B), z (n, 2B) float views of the block. ``indptr, indices, data``: the
+    rows of D^T W in banded order (CSR); ``band``: the lower band of its
+    Cholesky factor (LAPACK pbtrf storage, band[i - j, j] = L[i, j]); ``rows``:
+    the vertex of every banded row; ``comp``, ``inv_count``: component of every
+    vertex and 1 / its size. Returns the largest squared move of a vertex.
     """
     nf, B = len(rows), z.shape[1]
     bw = band.shape[0] - 1
@@ -140,7 +141,7 @@ def _laplace_block(e, c0, indptr, indices, data, band, rows, z):
         for q in range(indptr[p], indptr[p + 1]):
             c, edge = data[q], indices[q]
             for f in range(B):
-                y[p, f] += c * e[edge, c0 + f]
+                y[p, f] += c * e[edge, f]
     for j in range(nf):  # L y' = y
         d = 1.0 / band[0, j]
         for f in range(B):
@@ -150,6 +151,7 @@ def _laplace_block(e, c0, indptr, indices, data, band, rows, z):
             if lij != 0.0:
                 for f in range(B):
                     y[i, f] -= lij * y[j, f]
+    shift = np.zeros((len(inv_count), B))
     for j in range(nf - 1, -1, -1):  # L^T x = y'
         for i in range(j + 1, min(j + bw, nf - 1) + 1):
             lij = band[i - j, j]
@@ -159,18 +161,41 @@ def _laplace_block(e, c0, indptr, indices, data, band, rows, z):
         d = 1.0 / band[0, j]
         for f in range(B):
             y[j, f] *= d
-            z[rows[j], f] = y[j, f]
+            shift[comp[rows[j]], f] -= y[j, f]
+    for c in range(len(inv_count)):  # centroid of the solution (anchors at 0) -> the target
+        for f in range(B):
+            shift[c, f] = centroids[c, f] + shift[c, f] * inv_count[c]
+    move = 0.0
+    for p in range(nf + len(anchors)):
+        v = rows[p] if p < nf else anchors[p - nf]
+        for f in range(0, B, 2):
+            re = (y[p, f] if p < nf else 0.0) + shift[comp[v], f]
+            im = (y[p, f + 1] if p < nf else 0.0) + shift[comp[v], f + 1]
+            move = max(move, (re - z[v, f]) ** 2 + (im - z[v, f + 1]) ** 2)
+            z[v, f], z[v, f + 1] = re, im
+    return move
 
 
-def _laplace_parallel(e, indptr, indices, data, band, rows, z, block):
-    for b in numba.prange((z.shape[1] + block - 1) // block):
+def _laplace_parallel(e, indptr, indices, data, band, rows, anchors, comp, inv_count, centroids,
+                      z, block):
+    n_blocks = (z.shape[1] + block - 1) // block
+    moves = np.zeros(n_blocks)
+    for b in numba.prange(n_blocks):
         c0 = b * block
-        _laplace_block(e, c0, indptr, indices, data, band, rows, z[:, c0 : c0 + block])
+        c1 = c0 + block
+        moves[b] = _laplace_block(e[:, c0:c1], indptr, indices, data, band, rows, anchors, comp,
+                                  inv_count, centroids[:, c0:c1], z[:, c0:c1])
+    return moves.max()
 
 
-def _laplace_serial(e, indptr, indices, data, band, rows, z, block):
+def _laplace_serial(e, indptr, indices, data, band, rows, anchors, comp, inv_count, centroids,
+                    z, block):
+    move = 0.0
     for c0 in range(0, z.shape[1], block):
-        _laplace_block(e, c0, indptr, indices, data, band, rows, z[:, c0 : c0 + block])
+        c1 = c0 + block
+        move = max(move, _laplace_block(e[:, c0:c1], indptr, indices, data, band, rows, anchors,
+                                        comp, inv_count, centroids[:, c0:c1], z[:, c0:c1]))
+    return move
 
 
 def _edge_init(e0, e1, parent, order, t, out):
@@ -241,13 +266,18 @@ def midpoint_edge_pass(z, first, second, inv_h, solve, out):
     return float(energy.sum())
 
 
-def banded_positions(e, band, indptr, indices, data, rows, n):
-    """Eq. (10) with a banded Cholesky factor: (n, F) complex frames, anchors at 0.
+def banded_positions(z, e, centroids, band, indptr, indices, data, rows, anchors, comp, inv_count):
+    """Eq. (10) with a banded Cholesky factor, written into the frames ``z``.
 
     Parameters
     ----------
+    z : (n, F) complex
+        Frames to overwrite; the last axis contiguous (a column slice of a
+        C-ordered array is fine).
     e : (E, F) complex
-        Edge vectors (copied unless the last axis is contiguous).
+        Edge vectors of the same frames.
+    centroids : (C, F) complex
+        Where every component's centroid goes.
     band : (bw + 1, n_free) float
         Lower band of the Cholesky factor (LAPACK ``pbtrf``, ``lower=1``) of the
         Laplacian in banded order.
@@ -255,20 +285,25 @@ def banded_positions(e, band, indptr, indices, data, rows, n):
         D^T W, (n_free, E) CSR, rows in banded order.
     rows : (n_free,) int
         Vertex of every row of the banded order.
-    n : int
-        Vertex count.
+    anchors : (C,) int
+        The vertex pinned in every component.
+    comp : (n,) int
+        Component of every vertex.
+    inv_count : (C,) float
+        1 / vertex count of every component.
+
+    Returns
+    -------
+    float
+        The largest distance a vertex moved (Eq. 11).
     """
     F = e.shape[1]
-    if e.strides[1] != e.itemsize:
-        e = np.ascontiguousarray(e)
-    z = np.zeros((n, F), dtype=complex)
-    ef, zf = e.view(np.float64), z.view(np.float64)
+    e, centroids = (a if a.strides[1] == a.itemsize else np.ascontiguousarray(a) for a in (e, centroids))
+    args = (e.view(np.float64), indptr, indices, data, band, rows, anchors, comp, inv_count,
+            centroids.view(np.float64), z.view(np.float64))
     if e.size * band.shape[0] >= PARALLEL_SIZE:
-        kernel, block = _laplace_parallel, 2 * max(1, -(-F // 8))
-    else:
-        kernel, block = _laplace_serial, 2 * max(1, min(F, (1 << 19) // (16 * len(rows) + 1)))
-    kernel(ef, indptr, indices, data, band, rows, zf, block)
-    return z
+        return float(np.sqrt(_laplace_parallel(*args, 2 * max(1, -(-F // 8)))))
+    return float(np.sqrt(_laplace_serial(*args, 2 * max(1, min(F, (1 << 19) // (16 * len(rows) + 1))))))
 
 
 def edge_init(top, e0, e1, t):

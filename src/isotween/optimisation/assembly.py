@@ -66,7 +66,8 @@ class FrameAssembler:
             data = np.bincount(position, sign * self.weights[edge], minlength=(bw + 1) * nf)
             band, info = _PBTRF(data.reshape(bw + 1, nf), lower=1, overwrite_ab=1)
             if info == 0:
-                self._band = band, Dt.indptr, Dt.indices, Dt.data * self.weights[Dt.indices], rows
+                self._band = (band, Dt.indptr, Dt.indices, Dt.data * self.weights[Dt.indices], rows,
+                              top.anchors, top.components, top.inv_count)
                 return
         self._factorise()
 
@@ -113,7 +114,9 @@ class FrameAssembler:
         (n, F) complex vertex positions.
         """
         if self._band is not None:
-            return self.place(accelerated.banded_positions(e, *self._band, self.n), centroids)
+            z = np.zeros((self.n, e.shape[1]), dtype=complex)
+            accelerated.banded_positions(z, e, centroids, *self._band)
+            return z
         if self._factor is None:
             self._factorise()
         F = e.shape[1]
@@ -123,6 +126,25 @@ class FrameAssembler:
         for c in range(0, F, step):
             z[self.free, c : c + step] = self.solve_laplacian(rhs[:, c : c + step])
         return self.place(z, centroids)
+
+    def update(self, z, frames, e, centroids):
+        """Eq. (10) into ``z[:, frames]``; returns the largest vertex move (Eq. 11).
+
+        Parameters
+        ----------
+        z : (n, F) complex, C-ordered
+        frames : slice
+            Columns of ``z`` to replace.
+        e : (E, k) complex
+            Edge vectors of those frames.
+        centroids : (C, k) complex
+        """
+        if self._band is not None:
+            return accelerated.banded_positions(z[:, frames], e, centroids, *self._band)
+        new = self.positions(e, centroids)
+        move = float(np.max(np.abs(new - z[:, frames]), initial=0.0))
+        z[:, frames] = new
+        return move
 
     def gauge(self, z):
         """(n_free, F) complex: free vertices of (n, F) frames, anchors moved to 0."""
