@@ -52,7 +52,7 @@ class FrameAssembler:
     #: below this many free vertices the Laplacian is factorised densely
     DENSE = 160
     #: with numba, a banded factorisation (reverse Cuthill-McKee order) up to this bandwidth
-    BANDED = 48
+    BANDED = 128
 
     def __init__(self, shape, weights=None):
         top = self._top = shape.topology
@@ -133,13 +133,13 @@ class FrameAssembler:
         Parameters
         ----------
         z : (n, F) complex, C-ordered
-        frames : slice
+        frames : slice or (k,) int array
             Columns of ``z`` to replace.
         e : (E, k) complex
             Edge vectors of those frames.
         centroids : (C, k) complex
         """
-        if self._band is not None:
+        if self._band is not None and isinstance(frames, slice):  # z[:, frames] is a view
             return accelerated.banded_positions(z[:, frames], e, centroids, *self._band)
         new = self.positions(e, centroids)
         move = float(np.max(np.abs(new - z[:, frames]), initial=0.0))

@@ -87,17 +87,14 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
     timing = {"assemble": 0.0, "edges": 0.0}
     for it in range(1, max_iter + 1):
         t0 = time.perf_counter()
-        if assembly == "shared" and isinstance(free, slice):
+        if assembly == "shared":
             step = shared.update(z, free, edges[:, free], centroids)  # Eq. (10), Eq. (11)
-        else:
-            if assembly == "shared":
-                new = shared.positions(edges[:, free], centroids)  # Eq. (10)
-            else:  # Eq. (10) with the paper's per-frame weights
-                new = np.empty_like(z[:, free])
-                for i, k in enumerate(np.arange(len(t))[free]):
-                    length = np.abs(edges[:, k])
-                    a = FrameAssembler(shape, 1.0 / np.maximum(length, 1e-9 * length.max()))
-                    new[:, i] = a.positions(edges[:, k : k + 1], centroids[:, i : i + 1])[:, 0]
+        else:  # Eq. (10) with the paper's per-frame weights
+            new = np.empty_like(z[:, free])
+            for i, k in enumerate(np.arange(len(t))[free]):
+                length = np.abs(edges[:, k])
+                a = FrameAssembler(shape, 1.0 / np.maximum(length, 1e-9 * length.max()))
+                new[:, i] = a.positions(edges[:, k : k + 1], centroids[:, i : i + 1])[:, 0]
             step = float(np.max(np.abs(new - z[:, free]), initial=0.0))  # Eq. (11)
             z[:, free] = new
         timing["assemble"] += time.perf_counter() - t0
