@@ -101,8 +101,9 @@ def _scratch(m, B):
             np.empty((m, B), dtype=np.complex128), np.empty((m, B), dtype=np.complex128))
 
 
-def _pass_parallel(z, first, second, inv_h, solve, out, energy):
+def _pass_parallel(z, first, second, inv_h, solve, out):
     E, m = len(first), out.shape[1] - 1
+    energy = np.empty(E)
     sums = np.empty(E)
     for r in numba.prange(E):
         sums[r] = _edge_vectors(r, z, first, second, out)
@@ -111,10 +112,12 @@ def _pass_parallel(z, first, second, inv_h, solve, out, energy):
         diag, lower, c, x = _scratch(m, EDGE_BLOCK)
         _edge_solve(b * EDGE_BLOCK, min(E, (b + 1) * EDGE_BLOCK), out, inv_h, tiny, solve, energy,
                     diag, lower, c, x)
+    return energy.sum()
 
 
-def _pass_serial(z, first, second, inv_h, solve, out, energy):
+def _pass_serial(z, first, second, inv_h, solve, out):
     E, m = len(first), out.shape[1] - 1
+    energy = np.empty(E)
     total = 0.0
     for r in range(E):
         total += _edge_vectors(r, z, first, second, out)
@@ -122,6 +125,7 @@ def _pass_serial(z, first, second, inv_h, solve, out, energy):
     diag, lower, c, x = _scratch(m, EDGE_BLOCK)
     for r0 in range(0, E, EDGE_BLOCK):
         _edge_solve(r0, min(E, r0 + EDGE_BLOCK), out, inv_h, tiny, solve, energy, diag, lower, c, x)
+    return energy.sum()
 
 
 def _laplace_block(e, indptr, indices, data, band, rows, anchors, comp, inv_count, centroids, z):
@@ -260,10 +264,8 @@ def midpoint_edge_pass(z, first, second, inv_h, solve, out):
     float
         Eq. (6) of the edge vectors of ``z``, not yet divided by sum |e(0)|^2.
     """
-    energy = np.empty(len(first))
     kernel = _pass_parallel if out.size >= PARALLEL_SIZE else _pass_serial
-    kernel(z, first, second, inv_h, solve, out, energy)
-    return float(energy.sum())
+    return kernel(z, first, second, inv_h, solve, out)
 
 
 def banded_positions(z, e, centroids, band, indptr, indices, data, rows, anchors, comp, inv_count):
