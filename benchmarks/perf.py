@@ -89,6 +89,7 @@ def main():
     ap.add_argument("--kilian", action="store_true", help="also time shapespace (slow)")
     args = ap.parse_args()
 
+    load = os.getloadavg()[0]
     rows, ok = [], True
     for name, v, e, iters, paper, kilian in TABLE1:
         for f, it_paper, t_paper, t_kilian in zip(FRAMES, iters, paper, kilian):
@@ -159,6 +160,8 @@ def main():
     slope_v = np.polyfit(np.log(nv), np.log(tv), 1)[0]
     body += (f"\n\nScaling (`benchmarks/scaling.png`): log-log slope {slope_f:.2f} in frames, "
              f"{slope_v:.2f} in vertices (1 = linear).\n\n"
+             f"Load average (1 min) at the start and the end of the run: {load:.1f}, "
+             f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores.\n\n"
              "Reference ('ref') is the straightforward local solver: the paper's weights "
              "1/|e(t_k)| refactorised per frame and iteration (`assembly='per-frame'`); the "
              "default factorises once with frozen weights.\n\n"
@@ -167,7 +170,14 @@ def main():
              "'first call' is the warm-up call of a fresh process: the connectivity data "
              "(Topology, banded order) is built and the compiled kernels are loaded from numba's "
              "on-disk cache (compiling them on the very first run after installation takes "
-             "a few seconds more). Every other call reuses only connectivity-keyed data.")
+             "a few seconds more; the dense cases' first call compiles the threaded kernels "
+             "when they are new). Every other call reuses only connectivity-keyed data.\n\n"
+             "The numpy-only path factorises Eq. (10) densely below 160 free vertices; its BLAS "
+             "threads spin-wait when another job holds the second core, which costs tens of ms "
+             "per call on a shared machine (OPENBLAS_NUM_THREADS=1 avoids it). The numba path "
+             "uses no BLAS threads. Iteration counts follow Eq. (11) between two successive "
+             "iterations (before 2026-11-22 the test compared the frames with themselves and "
+             "always stopped at iteration 2).")
     print(body)
     write_section("Performance", body, "python benchmarks/perf.py" + (" --skip-large" if args.skip_large else ""))
     return 0 if ok else 1
