@@ -10,7 +10,7 @@ from isotween.optimisation.assembly import FrameAssembler
 
 from shapes import bend, chain, ellipse, grid_mesh, rotation
 
-pytest.importorskip("numba")
+pytestmark = pytest.mark.skipif(not accelerated.ENABLED, reason="numba missing or ISOTWEEN_NUMBA=0")
 
 
 def two_bars():
@@ -95,3 +95,22 @@ def test_edge_init_kernel_matches_numpy(uniform, monkeypatch):
     slow = edge_vector_init(src, src.edge_vectors(), tgt.edge_vectors(), t)
     np.testing.assert_allclose(fast, slow, atol=1e-12)
     np.testing.assert_allclose(fast[:, -1], tgt.edge_vectors(), atol=1e-12)
+
+
+def test_band_cholesky_factorises_banded_matrices():
+    rng = np.random.default_rng(5)
+    n, bw = 30, 3
+    A = np.zeros((n, n))
+    for d in range(1, bw + 1):
+        v = rng.uniform(-1, 1, n - d)
+        A += np.diag(v, -d) + np.diag(v, d)
+    A += np.diag(2 * bw + rng.uniform(0, 1, n))  # diagonally dominant: positive definite
+    band = np.array([[A[j + d, j] if j + d < n else 0.0 for d in range(bw + 1)] for j in range(n)])
+    assert accelerated.band_cholesky(band)
+    L = np.zeros((n, n))
+    for j in range(n):
+        for d in range(min(bw, n - 1 - j) + 1):
+            L[j + d, j] = band[j, d]
+    np.testing.assert_allclose(L, np.linalg.cholesky(A), atol=1e-12)
+    band = np.array([[1.0, 2.0], [1.0, 0.0]])  # [[1, 2], [2, 1]] is indefinite
+    assert not accelerated.band_cholesky(band)

@@ -117,7 +117,7 @@ class Topology:
         edge, sign : (k,) int and float
             Every contribution to the lower band (as in ``laplacian_pattern``).
         position : (k,) int
-            Its flat index in the (bw + 1, n_free) C-ordered band, band[i - j, j] = L[i, j].
+            Its flat index in the (n_free, bw + 1) C-ordered band, band[j, i - j] = L[i, j].
         D_free_T : (n_free, E) sparse csr
             Incidence transposed, rows in banded order.
         """
@@ -131,7 +131,7 @@ class Topology:
         i, j = rank[rows], rank[cols]
         lower = i >= j
         bw = int((i - j).max(initial=0))
-        return (self.free[order], bw, edge[lower], sign[lower], (i - j)[lower] * nf + j[lower],
+        return (self.free[order], bw, edge[lower], sign[lower], j[lower] * (bw + 1) + (i - j)[lower],
                 self.D_free_T[order].tocsr())
 
     def centroids(self, z):

@@ -8,8 +8,9 @@
   as :func:`isotween.optimisation.schemes.normal_equations` followed by
   :func:`isotween.optimisation.edge_solve.solve_edges`, fused so that the
   (E, m+1) arrays are read once instead of some thirty times.
-- :func:`banded_positions`: Eq. (10) for all frames with a banded Cholesky
-  factor (reverse Cuthill-McKee order), no BLAS threads, no sparse matrices.
+- :func:`band_cholesky`, :func:`banded_positions`: Eq. (10) for all frames with
+  a banded Cholesky factor (reverse Cuthill-McKee order); no BLAS (whose threads
+  fight numba's on a busy machine), no sparse matrices.
 - :func:`edge_init`: Eqs. (12)-(13) in one pass.
 
 ``ENABLED`` is False when numba is missing or the environment sets
@@ -21,7 +22,8 @@ import os
 
 import numpy as np
 
-__all__ = ["ENABLED", "PARALLEL_SIZE", "midpoint_edge_pass", "banded_positions", "edge_init"]
+__all__ = ["ENABLED", "PARALLEL_SIZE", "midpoint_edge_pass", "band_cholesky", "banded_positions",
+           "edge_init"]
 
 #: below this many edge-frames one thread does the pass (thread start-up costs more)
 PARALLEL_SIZE = 4_000_000
@@ -134,12 +136,12 @@ def _laplace_block(e, indptr, indices, data, band, rows, anchors, comp, inv_coun
     Real arithmetic on interleaved (re, im) columns: e (E, 2B), centroids
     (C, 2B), z (n, 2B) float views of the block. ``indptr, indices, data``: the
     rows of D^T W in banded order (CSR); ``band``: the lower band of its
-    Cholesky factor (LAPACK pbtrf storage, band[i - j, j] = L[i, j]); ``rows``:
+    Cholesky factor (band[j, i - j] = L[i, j], from :func:`band_cholesky`); ``rows``:
     the vertex of every banded row; ``comp``, ``inv_count``: component of every
     vertex and 1 / its size. Returns the largest squared move of a vertex.
     """
     nf, B = len(rows), z.shape[1]
-    bw = band.shape[0] - 1
+    bw = band.shape[1] - 1
     y = np.zeros((nf, B))
     for p in range(nf):  # y = D^T W e
         for q in range(indptr[p], indptr[p + 1]):
@@ -147,22 +149,22 @@ def _laplace_block(e, indptr, indices, data, band, rows, anchors, comp, inv_coun
             for f in range(B):
                 y[p, f] += c * e[edge, f]
     for j in range(nf):  # L y' = y
-        d = 1.0 / band[0, j]
+        d = 1.0 / band[j, 0]
         for f in range(B):
             y[j, f] *= d
         for i in range(j + 1, min(j + bw, nf - 1) + 1):
-            lij = band[i - j, j]
+            lij = band[j, i - j]
             if lij != 0.0:
                 for f in range(B):
                     y[i, f] -= lij * y[j, f]
     shift = np.zeros((len(inv_count), B))
     for j in range(nf - 1, -1, -1):  # L^T x = y'
         for i in range(j + 1, min(j + bw, nf - 1) + 1):
-            lij = band[i - j, j]
+            lij = band[j, i - j]
             if lij != 0.0:
                 for f in range(B):
                     y[j, f] -= lij * y[i, f]
-        d = 1.0 / band[0, j]
+        d = 1.0 / band[j, 0]
         for f in range(B):
             y[j, f] *= d
             shift[comp[rows[j]], f] -= y[j, f]
@@ -178,6 +180,25 @@ def _laplace_block(e, indptr, indices, data, band, rows, anchors, comp, inv_coun
             move = max(move, (re - z[v, f]) ** 2 + (im - z[v, f + 1]) ** 2)
             z[v, f], z[v, f + 1] = re, im
     return move
+
+
+def _band_cholesky(band):
+    """In place: band[j, i - j] = A[i, j] (i >= j) -> L[i, j], A = L L^T; False unless A > 0."""
+    nf, bw = band.shape[0], band.shape[1] - 1
+    for j in range(nf):
+        if band[j, 0] <= 0.0:
+            return False
+        d = np.sqrt(band[j, 0])
+        band[j, 0] = d
+        last = min(bw, nf - 1 - j)
+        for p in range(1, last + 1):
+            band[j, p] /= d
+        for p in range(1, last + 1):  # A[j+q, j+p] -= L[j+q, j] L[j+p, j], q >= p
+            ljp = band[j, p]
+            if ljp != 0.0:
+                for q in range(p, last + 1):
+                    band[j + p, q - p] -= band[j, q] * ljp
+    return True
 
 
 def _laplace_parallel(e, indptr, indices, data, band, rows, anchors, comp, inv_count, centroids,
@@ -231,6 +252,7 @@ def _edge_init(e0, e1, parent, order, t, out):
 
 
 if ENABLED:
+    _band_cholesky = numba.njit(cache=True)(_band_cholesky)
     _edge_init = numba.njit(cache=True)(_edge_init)
     _laplace_block = numba.njit(cache=True)(_laplace_block)
     _laplace_parallel = numba.njit(parallel=True, cache=True)(_laplace_parallel)
@@ -280,9 +302,9 @@ def banded_positions(z, e, centroids, band, indptr, indices, data, rows, anchors
         Edge vectors of the same frames.
     centroids : (C, F) complex
         Where every component's centroid goes.
-    band : (bw + 1, n_free) float
-        Lower band of the Cholesky factor (LAPACK ``pbtrf``, ``lower=1``) of the
-        Laplacian in banded order.
+    band : (n_free, bw + 1) float
+        The Cholesky factor of the Laplacian in banded order, from
+        :func:`band_cholesky`.
     indptr, indices, data : arrays
         D^T W, (n_free, E) CSR, rows in banded order.
     rows : (n_free,) int
@@ -303,9 +325,25 @@ def banded_positions(z, e, centroids, band, indptr, indices, data, rows, anchors
     e, centroids = (a if a.strides[1] == a.itemsize else np.ascontiguousarray(a) for a in (e, centroids))
     args = (e.view(np.float64), indptr, indices, data, band, rows, anchors, comp, inv_count,
             centroids.view(np.float64), z.view(np.float64))
-    if e.size * band.shape[0] >= PARALLEL_SIZE:
+    if e.size * band.shape[1] >= PARALLEL_SIZE:
         return float(np.sqrt(_laplace_parallel(*args, 2 * max(1, -(-F // 8)))))
     return float(np.sqrt(_laplace_serial(*args, 2 * max(1, min(F, (1 << 19) // (16 * len(rows) + 1))))))
+
+
+def band_cholesky(band):
+    """Cholesky factor of a banded symmetric matrix, in place (no BLAS threads).
+
+    Parameters
+    ----------
+    band : (n, bw + 1) float, C-ordered
+        band[j, i - j] = A[i, j] for j <= i <= j + bw; overwritten with L.
+
+    Returns
+    -------
+    bool
+        False when A is not positive definite.
+    """
+    return _band_cholesky(band)
 
 
 def edge_init(top, e0, e1, t):

@@ -12,12 +12,10 @@ one solve).
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg import cho_factor, cho_solve, get_lapack_funcs
+from scipy.linalg import cho_factor, cho_solve
 from scipy.sparse.linalg import splu
 
 from . import accelerated
-
-_PBTRF = get_lapack_funcs("pbtrf", dtype=np.float64)  # banded Cholesky
 
 __all__ = ["centroid_path", "FrameAssembler"]
 
@@ -63,9 +61,9 @@ class FrameAssembler:
         nf = self.free.size
         if nf and accelerated.ENABLED and top.band_pattern[1] <= self.BANDED:
             rows, bw, edge, sign, position, Dt = top.band_pattern
-            data = np.bincount(position, sign * self.weights[edge], minlength=(bw + 1) * nf)
-            band, info = _PBTRF(data.reshape(bw + 1, nf), lower=1, overwrite_ab=1)
-            if info == 0:
+            band = np.bincount(position, sign * self.weights[edge], minlength=(bw + 1) * nf)
+            band = band.reshape(nf, bw + 1)
+            if accelerated.band_cholesky(band):
                 self._band = (band, Dt.indptr, Dt.indices, Dt.data * self.weights[Dt.indices], rows,
                               top.anchors, top.components, top.inv_count)
                 return

@@ -62,7 +62,7 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
     """
     h = t[1:] - t[:-1]
     e0 = edges[:, 0]
-    norm = float(np.vdot(e0, e0).real)
+    norm = float(np.add.reduce(e0.real**2 + e0.imag**2))  # not BLAS: no threads
     if fixed is None:
         fixed = np.zeros(len(t), dtype=bool)
         fixed[[0, -1]] = True
