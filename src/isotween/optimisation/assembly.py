@@ -55,7 +55,7 @@ class FrameAssembler:
     def __init__(self, shape, weights=None):
         top = self._top = shape.topology
         self.n, self.components, self.n_components = top.n, top.components, top.n_components
-        self.anchors, self.free, self.D_free, self._avg = top.anchors, top.free, top.D_free, top.avg
+        self.anchors, self.free, self.D_free = top.anchors, top.free, top.D_free
         self.weights = np.ones(top.n_edges) if weights is None else np.asarray(weights, float)
         self._factor = self._band = None
         nf = self.free.size
