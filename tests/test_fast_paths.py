@@ -5,7 +5,7 @@ import pytest
 
 from isotween import interpolate, metrics
 from isotween.initialisation import edge_vector_init
-from isotween.optimisation import local_solver
+from isotween.optimisation import accelerated, local_solver
 from isotween.optimisation.assembly import FrameAssembler
 
 from shapes import bend, chain, grid_mesh
@@ -51,3 +51,22 @@ def test_frozen_weights_keep_quality_of_per_frame_weights(bar, scheme):
     e_fast, e_ref = metrics.isometric_energy(fast), metrics.isometric_energy(ref)
     assert abs(e_fast - e_ref) <= 0.01 * e_ref
     assert abs(metrics.edge_length_deviation(fast) - metrics.edge_length_deviation(ref)) <= 1e-3
+
+
+@pytest.mark.parametrize("numba", [False, True])
+@pytest.mark.parametrize("assembly", ["shared", "per-frame"])
+def test_eq11_compares_successive_iterations(bar, numba, assembly, monkeypatch):
+    """Eq. (11) measures how far the frames moved between two iterations: positive and,
+    with a tolerance below it, no early stop (a solver that compared the frames with
+    themselves stopped at iteration 2)."""
+    if numba and not accelerated.ENABLED:
+        pytest.skip("numba missing or ISOTWEEN_NUMBA=0")
+    monkeypatch.setattr(accelerated, "ENABLED", numba)
+    moves = []
+    seq = interpolate(*bar, frames=9, tol=1e-12, max_iter=5, assembly=assembly,
+                      callback=lambda it, energy, move: moves.append(move))
+    assert seq.iterations == 5 and not seq.converged
+    assert all(m > 0 for m in moves[1:])
+    diag = np.hypot(*np.ptp(np.vstack([bar[0].vertices, bar[1].vertices]), axis=0))
+    loose = interpolate(*bar, frames=9, tol=1.01 * moves[2] / diag, max_iter=5, assembly=assembly)
+    assert loose.iterations == 3

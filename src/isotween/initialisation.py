@@ -3,6 +3,7 @@
 import numpy as np
 
 from .errors import ParameterError
+from .optimisation import accelerated
 
 __all__ = ["INITIALISERS", "edge_rotations", "edge_vector_init", "linear_init", "initial_edges"]
 
@@ -55,6 +56,8 @@ def edge_vector_init(shape, e0, e1, t):
     -------
     (E, F) complex
     """
+    if accelerated.ENABLED:
+        return accelerated.edge_init(shape.topology, e0, e1, np.asarray(t, dtype=float))
     s, theta = edge_rotations(shape, e0, e1)
     t = np.asarray(t, dtype=float)
     h = np.diff(t)

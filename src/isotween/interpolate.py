@@ -1,5 +1,6 @@
 """`interpolate`: the public entry point of AIAP interpolation of two shapes."""
 
+import functools
 import numbers
 import time
 
@@ -8,7 +9,7 @@ import numpy as np
 from ._heap import keep_heap
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError, ParameterError
-from .initialisation import INITIALISERS, initial_edges
+from .initialisation import INITIALISERS, edge_vector_init, initial_edges
 from .optimisation.assembly import FrameAssembler, centroid_path
 from .optimisation.global_solver import LINEAR_SOLVERS, global_solve
 from .optimisation.local_solver import ASSEMBLY, local_solve
@@ -82,15 +83,22 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
                    linear_solver=linear_solver)
     if method != "aiap":
         return _baseline(method, source, target, t, options, callback)
-    check_compatible(source, target)
-    z0, z1 = source.z, target.z
-    diag = float(np.hypot(*np.ptp(np.vstack([source.vertices, target.vertices]), axis=0)))
+    both = np.concatenate((source.vertices, target.vertices))
+    size = both.max(axis=0) - both.min(axis=0)
+    diag = float(np.sqrt(size @ size))  # of both inputs' bounding box
+    top = source.topology
+    z0, z1 = _complex(source.vertices), _complex(target.vertices)
+    if source.n_vertices == target.n_vertices:
+        e0, e1 = z0[top.second] - z0[top.first], z1[top.second] - z1[top.first]
+        check_compatible(source, target, edge_vectors=(e0, e1), diagonal=diag)
+    else:
+        check_compatible(source, target)  # raises
     timings = {}
     if len(t) == 2:
         out, info = np.array([z0, z1]).T, {"energy": [], "iterations": 0, "converged": True}
     else:
         t0 = time.perf_counter()
-        edges = initial_edges(init, source, z0, z1, t)
+        edges = edge_vector_init(source, e0, e1, t) if init == "edge" else initial_edges(init, source, z0, z1, t)
         timings["init"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         z = np.empty((len(z0), len(t)), dtype=complex)
@@ -105,9 +113,11 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
                                      max_iter, linear_solver=linear_solver, callback=callback)
         timings["solve"] = time.perf_counter() - t0
         timings.update({f"solve.{k}": v for k, v in info.pop("timings", {}).items()})
+    frames = np.empty((len(t), len(z0), 2))
+    frames.view(complex)[..., 0] = out.T
     timings["total"] = time.perf_counter() - start
     return Sequence(
-        frames=np.stack([out.real.T, out.imag.T], axis=-1), shape=source, times=t, scheme=scheme,
+        frames=frames, shape=source, times=t, scheme=scheme,
         energy=info.pop("energy"), iterations=info.pop("iterations"),
         converged=info.pop("converged"), timings=timings, method="aiap",
         info={"options": options, **info},
@@ -118,13 +128,23 @@ def _frame_times(frames, times):
     if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
         raise ParameterError(f"frames must be an integer >= 2 (both inputs included), got {frames!r}")
     if times is None:
-        return np.linspace(0.0, 1.0, int(frames))
+        return _uniform_times(int(frames)).copy()
     t = np.asarray(times, dtype=float)
     if t.shape != (frames,):
         raise ParameterError(f"times must have one value per frame ({frames}), got shape {t.shape}")
     if not np.all(np.isfinite(t)) or t[0] != 0.0 or t[-1] != 1.0 or np.any(np.diff(t) <= 0):
         raise ParameterError("times must increase strictly from 0 to 1")
     return t
+
+
+def _complex(v):
+    """(n,) complex view of (n, 2) float vertices (read only here)."""
+    return np.ascontiguousarray(v, dtype=np.float64).view(complex)[:, 0]
+
+
+@functools.lru_cache(maxsize=64)
+def _uniform_times(frames):
+    return np.linspace(0.0, 1.0, frames)
 
 
 def _check_choice(name, value, choices):

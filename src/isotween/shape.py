@@ -186,7 +186,8 @@ class Shape:
         """Length of the bounding-box diagonal (float)."""
         if not len(self.vertices):
             return 0.0
-        return float(np.hypot(*np.ptp(self.vertices, axis=0)))
+        d = self.vertices.max(axis=0) - self.vertices.min(axis=0)
+        return float(np.sqrt(d @ d))
 
     def with_vertices(self, vertices):
         """A shape with the same connectivity (and uv, paths) at new positions."""

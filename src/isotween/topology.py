@@ -5,7 +5,7 @@ import functools
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order
+from scipy.sparse.csgraph import breadth_first_order, reverse_cuthill_mckee
 
 __all__ = ["Topology"]
 
@@ -23,8 +23,12 @@ class Topology:
 
     Attributes
     ----------
+    first, second : (E,) int
+        Edge end points, contiguous.
     D : (E, n) sparse csr
         Incidence: (D z)_e = z_j - z_i for edge e = (i, j).
+    inv_count : (C,) float
+        1 / vertex count of every component.
     avg : (C, n) sparse csr
         (avg z)_c = centroid of component c.
     anchors : (C,) int
@@ -36,6 +40,8 @@ class Topology:
     parent : (E,) int
         Parent of every edge in a breadth-first tree of the graph whose nodes
         are edges, adjacent when they share a vertex (roots are their own parent).
+    tree_order : (E,) int
+        The edges in breadth-first order (every parent before its children).
     ancestors : list of (E,) int arrays
         ``parent`` composed with itself 1, 2, 4, ... times (pointer doubling).
     """
@@ -43,17 +49,19 @@ class Topology:
     def __init__(self, edges, n, components, n_components):
         E = len(edges)
         self.edges, self.n, self.n_edges = edges, n, E
+        self.first, self.second = np.ascontiguousarray(edges.T)  # e = z[second] - z[first]
         self.components, self.n_components = components, n_components
         rows = np.repeat(np.arange(E), 2)
         self.D = sp.csr_matrix((np.tile([-1.0, 1.0], E), (rows, edges.ravel())), shape=(E, n))
         counts = np.bincount(components, minlength=n_components)
+        self.inv_count = 1.0 / counts
         self.avg = sp.csr_matrix((1.0 / counts[components], (components, np.arange(n))),
                                  shape=(n_components, n))
         self.anchors = np.unique(components, return_index=True)[1]
         self.free = np.setdiff1d(np.arange(n), self.anchors)
         self.D_free = self.D[:, self.free].tocsc()
         self.D_free_T = self.D_free.T.tocsr()
-        self.parent = _edge_tree(edges, n, components)
+        self.parent, self.tree_order = _edge_tree(edges, n, components)
         self.ancestors = []
         up = self.parent
         while np.any(up != np.arange(E)):
@@ -96,6 +104,42 @@ class Topology:
         indices = linear % max(nf, 1)
         return edge, sign, slot.ravel(), indices, indptr, indices * nf + col_of
 
+    @functools.cached_property
+    def band_pattern(self):
+        """The free-vertex Laplacian in banded form (reverse Cuthill-McKee order).
+
+        Returns
+        -------
+        rows : (n_free,) int
+            Vertex of every banded row.
+        bw : int
+            Bandwidth in that order.
+        edge, sign : (k,) int and float
+            Every contribution to the lower band (as in ``laplacian_pattern``).
+        position : (k,) int
+            Its flat index in the (n_free, bw + 1) C-ordered band, band[j, i - j] = L[i, j].
+        D_free_T : (n_free, E) sparse csr
+            Incidence transposed, rows in banded order.
+        """
+        edge, sign, slot, indices, indptr, linear = self.laplacian_pattern
+        nf = self.free.size
+        rows, cols = indices[slot], np.searchsorted(indptr, slot, side="right") - 1
+        pattern = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(nf, nf))
+        order = reverse_cuthill_mckee(pattern, symmetric_mode=True).astype(np.int64)
+        rank = np.empty(nf, dtype=np.int64)
+        rank[order] = np.arange(nf)
+        i, j = rank[rows], rank[cols]
+        lower = i >= j
+        bw = int((i - j).max(initial=0))
+        return (self.free[order], bw, edge[lower], sign[lower], j[lower] * (bw + 1) + (i - j)[lower],
+                self.D_free_T[order].tocsr())
+
+    def centroids(self, z):
+        """(C,) or (C, F) complex: centroid of every component of (n,) or (n, F) positions."""
+        if self.n_components == 1:
+            return np.add.reduce(z, axis=0, keepdims=True) / self.n
+        return self.avg @ z
+
     def path_sums(self, d):
         """(E,) sums of ``d`` over every edge's path to its tree root (root excluded)."""
         k = np.array(d, dtype=float)
@@ -105,7 +149,7 @@ class Topology:
 
 
 def _edge_tree(edges, n, components):
-    """Breadth-first tree over edges, one root (lowest edge) per component.
+    """Breadth-first tree over edges, one root (lowest edge) per component: (parent, order).
 
     Runs on the edge-vertex incidence graph (E edge nodes, n vertex nodes and a
     virtual root): every second level of it is a level of the graph of edges,
@@ -113,12 +157,13 @@ def _edge_tree(edges, n, components):
     """
     E = len(edges)
     if E == 0:
-        return np.zeros(0, dtype=np.int64)
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
     root = E + n
     first = np.unique(components[edges[:, 0]], return_index=True)[1]
     rows = np.concatenate([np.arange(E), np.arange(E), np.full(len(first), root)])
     cols = np.concatenate([E + edges[:, 0], E + edges[:, 1], first])
     g = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(root + 1, root + 1))
-    _, pred = breadth_first_order(g, root, directed=False, return_predecessors=True)
+    nodes, pred = breadth_first_order(g, root, directed=False, return_predecessors=True)
     via = pred[:E]  # vertex node (or the root) each edge was reached through
-    return np.where(via == root, np.arange(E), pred[np.minimum(via, root)])
+    parent = np.where(via == root, np.arange(E), pred[np.minimum(via, root)])
+    return parent, nodes[nodes < E].astype(np.int64)

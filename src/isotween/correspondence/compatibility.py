@@ -15,7 +15,7 @@ def as_shape(obj, name="shape"):
     raise ShapeError(f"{name} must be an isotween.Shape, got {type(obj).__name__}")
 
 
-def check_compatible(*shapes, names=None):
+def check_compatible(*shapes, names=None, edge_vectors=None, diagonal=None):
     """Raise `IncompatibleShapesError` unless all shapes share connectivity.
 
     Checks the vertex count, the edge list (same pairs, same order), the faces,
@@ -27,12 +27,17 @@ def check_compatible(*shapes, names=None):
         Two or more shapes; the first is the reference.
     names : list of str, optional
         How to call each shape in messages (default 'source', 'target', 'shape 2', ...).
+    edge_vectors : list of (E,) complex, optional
+        Every shape's edge vectors (in any orientation), when the caller has
+        them already; they are only used once the connectivity checks passed.
+    diagonal : float, optional
+        An upper bound of every shape's bounding-box diagonal (e.g. that of
+        all shapes together): the diagonals are then computed only when an
+        edge is short enough to need them.
     """
     if names is None:
         names = ["source", "target"] + [f"shape {i}" for i in range(2, len(shapes))]
     ref = shapes[0]
-    for s, name in zip(shapes, names):
-        _check_edge_lengths(s, name)
     for s, name in zip(shapes[1:], names[1:]):
         if s.n_vertices != ref.n_vertices:
             raise IncompatibleShapesError(
@@ -46,7 +51,7 @@ def check_compatible(*shapes, names=None):
             )
         same = s.edges is ref.edges or (  # shapes made by with_vertices share the arrays
             np.all(ref.edges == s.edges, axis=1) | np.all(ref.edges == s.edges[:, ::-1], axis=1))
-        if not np.all(same):
+        if same is not True and not np.all(same):
             k = int(np.flatnonzero(~same)[0])
             raise IncompatibleShapesError(
                 f"edge {k} joins vertices {ref.edges[k].tolist()} in {names[0]} "
@@ -66,12 +71,18 @@ def check_compatible(*shapes, names=None):
                     f"face {k} is {ref.faces[k].tolist()} in {names[0]} but "
                     f"{s.faces[k].tolist()} in {name}"
                 )
+    if edge_vectors is None:
+        edge_vectors = [s.edge_vectors() for s in shapes]
+    for s, e, name in zip(shapes, edge_vectors, names):
+        _check_edge_lengths(s, e, name, diagonal)
 
 
-def _check_edge_lengths(shape, name):
-    e = shape.edge_vectors()
+def _check_edge_lengths(shape, e, name, diagonal=None):
     squared = e.real**2 + e.imag**2
-    if not squared.size or squared.min() > (1e-12 * max(shape.bbox_diagonal(), 1e-300)) ** 2:
+    if not squared.size:
+        return
+    small = squared.min()
+    if small > 0.0 and small > (1e-12 * (shape.bbox_diagonal() if diagonal is None else diagonal)) ** 2:
         return
     zero = np.flatnonzero(squared <= (1e-12 * max(shape.bbox_diagonal(), 1e-300)) ** 2)
     if zero.size:

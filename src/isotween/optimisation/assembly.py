@@ -15,14 +15,16 @@ import scipy.sparse as sp
 from scipy.linalg import cho_factor, cho_solve
 from scipy.sparse.linalg import splu
 
+from . import accelerated
+
 __all__ = ["centroid_path", "FrameAssembler"]
 
 
 def centroid_path(shape, z0, z1, t):
     """(C, len(t)) complex: every component's centroid blended linearly in t."""
-    avg = shape.topology.avg
-    t = np.asarray(t)[None, :]
-    return (1 - t) * (avg @ z0)[:, None] + t * (avg @ z1)[:, None]
+    top = shape.topology
+    c0, c1 = top.centroids(z0)[:, None], top.centroids(z1)[:, None]
+    return c0 + np.asarray(t)[None, :] * (c1 - c0)
 
 
 class FrameAssembler:
@@ -47,38 +49,53 @@ class FrameAssembler:
 
     #: below this many free vertices the Laplacian is factorised densely
     DENSE = 160
+    #: with numba, a banded factorisation (reverse Cuthill-McKee order) up to this bandwidth
+    BANDED = 128
 
     def __init__(self, shape, weights=None):
-        top = shape.topology
+        top = self._top = shape.topology
         self.n, self.components, self.n_components = top.n, top.components, top.n_components
-        self.anchors, self.free, self.D_free, self._avg = top.anchors, top.free, top.D_free, top.avg
+        self.anchors, self.free, self.D_free = top.anchors, top.free, top.D_free
         self.weights = np.ones(top.n_edges) if weights is None else np.asarray(weights, float)
+        self._factor = self._band = None
+        nf = self.free.size
+        if nf and accelerated.ENABLED and top.band_pattern[1] <= self.BANDED:
+            rows, bw, edge, sign, position, Dt = top.band_pattern
+            band = np.bincount(position, sign * self.weights[edge], minlength=(bw + 1) * nf)
+            band = band.reshape(nf, bw + 1)
+            if accelerated.band_cholesky(band):
+                self._band = (band, Dt.indptr, Dt.indices, Dt.data * self.weights[Dt.indices], rows,
+                              top.anchors, top.components, top.inv_count)
+                return
+        self._factorise()
+
+    def _factorise(self):
+        """The numpy / scipy factorisation: dense Cholesky when small, else sparse LU."""
+        top, nf = self._top, self.free.size
         Dt = top.D_free_T
         self._DtW = sp.csr_matrix((Dt.data * self.weights[Dt.indices], Dt.indices, Dt.indptr),
                                   shape=Dt.shape)
-        self._lu = self._cho = None
-        nf = self.free.size
         if nf == 0:
+            self._factor = np.zeros_like
             return
         edge, sign, slot, indices, indptr, linear = top.laplacian_pattern
         data = np.bincount(slot, sign * self.weights[edge], minlength=len(indices))
         if nf <= self.DENSE:
             L = np.zeros(nf * nf)
             L[linear] = data
-            self._cho = cho_factor(L.reshape(nf, nf), check_finite=False)
+            cho = cho_factor(L.reshape(nf, nf), check_finite=False)
+            self._factor = lambda b: cho_solve(cho, b, check_finite=False)
         else:
             L = sp.csc_matrix((data, indices, indptr), shape=(nf, nf))
-            self._lu = splu(L, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+            self._factor = splu(L, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True}).solve
 
     def solve_laplacian(self, b):
         """Apply L^{-1} to (n_free, k) complex right-hand sides."""
-        if self._cho is not None:
-            return cho_solve(self._cho, b, check_finite=False)
-        if self._lu is None:
-            return np.zeros_like(b)
-        k = b.shape[1]
-        x = self._lu.solve(np.ascontiguousarray(np.hstack([b.real, b.imag])))
-        return x[:, :k] + 1j * x[:, k:]
+        if self._factor is None:
+            self._factorise()
+        # L is real: solve for the interleaved real and imaginary parts at once
+        x = self._factor(np.ascontiguousarray(b, dtype=complex).view(np.float64))
+        return np.ascontiguousarray(x).view(complex)
 
     def positions(self, e, centroids):
         """Eq. (10) for several frames.
@@ -94,6 +111,12 @@ class FrameAssembler:
         -------
         (n, F) complex vertex positions.
         """
+        if self._band is not None:
+            z = np.zeros((self.n, e.shape[1]), dtype=complex)
+            accelerated.banded_positions(z, e, centroids, *self._band)
+            return z
+        if self._factor is None:
+            self._factorise()
         F = e.shape[1]
         rhs = self._DtW @ e
         z = np.zeros((self.n, F), dtype=complex)
@@ -102,12 +125,31 @@ class FrameAssembler:
             z[self.free, c : c + step] = self.solve_laplacian(rhs[:, c : c + step])
         return self.place(z, centroids)
 
+    def update(self, z, frames, e, centroids):
+        """Eq. (10) into ``z[:, frames]``; returns the largest vertex move (Eq. 11).
+
+        Parameters
+        ----------
+        z : (n, F) complex, C-ordered
+        frames : slice or (k,) int array
+            Columns of ``z`` to replace.
+        e : (E, k) complex
+            Edge vectors of those frames.
+        centroids : (C, k) complex
+        """
+        if self._band is not None and isinstance(frames, slice):  # z[:, frames] is a view
+            return accelerated.banded_positions(z[:, frames], e, centroids, *self._band)
+        new = self.positions(e, centroids)
+        move = float(np.max(np.abs(new - z[:, frames]), initial=0.0))
+        z[:, frames] = new
+        return move
+
     def gauge(self, z):
         """(n_free, F) complex: free vertices of (n, F) frames, anchors moved to 0."""
         return (z - z[self.anchors[self.components]])[self.free]
 
     def place(self, z, centroids):
         """Translate each component of (n, F) frames onto the (C, F) centroids (in place)."""
-        shift = centroids - self._avg @ z
+        shift = centroids - self._top.centroids(z)
         z += shift if self.n_components == 1 else shift[self.components]
         return z

@@ -13,6 +13,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from . import accelerated
 from .assembly import FrameAssembler
 from .edge_solve import solve_edges
 from .schemes import normal_equations, step_angle
@@ -59,37 +60,48 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
     info : dict
         energy (list), iterations, converged, max_move, timings.
     """
-    h = np.diff(t)
-    norm = float(np.sum(np.abs(edges[:, 0]) ** 2))
+    h = t[1:] - t[:-1]
+    e0 = edges[:, 0]
+    norm = float(np.add.reduce(e0.real**2 + e0.imag**2))  # not BLAS: no threads
     if fixed is None:
         fixed = np.zeros(len(t), dtype=bool)
         fixed[[0, -1]] = True
-    free = np.flatnonzero(~fixed)
-    if free.size and free[-1] - free[0] + 1 == free.size:
-        free = slice(free[0], free[-1] + 1)  # a view, not a copy, of the frames
-    keys = np.flatnonzero(fixed[1:-1]) + 1
+        free, keys = slice(1, len(t) - 1), np.zeros(0, dtype=np.int64)
+    else:
+        free = np.flatnonzero(~fixed)
+        if free.size and free[-1] - free[0] + 1 == free.size:
+            free = slice(free[0], free[-1] + 1)  # a view, not a copy, of the frames
+        keys = np.flatnonzero(fixed[1:-1]) + 1
     centroids = centroids[:, free]
     z = z.copy()
     if assembly == "shared":
         shared = FrameAssembler(shape, 2.0 / (np.abs(edges[:, 0]) + np.abs(edges[:, -1])))
-    blocks = _EdgeBlocks(shape.topology.D, len(t))
-    energies, prev, converged, move = [], None, False, np.inf
+    top = shape.topology
+    # the numba kernel covers the default case: midpoint scheme, only the ends held
+    fused = accelerated.ENABLED and scheme == "midpoint" and fixed[0] and fixed[-1] and not keys.size
+    if fused:
+        inv_h, out = 1.0 / h, np.empty(edges.shape, dtype=complex)
+    else:
+        blocks = _EdgeBlocks(top.D, len(t))
+    energies, converged, move = [], False, np.inf
     timing = {"assemble": 0.0, "edges": 0.0}
     for it in range(1, max_iter + 1):
         t0 = time.perf_counter()
         if assembly == "shared":
-            z[:, free] = shared.positions(edges[:, free], centroids)  # Eq. (10)
+            step = shared.update(z, free, edges[:, free], centroids)  # Eq. (10), Eq. (11)
         else:  # Eq. (10) with the paper's per-frame weights
+            new = np.empty_like(z[:, free])
             for i, k in enumerate(np.arange(len(t))[free]):
                 length = np.abs(edges[:, k])
                 a = FrameAssembler(shape, 1.0 / np.maximum(length, 1e-9 * length.max()))
-                z[:, k] = a.positions(edges[:, k : k + 1], centroids[:, i : i + 1])[:, 0]
+                new[:, i] = a.positions(edges[:, k : k + 1], centroids[:, i : i + 1])[:, 0]
+            step = float(np.max(np.abs(new - z[:, free]), initial=0.0))  # Eq. (11)
+            z[:, free] = new
         timing["assemble"] += time.perf_counter() - t0
         t0 = time.perf_counter()
-        if prev is not None:
-            move = float(np.max(np.abs(z[:, free] - prev), initial=0.0))  # Eq. (11)
+        if it > 1:
+            move = step
         converged = move < tol
-        prev = z[:, free]
 
         def work(rows, D_rows, out):
             e = D_rows @ z
@@ -99,14 +111,19 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
                 out[rows] = solve_edges(e, diag, lower, fixed, couplings)  # Eq. (9)
             return energy
 
-        edges, energy = blocks.map(work)
+        if fused:  # the same as `work` on all edges at once
+            energy = accelerated.midpoint_edge_pass(z, top.first, top.second, inv_h, not converged, out)
+            edges = out
+        else:
+            edges, energy = blocks.map(work)
         energies.append(energy / norm)
         timing["edges"] += time.perf_counter() - t0
         if callback is not None:
             callback(it, energies[-1], move)
         if converged:
             break
-    blocks.close()
+    if not fused:
+        blocks.close()
     return z, {"energy": energies, "iterations": it, "converged": converged,
                "max_move": move, "timings": timing}
 

@@ -1,0 +1,116 @@
+"""The numba kernels (isotween[fast]) give the numpy / scipy path's frames."""
+
+import numpy as np
+import pytest
+
+from isotween import Shape, interpolate
+from isotween.initialisation import edge_vector_init
+from isotween.optimisation import accelerated
+from isotween.optimisation.assembly import FrameAssembler
+
+from shapes import bend, chain, ellipse, grid_mesh, rotation
+
+pytestmark = pytest.mark.skipif(not accelerated.ENABLED, reason="numba missing or ISOTWEEN_NUMBA=0")
+
+
+def two_bars():
+    """Two separate triangulated bars (two components), the second one bent."""
+    a = grid_mesh(12, 3)
+    v = np.vstack([a.vertices, a.vertices + [0.0, 3.0]])
+    src = Shape.from_mesh(v, np.vstack([a.faces, a.faces + a.n_vertices]))
+    return src, src.with_vertices(np.vstack([bend(a.vertices, 2.0), a.vertices @ rotation(40).T]))
+
+
+def pairs():
+    bar = grid_mesh(30, 4)
+    ring = ellipse(40)
+    return {
+        "bar": (bar, bar.with_vertices(bend(bar.vertices, 1.3 * np.pi) * [1.0, 1.2])),
+        "two components": two_bars(),
+        "ring": (ring, ring.with_vertices(ring.vertices @ rotation(150).T * [1.0, 0.6])),
+        "chain": chain(25, 1.3),
+    }
+
+
+def run(pair, enabled, monkeypatch, **kw):
+    monkeypatch.setattr(accelerated, "ENABLED", enabled)
+    return interpolate(*pair, **kw)
+
+
+@pytest.mark.parametrize("name", list(pairs()))
+@pytest.mark.parametrize("frames", [3, 4, 17])
+def test_kernels_give_the_numpy_frames(name, frames, monkeypatch):
+    pair = pairs()[name]
+    moves = {True: [], False: []}
+    seq = {}
+    for enabled in (True, False):
+        seq[enabled] = run(pair, enabled, monkeypatch, frames=frames, tol=1e-12, max_iter=4,
+                           callback=lambda it, energy, move, out=moves[enabled]: out.append(move))
+    size = pair[0].bbox_diagonal()
+    np.testing.assert_allclose(seq[True].frames, seq[False].frames, atol=1e-10 * size)
+    assert seq[True].energy == pytest.approx(seq[False].energy, rel=1e-9)
+    assert moves[True][1:] == pytest.approx(moves[False][1:], rel=1e-6)
+
+
+def test_threaded_kernels_give_the_serial_frames(monkeypatch):
+    pair = pairs()["two components"]
+    serial = interpolate(*pair, frames=21, tol=1e-12, max_iter=3)
+    monkeypatch.setattr(accelerated, "PARALLEL_SIZE", 0)
+    threaded = interpolate(*pair, frames=21, tol=1e-12, max_iter=3)
+    np.testing.assert_allclose(threaded.frames, serial.frames, atol=1e-12)
+    assert threaded.energy == pytest.approx(serial.energy, rel=1e-12)
+
+
+def test_banded_assembly_solves_eq10_and_reports_the_move(monkeypatch):
+    src, tgt = two_bars()
+    rng = np.random.default_rng(3)
+    w = rng.uniform(0.5, 2.0, src.n_edges)
+    e = rng.standard_normal((src.n_edges, 6)) + 1j * rng.standard_normal((src.n_edges, 6))
+    centroids = rng.standard_normal((2, 6)) + 1j * rng.standard_normal((2, 6))
+    banded = FrameAssembler(src, w)
+    assert banded._band is not None
+    monkeypatch.setattr(accelerated, "ENABLED", False)
+    reference = FrameAssembler(src, w)
+    want = reference.positions(e, centroids)
+    np.testing.assert_allclose(banded.positions(e, centroids), want, atol=1e-10)
+    # the normal equations of Eq. (10) hold and the centroids are where they were asked to be
+    D, W = src.topology.D, np.diag(w)
+    residual = (D.T @ W @ (D @ want - e))[reference.free]
+    np.testing.assert_allclose(residual, 0.0, atol=1e-9)
+    np.testing.assert_allclose(src.topology.avg @ want, centroids, atol=1e-12)
+    z = rng.standard_normal((src.n_vertices, 8)) + 0j
+    old = z.copy()
+    move = banded.update(z, slice(1, 7), e, centroids)
+    np.testing.assert_allclose(z[:, 1:7], want, atol=1e-10)
+    np.testing.assert_array_equal(z[:, [0, 7]], old[:, [0, 7]])
+    assert move == pytest.approx(np.abs(want - old[:, 1:7]).max(), rel=1e-9)
+
+
+@pytest.mark.parametrize("uniform", [True, False])
+def test_edge_init_kernel_matches_numpy(uniform, monkeypatch):
+    src, tgt = chain(40, 1.3)  # angles past pi: needs the propagation along the tree
+    t = np.linspace(0, 1, 23) if uniform else np.sort(np.r_[0.0, np.random.default_rng(1).random(21), 1.0])
+    fast = edge_vector_init(src, src.edge_vectors(), tgt.edge_vectors(), t)
+    monkeypatch.setattr(accelerated, "ENABLED", False)
+    slow = edge_vector_init(src, src.edge_vectors(), tgt.edge_vectors(), t)
+    np.testing.assert_allclose(fast, slow, atol=1e-12)
+    np.testing.assert_allclose(fast[:, -1], tgt.edge_vectors(), atol=1e-12)
+
+
+def test_band_cholesky_factorises_banded_matrices():
+    rng = np.random.default_rng(5)
+    n, bw = 30, 3
+    A = np.zeros((n, n))
+    for d in range(1, bw + 1):
+        v = rng.uniform(-1, 1, n - d)
+        A += np.diag(v, -d) + np.diag(v, d)
+    A += np.diag(2 * bw + rng.uniform(0, 1, n))  # diagonally dominant: positive definite
+    band = np.array([[A[j + d, j] if j + d < n else 0.0 for d in range(bw + 1)] for j in range(n)])
+    assert accelerated.band_cholesky(band)
+    L = np.zeros((n, n))
+    for j in range(n):
+        for d in range(min(bw, n - 1 - j) + 1):
+            L[j + d, j] = band[j, d]
+    np.testing.assert_allclose(L, np.linalg.cholesky(A), atol=1e-12)
+    band = np.array([[1.0, 2.0], [1.0, 0.0]])  # [[1, 2], [2, 1]] is indefinite
+    assert not accelerated.band_cholesky(band)
