@@ -116,7 +116,7 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
             edges = out
         else:
             edges, energy = blocks.map(work)
-        energies.append(energy / norm)
+        energies.append(max(energy, 0.0) / norm)  # the expanded Eq. (6) can round below 0 at a rigid optimum
         timing["edges"] += time.perf_counter() - t0
         if callback is not None:
             callback(it, energies[-1], move)
