@@ -4,7 +4,6 @@ import numbers
 import time
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from ._heap import keep_heap
 from .correspondence.compatibility import as_shape, check_compatible
@@ -94,6 +93,8 @@ def interpolate_keyframes(keyframes, times=None, frames=None, easing="linear", i
     if K == 2:
         centroids = ck[:, :1] * (1 - t) + ck[:, 1:] * t
     else:
+        from scipy.interpolate import CubicSpline  # imported here: scipy.interpolate takes 0.3 s
+
         centroids = CubicSpline(key_t, ck.T, bc_type="natural")(t).T
     z = np.zeros((base.n_vertices, len(t)), dtype=complex)
     z[:, idx] = zk

@@ -18,6 +18,7 @@
 the tests compare these kernels with).
 """
 
+import importlib.util
 import os
 
 import numpy as np
@@ -30,12 +31,10 @@ PARALLEL_SIZE = 4_000_000
 #: edges solved side by side by one thread
 EDGE_BLOCK = 16
 
-try:
-    import numba
-except ImportError:  # the optional extra is not installed
-    numba = None
-
-ENABLED = numba is not None and os.environ.get("ISOTWEEN_NUMBA", "1") != "0"
+#: numba is installed and not switched off; it is imported (a third of a second) and the
+#: kernels loaded from its cache on the first call of a kernel, not with isotween
+ENABLED = os.environ.get("ISOTWEEN_NUMBA", "1") != "0" and importlib.util.find_spec("numba") is not None
+numba = None
 
 
 def _edge_vectors(r, z, first, second, out):
@@ -251,17 +250,20 @@ def _edge_init(e0, e1, parent, order, t, out):
                 out[r, k] = (1 - t[k] + t[k] * scale) * np.exp(1j * t[k] * angle) * e0[r]
 
 
-if ENABLED:
-    _band_cholesky = numba.njit(cache=True)(_band_cholesky)
-    _edge_init = numba.njit(cache=True)(_edge_init)
-    _laplace_block = numba.njit(cache=True)(_laplace_block)
-    _laplace_parallel = numba.njit(parallel=True, cache=True)(_laplace_parallel)
-    _laplace_serial = numba.njit(cache=True)(_laplace_serial)
-    _edge_vectors = numba.njit(cache=True)(_edge_vectors)
-    _edge_solve = numba.njit(cache=True)(_edge_solve)
-    _scratch = numba.njit(cache=True)(_scratch)
-    _pass_parallel = numba.njit(parallel=True, cache=True)(_pass_parallel)
-    _pass_serial = numba.njit(cache=True)(_pass_serial)
+def _compile():
+    """Import numba and compile the kernels (loaded from numba's cache after the first time)."""
+    global numba, _band_cholesky, _edge_init, _laplace_block, _laplace_parallel, _laplace_serial
+    global _edge_vectors, _edge_solve, _scratch, _pass_parallel, _pass_serial
+    if numba is not None:
+        return
+    import numba as nb
+
+    jit, parallel = nb.njit(cache=True), nb.njit(parallel=True, cache=True)
+    _band_cholesky, _edge_init, _laplace_block = jit(_band_cholesky), jit(_edge_init), jit(_laplace_block)
+    _laplace_parallel, _laplace_serial = parallel(_laplace_parallel), jit(_laplace_serial)
+    _edge_vectors, _edge_solve, _scratch = jit(_edge_vectors), jit(_edge_solve), jit(_scratch)
+    _pass_parallel, _pass_serial = parallel(_pass_parallel), jit(_pass_serial)
+    numba = nb  # the kernels' numba.prange resolves through this global
 
 
 def midpoint_edge_pass(z, first, second, inv_h, solve, out):
@@ -286,6 +288,7 @@ def midpoint_edge_pass(z, first, second, inv_h, solve, out):
     float
         Eq. (6) of the edge vectors of ``z``, not yet divided by sum |e(0)|^2.
     """
+    _compile()
     kernel = _pass_parallel if out.size >= PARALLEL_SIZE else _pass_serial
     return kernel(z, first, second, inv_h, solve, out)
 
@@ -321,6 +324,7 @@ def banded_positions(z, e, centroids, band, indptr, indices, data, rows, anchors
     float
         The largest distance a vertex moved (Eq. 11).
     """
+    _compile()
     F = e.shape[1]
     e, centroids = (a if a.strides[1] == a.itemsize else np.ascontiguousarray(a) for a in (e, centroids))
     args = (e.view(np.float64), indptr, indices, data, band, rows, anchors, comp, inv_count,
@@ -343,6 +347,7 @@ def band_cholesky(band):
     bool
         False when A is not positive definite.
     """
+    _compile()
     return _band_cholesky(band)
 
 
@@ -351,6 +356,7 @@ def edge_init(top, e0, e1, t):
 
     The same as :func:`isotween.initialisation.edge_vector_init`.
     """
+    _compile()
     out = np.empty((len(e0), len(t)), dtype=complex)
     _edge_init(e0, e1, top.parent, top.tree_order, t, out)
     return out
