@@ -130,7 +130,7 @@ def _methods_figure(sequences, path, columns):
     seqs = list(sequences.values())
     box = bbox_of(np.concatenate([s.frames.reshape(-1, 2) for s in seqs]))
     w, h = image_size(box, 200)
-    painter = FramePainter(w, h, box)
+    painter = FramePainter(w, h, box, y_down=seqs[0].shape.y_down)
     picked = np.unique(np.round(np.linspace(0, len(seqs[0]) - 1, min(columns, len(seqs[0])))).astype(int))
     sheet = np.full((len(seqs) * h, len(picked) * w, 3), 255, np.uint8)
     for r, (method, seq) in enumerate(sequences.items()):
