@@ -26,13 +26,6 @@ def test_edge_blocks_on_threads_match_one_block(bar, monkeypatch):
     assert fast.energy == pytest.approx(ref.energy, rel=1e-12)
 
 
-def test_dense_and_sparse_factorisations_agree(bar, monkeypatch):
-    dense = interpolate(*bar, frames=9)
-    monkeypatch.setattr(FrameAssembler, "DENSE", 0)
-    sparse = interpolate(*bar, frames=9)
-    np.testing.assert_allclose(dense.frames, sparse.frames, atol=1e-10)
-
-
 def test_uniform_time_init_equals_closed_form():
     src, tgt = chain(40, 1.3)
     t = np.linspace(0, 1, 23)

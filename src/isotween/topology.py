@@ -84,8 +84,6 @@ class Topology:
             Index into the compressed (CSC, row indices sorted) data array.
         indices, indptr : int arrays
             The CSC structure of the (n_free, n_free) matrix.
-        linear : (nnz,) int
-            Row-major position of every stored entry in a dense matrix.
         """
         nf = self.free.size
         pos = -np.ones(self.n, dtype=np.int64)
@@ -102,7 +100,7 @@ class Topology:
         col_of = linear // max(nf, 1)
         indptr = np.searchsorted(col_of, np.arange(nf + 1))
         indices = linear % max(nf, 1)
-        return edge, sign, slot.ravel(), indices, indptr, indices * nf + col_of
+        return edge, sign, slot.ravel(), indices, indptr
 
     @functools.cached_property
     def band_pattern(self):
@@ -121,7 +119,7 @@ class Topology:
         D_free_T : (n_free, E) sparse csr
             Incidence transposed, rows in banded order.
         """
-        edge, sign, slot, indices, indptr, linear = self.laplacian_pattern
+        edge, sign, slot, indices, indptr = self.laplacian_pattern
         nf = self.free.size
         rows, cols = indices[slot], np.searchsorted(indptr, slot, side="right") - 1
         pattern = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(nf, nf))

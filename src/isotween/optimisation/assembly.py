@@ -12,7 +12,6 @@ one solve).
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg import cho_factor, cho_solve
 from scipy.sparse.linalg import splu
 
 from . import accelerated
@@ -47,8 +46,6 @@ class FrameAssembler:
         Incidence restricted to the free vertices.
     """
 
-    #: below this many free vertices the Laplacian is factorised densely
-    DENSE = 160
     #: with numba, a banded factorisation (reverse Cuthill-McKee order) up to this bandwidth
     BANDED = 128
 
@@ -70,7 +67,7 @@ class FrameAssembler:
         self._factorise()
 
     def _factorise(self):
-        """The numpy / scipy factorisation: dense Cholesky when small, else sparse LU."""
+        """The numpy / scipy factorisation: sparse LU of the free-vertex Laplacian."""
         top, nf = self._top, self.free.size
         Dt = top.D_free_T
         self._DtW = sp.csr_matrix((Dt.data * self.weights[Dt.indices], Dt.indices, Dt.indptr),
@@ -78,16 +75,10 @@ class FrameAssembler:
         if nf == 0:
             self._factor = np.zeros_like
             return
-        edge, sign, slot, indices, indptr, linear = top.laplacian_pattern
+        edge, sign, slot, indices, indptr = top.laplacian_pattern
         data = np.bincount(slot, sign * self.weights[edge], minlength=len(indices))
-        if nf <= self.DENSE:
-            L = np.zeros(nf * nf)
-            L[linear] = data
-            cho = cho_factor(L.reshape(nf, nf), check_finite=False)
-            self._factor = lambda b: cho_solve(cho, b, check_finite=False)
-        else:
-            L = sp.csc_matrix((data, indices, indptr), shape=(nf, nf))
-            self._factor = splu(L, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True}).solve
+        L = sp.csc_matrix((data, indices, indptr), shape=(nf, nf))
+        self._factor = splu(L, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True}).solve
 
     def solve_laplacian(self, b):
         """Apply L^{-1} to (n_free, k) complex right-hand sides."""
