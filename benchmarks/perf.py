@@ -140,6 +140,7 @@ def main():
 
     # scaling with frames (V = 2000) and with vertices (101 frames)
     from matplotlib.figure import Figure
+    from matplotlib.ticker import NullFormatter
 
     fr = [21, 41, 81, 161, 321]
     tf = [run_child("grid:200x10", f, args.runs, reference=False)["median"] for f in fr]
@@ -151,6 +152,8 @@ def main():
                             (fig.add_subplot(122), nv, tv, "vertices (101 frames)")):
         ax.loglog(x, y, "o-", label="measured")
         ax.loglog(x, y[0] * np.asarray(x) / x[0], "--", label="linear")
+        ax.set_xticks(x, [str(v) for v in x], minor=False)
+        ax.xaxis.set_minor_formatter(NullFormatter())  # no overlapping minor labels
         ax.set_xlabel(label)
         ax.set_ylabel("seconds")
         ax.legend()
