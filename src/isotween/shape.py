@@ -49,6 +49,12 @@ class Shape:
         The y axis points down (SVG and image coordinates). Only drawing
         depends on it: renderers show such a shape with y growing downwards,
         so it appears as in the file it came from.
+    regions : list of list of int, optional
+        Filled regions, each a list of indices into ``paths``: its outer ring
+        first, then its holes (all closed). Paths in no region are outlines.
+    paint : list of Paint, optional
+        How each entry of ``paths`` is drawn (fill, stroke, opacity, stroke
+        width); holes repeat the paint of their region.
 
     Attributes
     ----------
@@ -59,7 +65,7 @@ class Shape:
     """
 
     def __init__(self, vertices, edges=None, faces=None, uv=None, paths=None, duplicates="error",
-                 y_down=False):
+                 y_down=False, regions=None, paint=None):
         v = np.array(vertices, dtype=np.float64)
         if v.ndim != 2 or v.shape[1] != 2:
             raise ShapeError(f"vertices must be an array of shape (n, 2), got {v.shape}")
@@ -105,6 +111,7 @@ class Shape:
         self.uv = None if uv is None else np.array(uv, dtype=np.float64).reshape(n, 2)
         self.paths = None if paths is None else [(np.asarray(p, dtype=np.int64), bool(c)) for p, c in paths]
         self.y_down = bool(y_down)
+        self.regions, self.paint = _check_regions_paint(self.paths, regions, paint)
         graph = coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n, n))
         self.n_components, self.components = connected_components(graph, directed=False)
 
@@ -213,6 +220,35 @@ class Shape:
             f"Shape({self.n_vertices} vertices, {self.n_edges} edges, {self.n_faces} faces, "
             f"{self.n_components} component(s))"
         )
+
+
+def _check_regions_paint(paths, regions, paint):
+    """Validated (regions, paint) against ``paths``."""
+    if regions is None and paint is None:
+        return None, None
+    if paths is None:
+        raise ShapeError("regions and paint need paths")
+    if regions is not None:
+        regions = [[int(i) for i in r] for r in regions]
+        used = [i for r in regions for i in r]
+        for k, r in enumerate(regions):
+            if not r:
+                raise ShapeError(f"region {k} is empty")
+            bad = [i for i in r if not 0 <= i < len(paths) or not paths[i][1]]
+            if bad:
+                raise ShapeError(f"region {k} names path {bad[0]}, which is not a closed path of the shape")
+        if len(set(used)) < len(used):
+            raise ShapeError("a path belongs to two regions")
+    if paint is not None:
+        from .paint import Paint
+
+        paint = list(paint)
+        if len(paint) != len(paths):
+            raise ShapeError(f"paint has {len(paint)} entries for {len(paths)} paths")
+        bad = [k for k, p in enumerate(paint) if not isinstance(p, Paint)]
+        if bad:
+            raise ShapeError(f"paint {bad[0]} is not a Paint: {paint[bad[0]]!r}")
+    return regions, paint
 
 
 def _edges_of_faces(faces):

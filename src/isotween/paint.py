@@ -1,0 +1,159 @@
+"""Paint of a drawing: fill, stroke, opacity and stroke width per path.
+
+A `Shape` read from SVG carries one `Paint` per entry of its ``paths`` (holes
+repeat the paint of their region). Colours are straight (not premultiplied)
+sRGB in [0, 1]; in-between colours are blended in Oklab (Ottosson 2020), a
+perceptual space in which a straight line between two colours looks even.
+"""
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .errors import ParameterError
+
+__all__ = ["Paint", "DEFAULT_FILL", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb"]
+
+#: SVG's initial fill: opaque black
+DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
+
+
+def _rgba(value, what):
+    if value is None:
+        return None
+    c = np.asarray(value, dtype=np.float64).ravel()
+    if c.shape == (3,):
+        c = np.append(c, 1.0)
+    if c.shape != (4,) or not np.all(np.isfinite(c)) or np.any((c < 0) | (c > 1)):
+        raise ParameterError(f"{what} must be an (r, g, b[, a]) colour with components in [0, 1], got {value!r}")
+    return tuple(float(x) for x in c)
+
+
+@dataclass(frozen=True)
+class Paint:
+    """How one path is drawn.
+
+    Parameters
+    ----------
+    fill : (4,) tuple of float or None
+        RGBA fill colour in [0, 1] (straight sRGB); None: not filled.
+    stroke : (4,) tuple of float or None
+        RGBA stroke colour; None: no stroke.
+    stroke_width : float
+        Stroke width in the shape's units.
+    opacity : float
+        Opacity of the whole path in [0, 1] (multiplies both alphas).
+    """
+
+    fill: tuple = DEFAULT_FILL
+    stroke: tuple = None
+    stroke_width: float = 1.0
+    opacity: float = 1.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "fill", _rgba(self.fill, "fill"))
+        object.__setattr__(self, "stroke", _rgba(self.stroke, "stroke"))
+        w, o = float(self.stroke_width), float(self.opacity)
+        if not np.isfinite(w) or w < 0:
+            raise ParameterError(f"stroke_width must be a finite number >= 0, got {self.stroke_width!r}")
+        if not 0 <= o <= 1:
+            raise ParameterError(f"opacity must be in [0, 1], got {self.opacity!r}")
+        object.__setattr__(self, "stroke_width", w)
+        object.__setattr__(self, "opacity", o)
+
+    @property
+    def filled(self):
+        """Whether the path is filled (a closed region)."""
+        return self.fill is not None
+
+    def to_dict(self):
+        """Plain JSON-ready form (colours as lists or None)."""
+        return {
+            "fill": None if self.fill is None else list(self.fill),
+            "stroke": None if self.stroke is None else list(self.stroke),
+            "stroke_width": self.stroke_width,
+            "opacity": self.opacity,
+        }
+
+    @classmethod
+    def from_dict(cls, data):
+        """Inverse of `to_dict` (missing keys take the defaults)."""
+        return cls(**{k: data[k] for k in ("fill", "stroke", "stroke_width", "opacity") if k in data})
+
+
+# Oklab (Ottosson 2020): linear sRGB -> LMS -> cube root -> Lab
+_M1 = np.array([[0.4122214708, 0.5363325363, 0.0514459929],
+                [0.2119034982, 0.6806995451, 0.1073969566],
+                [0.0883024619, 0.2817188376, 0.6299787005]])
+_M2 = np.array([[0.2104542553, 0.7936177850, -0.0040720468],
+                [1.9779984951, -2.4285922050, 0.4505937099],
+                [0.0259040371, 0.7827717662, -0.8086757660]])
+
+
+def _to_linear(c):
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def _to_gamma(c):
+    c = np.clip(c, 0.0, 1.0)
+    return np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1 / 2.4) - 0.055)
+
+
+def srgb_to_oklab(rgb):
+    """(..., 3) sRGB in [0, 1] -> (..., 3) Oklab (L, a, b)."""
+    return np.cbrt(_to_linear(np.asarray(rgb, dtype=np.float64)) @ _M1.T) @ _M2.T
+
+
+def oklab_to_srgb(lab):
+    """(..., 3) Oklab -> (..., 3) sRGB in [0, 1] (clipped to the gamut)."""
+    lms = np.asarray(lab, dtype=np.float64) @ np.linalg.inv(_M2).T
+    return _to_gamma((lms ** 3) @ np.linalg.inv(_M1).T)
+
+
+def _lerp_colour(a, b, t):
+    """(F,) times -> (F, 4) RGBA: Oklab for colour, linear for alpha; None fades in/out."""
+    if a is None and b is None:
+        return None
+    a = (*b[:3], 0.0) if a is None else a
+    b = (*a[:3], 0.0) if b is None else b
+    t = np.asarray(t, dtype=np.float64)[:, None]
+    lab = (1 - t) * srgb_to_oklab(a[:3]) + t * srgb_to_oklab(b[:3])
+    alpha = (1 - t) * a[3] + t * b[3]
+    return np.concatenate([oklab_to_srgb(lab), alpha], axis=1)
+
+
+def lerp_paint(a, b, times):
+    """Paint at each time between two paints.
+
+    Parameters
+    ----------
+    a, b : Paint
+        Paint at t = 0 and t = 1.
+    times : (F,) array_like of float
+
+    Returns
+    -------
+    list of Paint
+        One per time; exact at t = 0 and t = 1. A colour present at one end
+        only fades in (or out) through transparency.
+    """
+    times = np.asarray(times, dtype=np.float64)
+    fill = _lerp_colour(a.fill, b.fill, times)
+    stroke = _lerp_colour(a.stroke, b.stroke, times)
+    width = (1 - times) * a.stroke_width + times * b.stroke_width
+    opacity = (1 - times) * a.opacity + times * b.opacity
+    out = []
+    for k, t in enumerate(times):
+        if t == 0:
+            out.append(a)
+        elif t == 1:
+            out.append(b)
+        else:
+            out.append(replace(
+                a,
+                fill=None if fill is None else tuple(fill[k]),
+                stroke=None if stroke is None else tuple(stroke[k]),
+                stroke_width=width[k],
+                opacity=opacity[k],
+            ))
+    return out
