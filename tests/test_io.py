@@ -122,9 +122,9 @@ SVG = """<?xml version="1.0"?>
     <rect id="box" x="1" y="2" width="3" height="4" transform="scale(2)"/>
   </g>
   <circle cx="5" cy="-3" r="2"/>
-  <polyline points="0,0 1,1 2,0"/>
+  <polyline points="0,0 1,1 2,0" fill="none" stroke="black"/>
   <line x1="0" y1="5" x2="3" y2="9"/>
-  <path d="M 0 10 C 1 11 2 11 3 10"/>
+  <path d="M 0 10 C 1 11 2 11 3 10" style="fill:none;stroke:black"/>
 </svg>
 """
 

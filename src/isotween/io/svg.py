@@ -1,20 +1,26 @@
-"""SVG outlines: every subpath of the drawing becomes a ring or a polyline.
+"""SVG drawings: every subpath becomes a ring or a polyline, filled ones regions.
 
-Reading uses svgelements (transforms applied, shapes turned into paths).
-Mapping rule (docs/formats.md): each closed subpath (ending in ``Z``, and
-every polygon, rect, circle, ellipse) is a closed ring; each open subpath,
-polyline and line is an open polyline; all of them, in document order, form
-one Shape. Coordinates stay in the root's user units with y pointing down
-(the viewBox and the width/height of the root are ignored).
+Reading uses svgelements (transforms, inherited attributes and CSS applied,
+shapes turned into paths). Mapping rule (docs/formats.md): a filled subpath
+(fill not ``none``, with or without ``Z``) is a closed ring; an unfilled one
+is a closed ring if it ends in ``Z`` and an open polyline otherwise; all of
+them, in document order, form one Shape. The ``fill-rule`` of each element
+decides which of its rings are outer boundaries and which are holes of which
+(``Shape.regions``); each path keeps the element's `Paint`. Degenerate
+subpaths (too few distinct points, or a filled ring of zero area) are dropped
+with a warning naming them. Coordinates stay in the root's user units with y
+pointing down (the viewBox and the width/height of the root are ignored).
 """
 
 import io
 import re
+import warnings
 import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from ..errors import FileFormatError, ShapeError, require
+from ..errors import FileFormatError, ParameterError, ShapeError, require
+from ..paint import Paint
 from ..shape import Shape
 from ._files import check_readable, write_text
 from ._mesh import chains
@@ -109,14 +115,26 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
     -------
     Shape
         Vertices (n, 2) in SVG user units (y down), one path per subpath:
-        closed subpaths, polygons, rects, circles and ellipses as closed
-        rings; open subpaths, polylines and lines as open polylines.
+        filled subpaths (closed by ``Z`` or not), closed unfilled subpaths,
+        polygons, rects, circles and ellipses as closed rings; other unfilled
+        subpaths, polylines and lines as open polylines. ``regions`` lists the
+        filled regions (outer ring, then its holes, by each element's
+        ``fill-rule``) and ``paint`` the fill, stroke, stroke width and
+        opacity of every path.
+
+    Warns
+    -----
+    UserWarning
+        Naming each degenerate subpath that was dropped: fewer than 3
+        distinct points (2 for an open polyline), or a filled ring that
+        encloses no area.
 
     Raises
     ------
     FileFormatError
         Naming the file and line (XML errors) or the element (its id, or its
-        tag and number) that is malformed or degenerate.
+        tag and number) that is malformed, or saying that nothing drawable is
+        left.
     """
     se = require("svgelements", "cli")
     path = check_readable(path)
@@ -138,7 +156,7 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
         document = se.SVG.parse(io.BytesIO(ET.tostring(root)), reify=True)
     except (ValueError, TypeError, ZeroDivisionError) as exc:
         raise FileFormatError(f"{path}: cannot interpret the drawing ({exc})") from None
-    rings, counts = [], {}
+    rings, paints, regions, dropped, counts = [], [], [], [], {}
     for el in document.elements():
         if not isinstance(el, se.Shape):
             continue
@@ -146,25 +164,140 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
         counts[tag] = counts.get(tag, 0) + 1
         label = _label(tag, el.id, counts[tag])
         _check_attributes(path, se, el, tag, label)
+        paint = _paint(path, el, tag, label)
+        kept = []
         for k, (points, closed) in enumerate(_subpaths(se, el, curve_segments)):
+            closed = closed or paint.filled
             points = _clean(points, closed)
             if not np.all(np.isfinite(points)):
                 raise FileFormatError(f"{path}: {label}: subpath {k} has a non-finite coordinate")
             need = 3 if closed else 2
+            kind = "closed subpath" if closed else "open subpath"
             if len(points) < need:
-                kind = "closed subpath" if closed else "open subpath"
-                raise FileFormatError(
-                    f"{path}: {label}: {kind} {k} has {len(points)} distinct point(s), needs {need}"
-                )
-            rings.append((points, closed))
+                dropped.append(f"{label}: {kind} {k} has {len(points)} distinct point(s), needs {need}")
+            elif paint.filled and abs(_ring_area(points)) <= 1e-9 * _ring_length(points) ** 2:
+                dropped.append(f"{label}: filled subpath {k} encloses no area")
+            else:
+                kept.append((points, closed))
+        base = len(rings)
+        if paint.filled and kept:
+            rule = str(el.values.get("fill-rule", "nonzero")).strip().lower()
+            element_regions, outline = _fill_regions([p for p, _ in kept], rule)
+            regions += [[base + i for i in r] for r in element_regions]
+            unfilled = Paint(fill=None, stroke=paint.stroke, stroke_width=paint.stroke_width,
+                             opacity=paint.opacity)
+            for i, (points, closed) in enumerate(kept):
+                rings.append((points, closed))
+                paints.append(unfilled if i in outline else paint)
+        else:
+            rings += kept
+            paints += [paint] * len(kept)
+    if dropped:
+        warnings.warn(f"{path}: dropped {len(dropped)} degenerate subpath(s): " + "; ".join(dropped),
+                      stacklevel=2)
     if not rings:
+        why = f" (dropped: {'; '.join(dropped)})" if dropped else ""
         raise FileFormatError(
-            f"{path}: nothing to read (no path, polygon, polyline, rect, circle, ellipse or line)"
+            f"{path}: nothing to read (no path, polygon, polyline, rect, circle, ellipse or line){why}"
         )
-    return _shape_of_rings(path, rings)
+    return _shape_of_rings(path, rings, regions, paints)
 
 
-def _shape_of_rings(path, rings):
+def _colour(colour):
+    """RGBA tuple in [0, 1] of a svgelements Color, or None for ``none``."""
+    if colour is None or colour.value is None:
+        return None
+    return (colour.red / 255.0, colour.green / 255.0, colour.blue / 255.0, colour.alpha / 255.0)
+
+
+def _paint(path, el, tag, label):
+    """The `Paint` of an element: fill (none for lines), stroke, width, opacity."""
+    fill = None if tag == "line" else _colour(el.fill)
+    stroke = _colour(el.stroke)
+    width = getattr(el, "implicit_stroke_width", None)
+    width = el.stroke_width if width is None else width
+    try:
+        opacity = min(max(float(el.values.get("opacity", 1.0)), 0.0), 1.0)
+        return Paint(fill=fill, stroke=stroke, stroke_width=float(width or 0.0), opacity=opacity)
+    except (TypeError, ValueError, ParameterError) as exc:
+        raise FileFormatError(f"{path}: {label}: unreadable paint ({exc})") from None
+
+
+def _ring_area(points):
+    """Signed shoelace area of a closed ring (k, 2)."""
+    x, y = points[:, 0], points[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _ring_length(points):
+    return float(np.sum(np.hypot(*(np.roll(points, -1, axis=0) - points).T)))
+
+
+def winding_numbers(points, rings):
+    """(m, R) winding number of every closed ring around every point.
+
+    Parameters
+    ----------
+    points : (m, 2) array
+    rings : list of (k_r, 2) arrays
+        Closed rings (the closing edge implied).
+    """
+    a = np.vstack(rings)
+    b = np.vstack([np.roll(r, -1, axis=0) for r in rings])
+    owner = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
+    px, py = points[:, 0:1], points[:, 1:2]
+    cross = (b[:, 0] - a[:, 0]) * (py - a[:, 1]) - (px - a[:, 0]) * (b[:, 1] - a[:, 1])  # (m, E)
+    up = (a[:, 1] <= py) & (b[:, 1] > py) & (cross > 0)
+    down = (a[:, 1] > py) & (b[:, 1] <= py) & (cross < 0)
+    w = up.astype(np.int64) - down.astype(np.int64)
+    out = np.zeros((len(points), len(rings)), dtype=np.int64)
+    np.add.at(out.T, owner, w.T)
+    return out
+
+
+def _fill_regions(rings, rule):
+    """Regions of one filled element by its fill rule.
+
+    Each ring's winding number just outside it (the sum over the other rings
+    at one of its points) and just inside it (plus its own orientation) says
+    whether it bounds the fill: from unfilled outside to filled inside it is
+    an outer ring, the other way round a hole of the smallest outer ring
+    around it. A ring with the fill on both sides draws no boundary.
+
+    Parameters
+    ----------
+    rings : list of (k_r, 2) arrays
+    rule : {'nonzero', 'evenodd'}
+
+    Returns
+    -------
+    regions : list of list of int
+        Outer ring first, then its holes (indices into ``rings``).
+    outline : set of int
+        Rings that bound no filled region.
+    """
+    filled = (lambda w: w % 2 == 1) if rule == "evenodd" else (lambda w: w != 0)
+    probes = np.array([r[0] for r in rings])
+    w = winding_numbers(probes, rings)
+    own = np.sign([_ring_area(r) for r in rings]).astype(np.int64)
+    outside = w.sum(axis=1) - np.diagonal(w)
+    inside = outside + own
+    is_outer = ~filled(outside) & filled(inside)
+    is_hole = filled(outside) & ~filled(inside)
+    outers = np.flatnonzero(is_outer)
+    area = np.abs([_ring_area(r) for r in rings])
+    regions = {int(o): [int(o)] for o in outers}
+    outline = set(np.flatnonzero(~is_outer & ~is_hole).tolist())
+    for h in np.flatnonzero(is_hole):
+        around = outers[(w[h, outers] != 0) & (area[outers] > area[h])]
+        if around.size:
+            regions[int(around[np.argmin(area[around])])].append(int(h))
+        else:
+            outline.add(int(h))
+    return list(regions.values()), outline
+
+
+def _shape_of_rings(path, rings, regions=None, paints=None):
     """One Shape from (points, closed) subpaths, in order."""
     sizes = np.array([len(p) for p, _ in rings])
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
@@ -174,7 +307,8 @@ def _shape_of_rings(path, rings):
         paths.append((idx, closed))
         edges.append(np.column_stack([idx, np.roll(idx, -1)] if closed else [idx[:-1], idx[1:]]))
     try:
-        return Shape(np.vstack([p for p, _ in rings]), np.vstack(edges), paths=paths, y_down=True)
+        return Shape(np.vstack([p for p, _ in rings]), np.vstack(edges), paths=paths, y_down=True,
+                     regions=regions, paint=paints)
     except ShapeError as exc:
         raise FileFormatError(f"{path}: {exc}") from exc
 

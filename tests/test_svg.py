@@ -1,0 +1,101 @@
+"""SVG semantics: fill closes subpaths, fill-rule makes regions and holes, paint is kept."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from isotween import io
+from isotween.errors import FileFormatError
+
+HEART = ('<path fill-rule="evenodd" d="M8 1.314C12.438-3.248 23.534 4.735 8 15-7.534 4.736 '
+         '3.562-3.248 8 1.314"/>')
+
+
+def read(tmp_path, body, name="d.svg"):
+    (tmp_path / name).write_text(f'<svg xmlns="http://www.w3.org/2000/svg">{body}</svg>')
+    return io.load(tmp_path / name)
+
+
+def test_filled_path_without_z_is_a_closed_region(tmp_path):
+    s = read(tmp_path, HEART)
+    assert [c for _, c in s.paths] == [True]
+    assert s.regions == [[0]]
+    ring = s.vertices[s.paths[0][0]]
+    # the end point repeats the start (8, 1.314) and is dropped: the closing edge is implied
+    np.testing.assert_allclose(ring[0], [8, 1.314])
+    assert not np.allclose(ring[-1], ring[0])
+    assert s.paint[0].fill == (0.0, 0.0, 0.0, 1.0)
+
+
+def test_unfilled_paths_stay_open_and_keep_their_stroke(tmp_path):
+    body = ('<style>.thin{fill:none;stroke:#00ff00;stroke-width:2}</style>'
+            '<path class="thin" d="M0 0 L5 5 L9 0"/>'
+            '<g fill="none" stroke="red"><path d="M0 10 L5 15 L9 10"/><path d="M0 20 L5 25 L9 20 Z"/></g>'
+            '<path style="fill:none;stroke:blue" d="M0 30 L4 30"/>')
+    s = read(tmp_path, body)
+    assert [c for _, c in s.paths] == [False, False, True, False]
+    assert s.regions == []
+    assert s.paint[0].stroke == (0.0, 1.0, 0.0, 1.0) and s.paint[0].stroke_width == 2.0
+    assert s.paint[1].stroke == (1.0, 0.0, 0.0, 1.0) and s.paint[1].fill is None
+    assert s.paint[3].stroke == (0.0, 0.0, 1.0, 1.0)
+
+
+def test_inherited_fill_opacity_and_colour(tmp_path):
+    body = ('<g fill="#0000ff" opacity="0.5"><path d="M0 0 L4 0 L4 4"/></g>'
+            '<path fill="#ff0000" fill-opacity="0.25" d="M10 0 h4 v4 h-4"/>')
+    s = read(tmp_path, body)
+    assert [c for _, c in s.paths] == [True, True]
+    assert s.regions == [[0], [1]]
+    assert s.paint[0].fill == (0.0, 0.0, 1.0, 1.0) and s.paint[0].opacity == 0.5
+    assert s.paint[1].fill[:3] == (1.0, 0.0, 0.0)
+    assert abs(s.paint[1].fill[3] - 0.25) < 1 / 255
+
+
+@pytest.mark.parametrize("rule, inner_same, inner_reversed", [
+    # nonzero: a ring turning the same way as its container is inside the fill (no hole)
+    ("nonzero", "outline", "hole"),
+    # evenodd: every nested ring is a hole, whatever its direction
+    ("evenodd", "hole", "hole"),
+])
+def test_fill_rule_decides_holes(tmp_path, rule, inner_same, inner_reversed):
+    d = "M0 0 h10 v10 h-10 z M2 2 h2 v2 h-2 z M6 2 v2 h2 v-2 z"
+    s = read(tmp_path, f'<path fill-rule="{rule}" d="{d}"/>')
+    expect = {"hole": [], "outline": []}
+    expect[inner_same].append(1)
+    expect[inner_reversed].append(2)
+    assert s.regions == [[0] + expect["hole"]]
+    for k in expect["outline"]:
+        assert s.paint[k].fill is None  # a boundary inside the fill draws nothing filled
+    for k in expect["hole"]:
+        assert s.paint[k] == s.paint[0]  # holes repeat their region's paint
+
+
+def test_evenodd_island_in_a_hole_is_its_own_region(tmp_path):
+    d = "M0 0 h10 v10 h-10 z M2 2 h6 v6 h-6 z M3 3 h4 v4 h-4 z"
+    s = read(tmp_path, f'<path fill-rule="evenodd" d="{d}"/>')
+    assert s.regions == [[0, 1], [2]]
+
+
+def test_separate_elements_are_separate_regions(tmp_path):
+    # the same nested squares as two elements: painted on top of each other, no hole
+    s = read(tmp_path, '<path d="M0 0 h10 v10 h-10 z"/><path d="M2 2 v2 h2 v-2 z"/>')
+    assert s.regions == [[0], [1]]
+
+
+def test_degenerate_subpaths_are_dropped_with_a_warning(tmp_path):
+    body = ('<path id="dot" d="M5 5 L5 5"/><path id="flat" d="M0 0 L1 1 L2 2 z"/>'
+            '<path id="ok" d="M0 0 h4 v4 h-4 z"/>')
+    with pytest.warns(UserWarning) as record:
+        s = read(tmp_path, body)
+    text = str(record[0].message)
+    assert '<path id="dot">: closed subpath 0 has 1 distinct point(s)' in text
+    assert '<path id="flat">: filled subpath 0 encloses no area' in text
+    assert len(s.paths) == 1 and s.regions == [[0]]
+
+
+def test_only_degenerate_subpaths_is_an_error_naming_them(tmp_path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(FileFormatError, match=r'nothing to read .*<path id="flat">: filled subpath 0'):
+            read(tmp_path, '<path id="flat" d="M0 0 L1 1 L2 2 z"/>')
