@@ -196,8 +196,9 @@ def _rings(obj, closed, name):
     return out
 
 
-def _counts(points, src, tgt):
-    """Points per ring: given, or the total shared in proportion to length."""
+def _counts(points, src, *others):
+    """Points per ring: given, or the total shared in proportion to length (the
+    mean of every shape's length shares)."""
     need = np.array([3 if c else 2 for _, c in src])
     if points is not None and np.ndim(points) == 1:
         counts = np.asarray(points)
@@ -209,18 +210,17 @@ def _counts(points, src, tgt):
             raise ParameterError(f"points for ring {r} is {counts[r]}; that ring needs at least {need[r]}")
         return counts.astype(np.int64)
     if points is None:
-        points = max(sum(len(z) for z, _ in src), sum(len(z) for z, _ in tgt))
+        points = max(sum(len(z) for z, _ in rings) for rings in (src, *others))
     if isinstance(points, bool) or not isinstance(points, numbers.Integral):
         raise ParameterError(f"points must be an integer, got {points!r}")
     if points < need.sum():
         raise ParameterError(f"points={points} is too few for {len(src)} ring(s); at least {need.sum()} needed")
-    ls = np.array([_Ring(z, c).length for z, c in src])
-    lt = np.array([_Ring(z, c).length for z, c in tgt])
-    for name, lengths in (("source", ls), ("target", lt)):
-        zero = np.flatnonzero(lengths <= 0)
+    lengths = [np.array([_Ring(z, c).length for z, c in rings]) for rings in (src, *others)]
+    for name, ls in zip(["source", "target"] + [f"shape {k}" for k in range(2, len(lengths))], lengths):
+        zero = np.flatnonzero(ls <= 0)
         if zero.size:
             raise ShapeError(f"{name} ring {zero[0]} has zero length")
-    share = 0.5 * (ls / ls.sum() + lt / lt.sum())
+    share = np.mean([ls / ls.sum() for ls in lengths], axis=0)
     # largest remainder, then rings below their minimum take from the largest ones
     raw = points * share
     counts = np.maximum(np.floor(raw).astype(np.int64), need)

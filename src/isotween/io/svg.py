@@ -19,6 +19,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from ..correspondence.regions import fill_regions
 from ..errors import FileFormatError, ParameterError, ShapeError, require
 from ..paint import Paint
 from ..shape import Shape
@@ -182,7 +183,7 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
         base = len(rings)
         if paint.filled and kept:
             rule = str(el.values.get("fill-rule", "nonzero")).strip().lower()
-            element_regions, outline = _fill_regions([p for p, _ in kept], rule)
+            element_regions, outline = fill_regions([p for p, _ in kept], rule)
             regions += [[base + i for i in r] for r in element_regions]
             unfilled = Paint(fill=None, stroke=paint.stroke, stroke_width=paint.stroke_width,
                              opacity=paint.opacity)
@@ -231,70 +232,6 @@ def _ring_area(points):
 
 def _ring_length(points):
     return float(np.sum(np.hypot(*(np.roll(points, -1, axis=0) - points).T)))
-
-
-def winding_numbers(points, rings):
-    """(m, R) winding number of every closed ring around every point.
-
-    Parameters
-    ----------
-    points : (m, 2) array
-    rings : list of (k_r, 2) arrays
-        Closed rings (the closing edge implied).
-    """
-    a = np.vstack(rings)
-    b = np.vstack([np.roll(r, -1, axis=0) for r in rings])
-    owner = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
-    px, py = points[:, 0:1], points[:, 1:2]
-    cross = (b[:, 0] - a[:, 0]) * (py - a[:, 1]) - (px - a[:, 0]) * (b[:, 1] - a[:, 1])  # (m, E)
-    up = (a[:, 1] <= py) & (b[:, 1] > py) & (cross > 0)
-    down = (a[:, 1] > py) & (b[:, 1] <= py) & (cross < 0)
-    w = up.astype(np.int64) - down.astype(np.int64)
-    out = np.zeros((len(points), len(rings)), dtype=np.int64)
-    np.add.at(out.T, owner, w.T)
-    return out
-
-
-def _fill_regions(rings, rule):
-    """Regions of one filled element by its fill rule.
-
-    Each ring's winding number just outside it (the sum over the other rings
-    at one of its points) and just inside it (plus its own orientation) says
-    whether it bounds the fill: from unfilled outside to filled inside it is
-    an outer ring, the other way round a hole of the smallest outer ring
-    around it. A ring with the fill on both sides draws no boundary.
-
-    Parameters
-    ----------
-    rings : list of (k_r, 2) arrays
-    rule : {'nonzero', 'evenodd'}
-
-    Returns
-    -------
-    regions : list of list of int
-        Outer ring first, then its holes (indices into ``rings``).
-    outline : set of int
-        Rings that bound no filled region.
-    """
-    filled = (lambda w: w % 2 == 1) if rule == "evenodd" else (lambda w: w != 0)
-    probes = np.array([r[0] for r in rings])
-    w = winding_numbers(probes, rings)
-    own = np.sign([_ring_area(r) for r in rings]).astype(np.int64)
-    outside = w.sum(axis=1) - np.diagonal(w)
-    inside = outside + own
-    is_outer = ~filled(outside) & filled(inside)
-    is_hole = filled(outside) & ~filled(inside)
-    outers = np.flatnonzero(is_outer)
-    area = np.abs([_ring_area(r) for r in rings])
-    regions = {int(o): [int(o)] for o in outers}
-    outline = set(np.flatnonzero(~is_outer & ~is_hole).tolist())
-    for h in np.flatnonzero(is_hole):
-        around = outers[(w[h, outers] != 0) & (area[outers] > area[h])]
-        if around.size:
-            regions[int(around[np.argmin(area[around])])].append(int(h))
-        else:
-            outline.add(int(h))
-    return list(regions.values()), outline
 
 
 def _shape_of_rings(path, rings, regions=None, paints=None):

@@ -1,0 +1,447 @@
+"""Automatic correspondence: any two drawings (or several keyframes) made compatible.
+
+Stages (each swappable):
+
+1. object correspondence (`regions.plan`): regions, holes, unfilled rings and
+   polylines paired by optimal assignment; a missing item becomes a small copy;
+2. point correspondence (`resample`): every ring pair resampled in arc length
+   to a common count, best start and orientation;
+3. solids: every pair of filled regions triangulated into compatible meshes
+   (`_mesh_region`, the one place that names the mesher).
+"""
+
+import numbers
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from ..errors import IsotweenError, ParameterError, ShapeError
+from ..shape import Shape
+from . import regions as _regions
+from .compatibility import as_shape, check_compatible
+from .resample import _counts, _Ring, resample
+
+__all__ = ["Correspondence", "CorrespondenceReport", "correspond", "correspond_keys", "MAX_TRIANGLES"]
+
+#: meshes estimated to need more triangles than this (all regions together) are refused
+MAX_TRIANGLES = 2_000_000
+
+
+@dataclass
+class CorrespondenceReport:
+    """What `correspond` did.
+
+    Attributes
+    ----------
+    unchanged : bool
+        The inputs were compatible already and came back as they were.
+    keys : int
+        Number of drawings made compatible together.
+    unmatched : {'grow', 'split'}
+    regions, holes, rings, lines : dict
+        Counts per kind of item: ``paired`` (present in every drawing),
+        ``grown`` (missing from the first drawing: grows from a small copy),
+        ``shrunk`` (missing from a later drawing: shrinks to a small copy).
+    pairs : list of (int, int)
+        Region pairs (source region, target region) of two drawings.
+    points : list of int
+        Points per ring of the output.
+    meshes : list of (int, int)
+        (vertices, triangles) of every meshed region pair.
+    flipped : int
+        Triangles of the output meshes with the other orientation in the
+        target than in the source.
+    outlines : list of str
+        Filled regions kept as outlines, and why.
+    """
+
+    unchanged: bool = False
+    keys: int = 2
+    unmatched: str = "grow"
+    regions: dict = field(default_factory=dict)
+    holes: dict = field(default_factory=dict)
+    rings: dict = field(default_factory=dict)
+    lines: dict = field(default_factory=dict)
+    pairs: list = field(default_factory=list)
+    points: list = field(default_factory=list)
+    meshes: list = field(default_factory=list)
+    flipped: int = 0
+    outlines: list = field(default_factory=list)
+
+    def summary(self):
+        """One line saying what was done."""
+        if self.unchanged:
+            return "correspondence: the inputs are compatible already (unchanged)"
+        grown, shrunk = ("split off", "merged") if self.unmatched == "split" else ("grown", "shrunk")
+        parts = []
+        for name, counts in (("regions", self.regions), ("holes", self.holes), ("rings", self.rings),
+                             ("polylines", self.lines)):
+            if not any(counts.values()):
+                continue
+            words = {"paired": "paired", "grown": "opened" if name == "holes" else grown,
+                     "shrunk": "closed" if name == "holes" else shrunk}
+            parts.append(f"{name} " + ", ".join(f"{counts[k]} {words[k]}" for k in ("paired", "grown", "shrunk")
+                                                 if counts.get(k)))
+        pts = np.asarray(self.points)
+        parts.append(f"{int(pts.sum())} points on {len(pts)} ring(s) ({int(pts.min())}-{int(pts.max())} each)")
+        if self.meshes:
+            v, t = np.sum(self.meshes, axis=0)
+            parts.append(f"{len(self.meshes)} solid(s): {int(v)} vertices, {int(t)} triangles, "
+                         f"{self.flipped} flipped")
+        if self.outlines:
+            parts.append(f"{len(self.outlines)} region(s) as outlines ({self.outlines[0]})")
+        return "correspondence: " + "; ".join(parts)
+
+
+class Correspondence(NamedTuple):
+    """What `correspond` returns: ``src, tgt, report = correspond(a, b)``."""
+
+    source: Shape
+    target: Shape
+    report: CorrespondenceReport
+
+
+def correspond(source, target, *, points=None, segment=None, rotation=False, outline=False,
+               mesh_size=None, unmatched="grow", pairs=None):
+    """Make two drawings compatible: same vertices, connectivity and paths.
+
+    Regions (outer ring and holes), unfilled rings and open polylines are
+    paired by optimal assignment on normalised position, size and overlap;
+    an item with no partner grows from (or shrinks to) a small copy, a hole
+    with no partner opens from (or closes to) a small ring inside its
+    region. Every ring pair is then resampled to a common point count (best
+    start and orientation), and each pair of filled regions becomes a pair of
+    compatible triangle meshes (unless ``outline``).
+
+    Parameters
+    ----------
+    source, target : Shape
+        Drawings with paths (read from SVG, `Shape.from_polygon`,
+        `Shape.from_polyline`, OBJ/JSON outlines). Shapes without ``regions``
+        have their closed paths grouped into regions by the even-odd rule.
+    points : int, optional
+        Total number of vertices on all rings of the output outline, shared
+        in proportion to length. Default: the larger total of the inputs.
+    segment : float, optional
+        Largest segment length instead: every ring gets enough points that
+        no segment is longer (in both drawings). Not with ``points``.
+    rotation : bool
+        Factor out rotation when choosing where each ring starts.
+    outline : bool
+        Keep outlines only (no triangle meshes for filled regions).
+    mesh_size : float, optional
+        Target triangle edge length of the meshes (largest triangle area
+        sqrt(3)/4 mesh_size^2). Default: triangles grow from the outline's
+        spacing inwards.
+    unmatched : {'grow', 'split'}
+        An item with no partner grows from (shrinks to) a small copy at its
+        own centroid (``'grow'``), or splits off from (merges into) the
+        nearest region of the other drawing, appearing from a small copy
+        inside it (``'split'``).
+    pairs : list of (int, int), optional
+        Region pairs (source region, target region) to force; the other
+        regions are paired by assignment.
+
+    Returns
+    -------
+    Correspondence
+        ``(source, target, report)``: compatible shapes (with ``regions`` and
+        ``paint``) and a `CorrespondenceReport` (``report.summary()`` is one
+        line). An already compatible pair comes back unchanged.
+
+    Raises
+    ------
+    IncompatibleShapesError
+        A forced pair that cannot be made (naming the regions).
+    ParameterError
+        Bad options, or a mesh density whose triangle count (estimated from
+        area / mesh_size^2 before meshing) would exceed `MAX_TRIANGLES`.
+    ShapeError
+        A shape without paths.
+    """
+    source, target = as_shape(source, "source"), as_shape(target, "target")
+    try:
+        check_compatible(source, target)
+    except IsotweenError:
+        pass
+    else:
+        return Correspondence(source, target, CorrespondenceReport(unchanged=True, unmatched=unmatched))
+    shapes, report = _compatible_outlines([source, target], points, segment, rotation, unmatched, pairs)
+    if not outline:
+        shapes = _solids(shapes, report, mesh_size)
+    return Correspondence(shapes[0], shapes[1], report)
+
+
+def correspond_keys(shapes, *, points=None, segment=None, rotation=False, unmatched="grow"):
+    """Make several drawings (keyframes) compatible together, as outlines.
+
+    Every drawing's items are paired with those of the first (an item of a
+    later drawing with no partner is added to all others as a small copy),
+    then all rings are resampled with one point count per ring. Options as
+    in `correspond`.
+
+    Returns
+    -------
+    shapes : list of Shape
+        Compatible outline shapes (unchanged if they were compatible).
+    report : CorrespondenceReport
+    """
+    shapes = [as_shape(s, f"keyframe {k}") for k, s in enumerate(shapes)]
+    if len(shapes) < 2:
+        raise ParameterError(f"give at least two keyframes, got {len(shapes)}")
+    try:
+        check_compatible(*shapes, names=[f"keyframe {k}" for k in range(len(shapes))])
+    except IsotweenError:
+        pass
+    else:
+        return shapes, CorrespondenceReport(unchanged=True, keys=len(shapes), unmatched=unmatched)
+    return _compatible_outlines(shapes, points, segment, rotation, unmatched, None)
+
+
+# ---------------------------------------------------------------- outlines
+def _check_options(points, segment, unmatched):
+    if unmatched not in ("grow", "split"):
+        raise ParameterError(f"unmatched must be 'grow' or 'split', got {unmatched!r}")
+    if points is not None and segment is not None:
+        raise ParameterError("give points or segment, not both")
+    if segment is not None and not (isinstance(segment, numbers.Real) and np.isfinite(segment) and segment > 0):
+        raise ParameterError(f"segment must be a positive length, got {segment!r}")
+
+
+def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs):
+    """Object correspondence and resampling of K drawings; (shapes, report)."""
+    _check_options(points, segment, unmatched)
+    names = ["source", "target"] if len(shapes) == 2 else [f"keyframe {k}" for k in range(len(shapes))]
+    items = [_regions.items_of(s, n) for s, n in zip(shapes, names)]
+    frames = [_regions._Frame.of(np.concatenate([r for it in key for r in it.rings])) for key in items]
+    if pairs is not None and len(shapes) != 2:
+        raise ParameterError("pairs are for two drawings")
+    slots = _regions.plan(items, frames, pairs)
+    per_key, closed, paint, layout = _fill_slots(items, frames, slots, unmatched)
+    counts = _ring_counts(per_key, closed, points, segment)
+    xy = [[np.c_[z.real, z.imag] for z in key] for key in per_key]
+    outs = [None] * len(shapes)
+    for k in range(1, len(shapes)):
+        a, b = resample(xy[0], xy[k], points=counts, closed=closed, rotation=rotation)
+        outs[0] = a if outs[0] is None else outs[0]
+        outs[k] = b
+    result = []
+    regions = [rs for kind, rs in layout if kind == "region"]
+    for k, (shape, out) in enumerate(zip(shapes, outs)):
+        result.append(Shape(out.vertices, out.edges, paths=out.paths, y_down=shape.y_down,
+                            regions=regions, paint=paint[k]))
+    report = CorrespondenceReport(keys=len(shapes), unmatched=unmatched, points=[int(c) for c in counts])
+    _count_items(report, slots, len(shapes))
+    return result, report
+
+
+def _count_items(report, slots, K):
+    for kind, target in (("region", report.regions), ("ring", report.rings), ("line", report.lines)):
+        target.update(paired=0, grown=0, shrunk=0)
+        for s in (s for s in slots if s.kind == kind):
+            _tally(target, s.members)
+    report.holes.update(paired=0, grown=0, shrunk=0)
+    for s in slots:
+        if s.kind == "region":
+            for h in s.holes:
+                _tally(report.holes, h)
+            if K == 2 and None not in s.members:
+                report.pairs.append(tuple(s.members))
+
+
+def _tally(counts, members):
+    if None not in members:
+        counts["paired"] += 1
+    elif members[0] is None:
+        counts["grown"] += 1
+    else:
+        counts["shrunk"] += 1
+
+
+def _fill_slots(items, frames, slots, unmatched):
+    """Per drawing, the rings of every slot (real or small copies).
+
+    Returns
+    -------
+    per_key : list (per drawing) of list of (k,) complex arrays
+    closed : list of bool
+        Per ring.
+    paint : list (per drawing) of list of Paint, or of None
+    layout : list of (kind, list of int)
+        Per slot, its kind and ring indices in the flat ring list.
+    """
+    K = len(items)
+    per_key = [[] for _ in range(K)]
+    paints = [[] for _ in range(K)]
+    closed, layout = [], []
+    # regions first: small copies of other items may be placed inside them
+    done = {}
+    for si, slot in enumerate(slots):
+        if slot.kind != "region":
+            continue
+        present = {}
+        for k, m in enumerate(slot.members):
+            if m is None:
+                continue
+            item = items[k][m]
+            rings, paint = [item.rings[0]], [item.paint[0]]
+            poly = _regions.region_polygon(item.rings)
+            for hs in slot.holes:
+                if hs[k] is not None:
+                    rings.append(item.rings[hs[k]])
+                    paint.append(item.paint[hs[k]])
+                else:  # a hole this drawing lacks: a small ring inside the region
+                    ref = next(j for j, h in enumerate(hs) if h is not None)
+                    ref_item = items[ref][slot.members[ref]]
+                    hole = ref_item.rings[hs[ref]]
+                    f_ref, f_k = _regions._Frame.of(ref_item.rings[0]), _regions._Frame.of(item.rings[0])
+                    at = f_ref.to(f_k, _regions._centroid(hole, True))
+                    radius = _regions.TINY * float(np.abs(hole - _regions._centroid(hole, True)).max())
+                    at, room = _regions.inside_point(poly, at, radius)
+                    rings.append(_regions.small_copy([hole], True, at, room)[0])
+                    paint.append(item.paint[0])
+            present[k] = (rings, paint, poly)
+        done[si] = present
+    polys = [[(si, p[k][2]) for si, p in done.items() if k in p] for k in range(K)]
+    for si, slot in enumerate(slots):
+        is_closed = slot.kind != "line"
+        if slot.kind == "region":
+            present = {k: v[:2] for k, v in done[si].items()}
+        else:
+            present = {k: ([items[k][m].rings[0]], [items[k][m].paint[0]])
+                       for k, m in enumerate(slot.members) if m is not None}
+        ref = min(present)
+        ref_rings, ref_paint = present[ref]
+        start = len(closed)
+        for k in range(K):
+            if k in present:
+                rings, paint = present[k]
+            else:
+                rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k], unmatched)
+                paint = ref_paint
+            per_key[k] += rings
+            paints[k] += paint
+        closed += [is_closed] * len(ref_rings)
+        layout.append((slot.kind, list(range(start, len(closed)))))
+    paints = [None if any(p is None for p in key) else key for key in paints]
+    return per_key, closed, paints, layout
+
+
+def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched):
+    """Small copy of an item's rings in another drawing (``grow``: at its own
+    centroid; ``split``: inside the nearest region there)."""
+    c = _regions._centroid(rings[0], closed)
+    at = f_from.to(f_to, c)
+    radius = _regions.TINY * float(np.abs(np.concatenate(rings) - c).max()) * f_to.scale / f_from.scale
+    scaled = [at + (z - c) * (f_to.scale / f_from.scale) for z in rings]
+    if unmatched == "split" and polygons:
+        import shapely
+
+        point = shapely.Point(at.real, at.imag)
+        _, poly = min(polygons, key=lambda sp: sp[1].distance(point))
+        at, room = _regions.inside_point(poly, at, radius)
+        return _regions.small_copy(scaled, closed, at, room)
+    return _regions.small_copy(scaled, closed, at)
+
+
+def _ring_counts(per_key, closed, points, segment):
+    """Points per ring: the total shared by length, or from the largest segment."""
+    rings = [[(z, c) for z, c in zip(key, closed)] for key in per_key]
+    if segment is None:
+        return _counts(points, *rings)
+    need = np.array([3 if c else 2 for c in closed])
+    lengths = np.array([[_Ring(z, c).length for z, c in key] for key in rings])
+    return np.maximum(np.ceil(lengths.max(axis=0) / segment - 1e-9).astype(np.int64), need)
+
+
+# ---------------------------------------------------------------- solids
+def _mesh_region(source_rings, target_rings, mesh_size):
+    """Compatible triangle meshes of one region pair.
+
+    Parameters
+    ----------
+    source_rings, target_rings : list of (k_i, 2) arrays
+        Outer ring first, then holes; same counts, vertex i corresponding.
+    mesh_size : float or None
+        Target edge length.
+
+    Returns
+    -------
+    source, target : Shape
+        Same faces; the ring vertices first, in order, then interior vertices.
+    flipped : int
+        Target triangles whose orientation differs from the source's.
+    """
+    import warnings
+
+    from .meshing import mesh_pair
+
+    max_area = None if mesh_size is None else np.sqrt(3) / 4 * mesh_size**2
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        src, tgt, flipped = mesh_pair(Shape.from_polygon(source_rings), Shape.from_polygon(target_rings),
+                                      max_area=max_area)
+    return src, tgt, int(len(flipped))
+
+
+def _solids(shapes, report, mesh_size):
+    """Replace every region pair of a compatible outline pair by compatible meshes."""
+    if mesh_size is not None and not (isinstance(mesh_size, numbers.Real) and np.isfinite(mesh_size)
+                                      and mesh_size > 0):
+        raise ParameterError(f"mesh_size must be a positive length, got {mesh_size!r}")
+    src, tgt = shapes
+    if not src.regions:
+        return shapes
+    if mesh_size is not None:
+        area = sum(max(abs(_regions.ring_area(s.z[s.paths[r[0]][0]])) for s in shapes) for r in src.regions)
+        estimate = area / (np.sqrt(3) / 4 * mesh_size**2)
+        if estimate > MAX_TRIANGLES:
+            raise ParameterError(
+                f"mesh_size={mesh_size:g} would make about {estimate:.3g} triangles "
+                f"(limit {MAX_TRIANGLES:.3g}); choose a mesh size of at least "
+                f"{mesh_size * np.sqrt(estimate / MAX_TRIANGLES):.3g}"
+            )
+    in_region = {p for r in src.regions for p in r}
+    blocks, paths, regions = [], [], []
+    offset = 0
+
+    def ring_xy(shape, p):
+        return shape.vertices[shape.paths[p][0]]
+
+    for r in src.regions:
+        rs, rt = [ring_xy(src, p) for p in r], [ring_xy(tgt, p) for p in r]
+        try:
+            ms, mt, flipped = _mesh_region(rs, rt, mesh_size)
+        except ShapeError as exc:
+            report.outlines.append(f"region {len(regions)}: {exc}")
+            ms, mt, flipped = Shape.from_polygon(rs), Shape.from_polygon(rt), 0
+        else:
+            report.meshes.append((ms.n_vertices, ms.n_faces))
+            report.flipped += flipped
+        sizes = np.cumsum([0] + [len(x) for x in rs])
+        regions.append(list(range(len(paths), len(paths) + len(r))))
+        paths += [(offset + np.arange(sizes[i], sizes[i + 1]), True) for i in range(len(r))]
+        blocks.append((ms.vertices, mt.vertices, ms.edges + offset,
+                       None if ms.faces is None else ms.faces + offset, r))
+        offset += ms.n_vertices
+    for p, (idx, c) in enumerate(src.paths):
+        if p in in_region:
+            continue
+        k = len(idx)
+        local = np.arange(k)
+        e = np.column_stack([local, np.roll(local, -1)] if c else [local[:-1], local[1:]])
+        paths.append((offset + local, c))
+        blocks.append((src.vertices[idx], tgt.vertices[idx], e + offset, None, [p]))
+        offset += k
+    order = [p for b in blocks for p in b[4]]
+    edges = np.vstack([b[2] for b in blocks])
+    faces = [b[3] for b in blocks if b[3] is not None]
+    faces = np.vstack(faces) if faces else None
+    out = []
+    for k, shape in enumerate(shapes):
+        v = np.vstack([b[k] for b in blocks])
+        paint = None if shape.paint is None else [shape.paint[p] for p in order]
+        out.append(Shape(v, edges, faces=faces, paths=paths, y_down=shape.y_down, regions=regions,
+                         paint=paint))
+    return out

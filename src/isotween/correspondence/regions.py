@@ -1,0 +1,427 @@
+"""Object correspondence: which region, hole and polyline of one drawing goes
+with which of another.
+
+A drawing is cut into *items*: filled regions (outer ring, then holes),
+unfilled closed rings and open polylines. Items of the same kind are paired
+by an optimal assignment (`scipy.optimize.linear_sum_assignment`) on their
+position and size, both normalised by the drawing's bounding box, and for
+regions also on their overlap. Holes are paired the same way inside each
+pair of regions, normalised by the region's box.
+
+Several drawings (keyframes) are paired with the first one: an item of a
+later drawing with no partner opens a new *slot* that every other drawing
+fills with a small copy. A slot's small copy is the item scaled down by
+`TINY` about its centroid and placed where the item would be (``'grow'``),
+or inside the nearest region of that drawing (``'split'``). A missing hole
+becomes a small copy inside its region, away from the region's boundary.
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from ..errors import IncompatibleShapesError, ParameterError, ShapeError
+
+__all__ = ["Item", "Slot", "TINY", "items_of", "plan", "winding_numbers", "fill_regions", "ring_area"]
+
+#: scale of the small copy a missing item grows from (or shrinks to)
+TINY = 0.05
+
+_KINDS = ("region", "ring", "line")
+
+
+class Item(NamedTuple):
+    """One region, unfilled ring or polyline of a drawing.
+
+    Attributes
+    ----------
+    kind : {'region', 'ring', 'line'}
+    rings : list of (k_i,) complex arrays
+        Outer ring first, then holes (one ring for 'ring' and 'line').
+    paint : list of Paint or None
+        Paint of each ring (None when the shape has none).
+    index : int
+        Region index (regions) or path index (rings, lines) in its shape.
+    """
+
+    kind: str
+    rings: list
+    paint: list
+    index: int
+
+
+class Slot(NamedTuple):
+    """One item of the common structure and what each drawing puts there.
+
+    Attributes
+    ----------
+    kind : str
+    members : list of int or None
+        Per drawing: index of its item in this slot, or None (a small copy).
+    holes : list of list of int or None
+        Per hole slot: per drawing, the index of the hole in that drawing's
+        item (1-based ring position) or None.
+    """
+
+    kind: str
+    members: list
+    holes: list
+
+
+# ---------------------------------------------------------------- geometry
+def ring_area(z):
+    """Signed shoelace area of closed rings: (k,) complex -> float."""
+    return 0.5 * float(np.sum((np.conj(z) * np.roll(z, -1)).imag))
+
+
+def _centroid(z, closed):
+    """Area centroid of a closed ring (vertex mean if flat), length-weighted mean of a polyline."""
+    if closed:
+        w = np.roll(z, -1)
+        cross = (np.conj(z) * w).imag
+        a = cross.sum()
+        if abs(a) > 1e-12 * max(np.ptp(z.real), np.ptp(z.imag), 1e-300) ** 2:
+            return complex(np.sum((z + w) * cross) / (3 * a))
+        return complex(z.mean())
+    mid, seg = 0.5 * (z[1:] + z[:-1]), np.abs(np.diff(z))
+    return complex(np.sum(mid * seg) / seg.sum()) if seg.sum() > 0 else complex(z.mean())
+
+
+def _size(z, closed):
+    """sqrt(|area|) of a closed ring, length of a polyline."""
+    return np.sqrt(abs(ring_area(z))) if closed else float(np.abs(np.diff(z)).sum())
+
+
+def winding_numbers(points, rings):
+    """(m, R) winding number of every closed ring around every point.
+
+    Parameters
+    ----------
+    points : (m, 2) array
+    rings : list of (k_r, 2) arrays
+        Closed rings (the closing edge implied).
+    """
+    a = np.vstack(rings)
+    b = np.vstack([np.roll(r, -1, axis=0) for r in rings])
+    owner = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
+    px, py = points[:, 0:1], points[:, 1:2]
+    cross = (b[:, 0] - a[:, 0]) * (py - a[:, 1]) - (px - a[:, 0]) * (b[:, 1] - a[:, 1])  # (m, E)
+    up = (a[:, 1] <= py) & (b[:, 1] > py) & (cross > 0)
+    down = (a[:, 1] > py) & (b[:, 1] <= py) & (cross < 0)
+    w = up.astype(np.int64) - down.astype(np.int64)
+    out = np.zeros((len(points), len(rings)), dtype=np.int64)
+    np.add.at(out.T, owner, w.T)
+    return out
+
+
+def fill_regions(rings, rule="evenodd"):
+    """Regions of rings filled together under a fill rule.
+
+    Each ring's winding number just outside it (the sum over the other rings
+    at one of its points) and just inside it (plus its own orientation) says
+    whether it bounds the fill: from unfilled outside to filled inside it is
+    an outer ring, the other way round a hole of the smallest outer ring
+    around it. A ring with the fill on both sides (or neither) bounds nothing.
+
+    Parameters
+    ----------
+    rings : list of (k_r, 2) arrays
+    rule : {'nonzero', 'evenodd'}
+
+    Returns
+    -------
+    regions : list of list of int
+        Outer ring first, then its holes (indices into ``rings``).
+    outline : set of int
+        Rings that bound no filled region.
+    """
+    filled = (lambda w: w % 2 == 1) if rule == "evenodd" else (lambda w: w != 0)
+    probes = np.array([r[0] for r in rings])
+    w = winding_numbers(probes, rings)
+    signed = np.array([ring_area(r[:, 0] + 1j * r[:, 1]) for r in rings])
+    outside = w.sum(axis=1) - np.diagonal(w)
+    inside = outside + np.sign(signed).astype(np.int64)
+    is_outer = ~filled(outside) & filled(inside)
+    is_hole = filled(outside) & ~filled(inside)
+    outers = np.flatnonzero(is_outer)
+    area = np.abs(signed)
+    regions = {int(o): [int(o)] for o in outers}
+    outline = set(np.flatnonzero(~is_outer & ~is_hole).tolist())
+    for h in np.flatnonzero(is_hole):
+        around = outers[(w[h, outers] != 0) & (area[outers] > area[h])]
+        if around.size:
+            regions[int(around[np.argmin(area[around])])].append(int(h))
+        else:
+            outline.add(int(h))
+    return list(regions.values()), outline
+
+
+# ---------------------------------------------------------------- items
+def items_of(shape, name):
+    """The items of a drawing: its regions, unfilled closed rings and polylines.
+
+    A shape without ``regions`` (``from_polygon``, OBJ, JSON) has its closed
+    paths grouped into regions by the even-odd rule.
+
+    Parameters
+    ----------
+    shape : Shape
+    name : str
+        How to call the shape in messages.
+
+    Returns
+    -------
+    list of Item
+    """
+    if not shape.paths:
+        raise ShapeError(
+            f"the {name} has no paths (rings or polylines) to put in correspondence; "
+            "give outlines (SVG, Shape.from_polygon, Shape.from_polyline) or compatible shapes"
+        )
+    z = shape.z
+    rings = [z[idx] for idx, _ in shape.paths]
+    paint = shape.paint or [None] * len(rings)
+    regions = shape.regions
+    if regions is None:
+        closed = [k for k, (_, c) in enumerate(shape.paths) if c]
+        regions = []
+        if closed:
+            found, _ = fill_regions([np.c_[rings[k].real, rings[k].imag] for k in closed], "evenodd")
+            regions = [[closed[i] for i in r] for r in found]
+    used = {k for r in regions for k in r}
+    items = [Item("region", [rings[k] for k in r], [paint[k] for k in r], i) for i, r in enumerate(regions)]
+    for k, (_, c) in enumerate(shape.paths):
+        if k not in used:
+            items.append(Item("ring" if c else "line", [rings[k]], [paint[k]], k))
+    return items
+
+
+# ---------------------------------------------------------------- pairing
+class _Frame(NamedTuple):
+    """Normalising frame: centre (complex) and scale (bounding-box diagonal)."""
+
+    centre: complex
+    scale: float
+
+    @classmethod
+    def of(cls, z):
+        lo, hi = complex(z.real.min(), z.imag.min()), complex(z.real.max(), z.imag.max())
+        return cls(0.5 * (lo + hi), max(abs(hi - lo), 1e-300))
+
+    def to(self, other, z):
+        """Points of this frame mapped to the same normalised place in ``other``."""
+        return other.centre + (z - self.centre) * (other.scale / self.scale)
+
+
+def _features(item_rings, closed, frame):
+    """(centroid, size) of an item's outer ring in normalised coordinates."""
+    z = (item_rings[0] - frame.centre) / frame.scale
+    return _centroid(z, closed), _size(z, closed), z
+
+
+def _cost(a_feats, b_feats, closed):
+    """(m, n) matching cost: squared distance of centroids and sizes, plus 1 - overlap."""
+    ca = np.array([f[0] for f in a_feats])
+    cb = np.array([f[0] for f in b_feats])
+    sa = np.array([f[1] for f in a_feats])
+    sb = np.array([f[1] for f in b_feats])
+    cost = np.abs(ca[:, None] - cb[None, :]) ** 2 + (sa[:, None] - sb[None, :]) ** 2
+    if closed:
+        cost = cost + (1.0 - _overlap([f[2] for f in a_feats], [f[2] for f in b_feats]))
+    return cost
+
+
+def _polygon(z):
+    import shapely
+
+    poly = shapely.Polygon(np.c_[z.real, z.imag])
+    return poly if poly.is_valid else shapely.make_valid(poly)
+
+
+def _overlap(a_rings, b_rings):
+    """(m, n) intersection over union of the areas inside the rings."""
+    import shapely
+
+    pa = np.array([_polygon(z) for z in a_rings], dtype=object)
+    pb = np.array([_polygon(z) for z in b_rings], dtype=object)
+    inter = shapely.area(shapely.intersection(pa[:, None], pb[None, :]))
+    union = shapely.area(pa)[:, None] + shapely.area(pb)[None, :] - inter
+    return np.where(union > 0, inter / np.maximum(union, 1e-300), 0.0)
+
+
+def _assign(cost, forced=()):
+    """Optimal pairs (rows, cols) of a cost matrix, after the forced pairs."""
+    forced = list(forced)
+    rows = [r for r in range(cost.shape[0]) if r not in {f[0] for f in forced}]
+    cols = [c for c in range(cost.shape[1]) if c not in {f[1] for f in forced}]
+    pairs = list(forced)
+    if rows and cols:
+        r, c = linear_sum_assignment(cost[np.ix_(rows, cols)])
+        pairs += [(rows[i], cols[j]) for i, j in zip(r, c)]
+    return pairs
+
+
+def _check_forced(pairs, n_regions):
+    """Validated forced region pairs [(source region, target region)]."""
+    out = []
+    for p in pairs:
+        try:
+            i, j = (int(x) for x in p)
+        except (TypeError, ValueError):
+            raise ParameterError(f"pairs must be (source region, target region) index pairs, got {p!r}") from None
+        for side, k, n in (("source", i, n_regions[0]), ("target", j, n_regions[1])):
+            if not 0 <= k < n:
+                raise IncompatibleShapesError(
+                    f"cannot pair source region {i} with target region {j}: the {side} has "
+                    f"{n} filled region(s)" + (f" (0 to {n - 1})" if n else "")
+                )
+        out.append((i, j))
+    for side in (0, 1):
+        seen = [p[side] for p in out]
+        twice = sorted({k for k in seen if seen.count(k) > 1})
+        if twice:
+            name = ("source", "target")[side]
+            raise IncompatibleShapesError(
+                f"cannot pair {name} region {twice[0]} with two regions: "
+                + ", ".join(f"source region {i} with target region {j}" for i, j in out if (i, j)[side] == twice[0])
+            )
+    return out
+
+
+def plan(items, frames, pairs=None):
+    """Slots of the common structure of several drawings.
+
+    Parameters
+    ----------
+    items : list of list of Item
+        The items of every drawing (the first is the reference).
+    frames : list of _Frame
+        Each drawing's normalising frame.
+    pairs : list of (int, int), optional
+        Region pairs (source region, target region) forced on two drawings.
+
+    Returns
+    -------
+    list of Slot
+    """
+    K = len(items)
+    slots = []
+    for kind in _KINDS:
+        closed = kind != "line"
+        own = [[i for i, it in enumerate(key) if it.kind == kind] for key in items]
+        kind_slots = [[i] + [None] * (K - 1) for i in own[0]]
+        owner = [0] * len(kind_slots)
+        for k in range(1, K):
+            refs = [(s[o], o) for s, o in zip(kind_slots, owner)]
+            feats_ref = [_features(items[o][i].rings, closed, frames[o]) for i, o in refs]
+            feats_k = [_features(items[k][i].rings, closed, frames[k]) for i in own[k]]
+            forced = []
+            if kind == "region" and pairs:
+                n_regions = [len(own[0]), len(own[1])]
+                forced = _check_forced(pairs, n_regions)
+            done = []
+            if feats_ref and feats_k:
+                done = _assign(_cost(feats_ref, feats_k, closed), forced)
+            for r, c in done:
+                kind_slots[r][k] = own[k][c]
+            taken = {c for _, c in done}
+            for c, i in enumerate(own[k]):
+                if c not in taken:
+                    kind_slots.append([None] * k + [i] + [None] * (K - 1 - k))
+                    owner.append(k)
+        for members in kind_slots:
+            holes = _plan_holes(items, frames, members) if kind == "region" else []
+            slots.append(Slot(kind, members, holes))
+    return slots
+
+
+def _plan_holes(items, frames, members):
+    """Hole slots of one region slot: per hole slot, per drawing, ring position or None."""
+    present = [k for k, m in enumerate(members) if m is not None]
+    K, first = len(members), present[0]
+    slots = []
+    for h in range(1, len(items[first][members[first]].rings)):
+        slots.append([None] * K)
+        slots[-1][first] = h
+    owner = [first] * len(slots)
+    for k in present[1:]:
+        region = items[k][members[k]]
+        fk = _Frame.of(region.rings[0])
+        ks = list(range(1, len(region.rings)))
+        refs = [(s[o], o) for s, o in zip(slots, owner)]
+        feats_ref = [_features([items[o][members[o]].rings[h]], True, _Frame.of(items[o][members[o]].rings[0]))
+                     for h, o in refs]
+        feats_k = [_features([region.rings[h]], True, fk) for h in ks]
+        done = _assign(_cost(feats_ref, feats_k, True)) if feats_ref and feats_k else []
+        for r, c in done:
+            slots[r][k] = ks[c]
+        taken = {c for _, c in done}
+        for c, h in enumerate(ks):
+            if c not in taken:
+                slots.append([None] * k + [h] + [None] * (K - 1 - k))
+                owner.append(k)
+    return slots
+
+
+# ---------------------------------------------------------------- small copies
+def _room(polygon, point):
+    """Distance from ``point`` (complex) to the boundary of ``polygon`` if inside, else 0."""
+    import shapely
+
+    p = shapely.Point(point.real, point.imag)
+    return float(polygon.boundary.distance(p)) if polygon.contains(p) else 0.0
+
+
+def inside_point(polygon, near, radius):
+    """A point inside ``polygon`` near ``near`` with room for a ring of ``radius``.
+
+    Returns
+    -------
+    point : complex
+    room : float
+        Distance from the point to the polygon's boundary.
+    """
+    import shapely
+    from shapely.ops import nearest_points, polylabel
+
+    room = _room(polygon, near)
+    if room >= 2 * radius:
+        return near, room
+    if polygon.geom_type != "Polygon":  # made valid into several pieces: the largest
+        polygon = max(getattr(polygon, "geoms", [polygon]), key=lambda g: g.area)
+    if polygon.geom_type != "Polygon" or polygon.area <= 0:
+        return near, room
+    pole = polylabel(polygon, tolerance=1e-3 * np.sqrt(polygon.area))
+    best = complex(pole.x, pole.y)
+    depth = _room(polygon, best)
+    # the nearest point of the polygon shrunk by half its depth: close to ``near``, still inside
+    core = polygon.buffer(-0.5 * depth)
+    if not core.is_empty:
+        q = nearest_points(core, shapely.Point(near.real, near.imag))[0]
+        cand = complex(q.x, q.y)
+        cand_room = _room(polygon, cand)
+        if cand_room >= min(2 * radius, 0.45 * depth):
+            return cand, cand_room
+    return best, depth
+
+
+def region_polygon(rings):
+    """A shapely polygon of an outer ring and holes (complex arrays), made valid."""
+    import shapely
+
+    poly = shapely.Polygon(np.c_[rings[0].real, rings[0].imag],
+                           [np.c_[h.real, h.imag] for h in rings[1:]])
+    return poly if poly.is_valid else shapely.make_valid(poly)
+
+
+def small_copy(rings, closed, at, room=None):
+    """Rings scaled by `TINY` about the outer ring's centroid and moved to ``at``.
+
+    When ``room`` (distance to the nearest boundary) is given, the copy is
+    made smaller still so that it stays within half that distance.
+    """
+    c = _centroid(rings[0], closed)
+    radius = max(float(np.abs(np.concatenate(rings) - c).max()), 1e-300)
+    scale = TINY if not room else min(TINY, 0.5 * room / radius)
+    return [at + scale * (z - c) for z in rings]
