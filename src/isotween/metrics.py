@@ -12,7 +12,7 @@ from .optimisation.schemes import SCHEMES
 from .optimisation.schemes import isometric_energy as _energy
 
 __all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped_faces",
-           "symmetry_error", "report", "loop_areas"]
+           "symmetry_error", "report", "loop_areas", "outline_crossings"]
 
 
 def isometric_energy(seq, scheme=None):
@@ -93,6 +93,65 @@ def flipped_faces(seq, reduce="sum"):
     if reduce == "max":
         return int(inner.max(initial=0))
     raise ParameterError(f"unknown reduce {reduce!r}; choose 'sum', 'max' or None")
+
+
+def _boundary_edges(shape):
+    """(B, 2) edges of the drawn outline: the paths' edges, else the mesh boundary, else all."""
+    if shape.paths:
+        return np.vstack([np.column_stack([p, np.roll(p, -1)] if closed else [p[:-1], p[1:]])
+                          for p, closed in shape.paths if len(p) > 1])
+    if shape.faces is not None and len(shape.faces):
+        sides = np.sort(shape.faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+        key, count = np.unique(sides, axis=0, return_counts=True)
+        return key[count == 1]
+    return shape.edges
+
+
+def _crossing_pairs(z, edges):
+    """Number of pairs of ``edges`` that cross properly at positions ``z`` (n,) complex.
+
+    Candidate pairs come from a sweep over x (intervals sorted by their left
+    end); edges that share a vertex are never counted, and touching or
+    collinear overlaps are not crossings.
+    """
+    a, b = z[edges[:, 0]], z[edges[:, 1]]
+    lo, hi = np.minimum(a.real, b.real), np.maximum(a.real, b.real)
+    order = np.argsort(lo, kind="stable")
+    lo_s, hi_s = lo[order], hi[order]
+    end = np.searchsorted(lo_s, hi_s, side="right")
+    n = len(order)
+    counts = np.maximum(end - np.arange(1, n + 1), 0)
+    total = int(counts.sum())
+    if total == 0:
+        return 0
+    first = np.repeat(np.arange(n), counts)
+    second = first + 1 + np.arange(total) - np.repeat(np.cumsum(counts) - counts, counts)
+    i, j = order[first], order[second]
+    ylo_i, yhi_i = np.minimum(a.imag[i], b.imag[i]), np.maximum(a.imag[i], b.imag[i])
+    ylo_j, yhi_j = np.minimum(a.imag[j], b.imag[j]), np.maximum(a.imag[j], b.imag[j])
+    ei, ej = edges[i], edges[j]
+    keep = (ylo_i <= yhi_j) & (ylo_j <= yhi_i) & np.all(ei[:, :, None] != ej[:, None, :], axis=(1, 2))
+    i, j = i[keep], j[keep]
+
+    def orient(p, q, r):
+        return ((q - p).conj() * (r - p)).imag
+
+    d1, d2 = orient(a[i], b[i], a[j]), orient(a[i], b[i], b[j])
+    d3, d4 = orient(a[j], b[j], a[i]), orient(a[j], b[j], b[i])
+    return int(np.count_nonzero((d1 * d2 < 0) & (d3 * d4 < 0)))
+
+
+def outline_crossings(seq):
+    """(F,) int: pairs of outline edges that cross each other, per frame.
+
+    Outline edges are those of the shape's paths (rings and polylines; for a
+    mesh without paths, its boundary edges). Edges that share a vertex never
+    count; two edges count when they cross properly (not when they only touch).
+    """
+    edges = _boundary_edges(seq.shape)
+    if not len(edges):
+        return np.zeros(len(seq), dtype=np.int64)
+    return np.array([_crossing_pairs(z, edges) for z in seq.z], dtype=np.int64)
 
 
 def symmetry_error(seq, backward=None):

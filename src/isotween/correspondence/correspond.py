@@ -16,7 +16,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import IsotweenError, ParameterError, ShapeError
+from ..errors import IncompatibleShapesError, IsotweenError, ParameterError, ShapeError
 from ..shape import Shape
 from . import regions as _regions
 from .compatibility import as_shape, check_compatible
@@ -214,7 +214,7 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs):
     _check_options(points, segment, unmatched)
     names = ["source", "target"] if len(shapes) == 2 else [f"keyframe {k}" for k in range(len(shapes))]
     items = [_regions.items_of(s, n) for s, n in zip(shapes, names)]
-    frames = [_regions._Frame.of(np.concatenate([r for it in key for r in it.rings])) for key in items]
+    frames = _regions.frames_of(items)
     if pairs is not None and len(shapes) != 2:
         raise ParameterError("pairs are for two drawings")
     slots = _regions.plan(items, frames, pairs)
@@ -329,19 +329,31 @@ def _fill_slots(items, frames, slots, unmatched):
 
 
 def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched):
-    """Small copy of an item's rings in another drawing (``grow``: at its own
-    centroid; ``split``: inside the nearest region there)."""
+    """Small copy of an item's rings in another drawing.
+
+    ``grow``: at its own centroid (mapped into the other drawing's box), moved
+    just outside the other drawing's filled regions if it falls inside one,
+    so that it does not cross them on its way. ``split``: inside the nearest
+    region of the other drawing, as if it split off from (merged into) it.
+    """
     c = _regions._centroid(rings[0], closed)
     at = f_from.to(f_to, c)
-    radius = _regions.TINY * float(np.abs(np.concatenate(rings) - c).max()) * f_to.scale / f_from.scale
     scaled = [at + (z - c) * (f_to.scale / f_from.scale) for z in rings]
-    if unmatched == "split" and polygons:
-        import shapely
+    radius = _regions.TINY * float(np.abs(np.concatenate(scaled) - at).max())
+    if not polygons:
+        return _regions.small_copy(scaled, closed, at)
+    import shapely
+    from shapely.ops import nearest_points
 
-        point = shapely.Point(at.real, at.imag)
+    point = shapely.Point(at.real, at.imag)
+    if unmatched == "split":
         _, poly = min(polygons, key=lambda sp: sp[1].distance(point))
         at, room = _regions.inside_point(poly, at, radius)
         return _regions.small_copy(scaled, closed, at, room)
+    fill = shapely.unary_union([p for _, p in polygons])
+    if fill.distance(point) < 2 * radius:
+        q = nearest_points(fill.buffer(3 * radius).boundary, point)[0]
+        at = complex(q.x, q.y)
     return _regions.small_copy(scaled, closed, at)
 
 
@@ -373,16 +385,10 @@ def _mesh_region(source_rings, target_rings, mesh_size):
     flipped : int
         Target triangles whose orientation differs from the source's.
     """
-    import warnings
+    from .compatible_mesh import compatible_meshes
 
-    from .meshing import mesh_pair
-
-    max_area = None if mesh_size is None else np.sqrt(3) / 4 * mesh_size**2
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        src, tgt, flipped = mesh_pair(Shape.from_polygon(source_rings), Shape.from_polygon(target_rings),
-                                      max_area=max_area)
-    return src, tgt, int(len(flipped))
+    src, tgt, _ = compatible_meshes(source_rings, target_rings, mesh_size=mesh_size)
+    return src, tgt, int(np.count_nonzero(np.sign(src.face_areas()) != np.sign(tgt.face_areas())))
 
 
 def _solids(shapes, report, mesh_size):
@@ -413,7 +419,7 @@ def _solids(shapes, report, mesh_size):
         rs, rt = [ring_xy(src, p) for p in r], [ring_xy(tgt, p) for p in r]
         try:
             ms, mt, flipped = _mesh_region(rs, rt, mesh_size)
-        except ShapeError as exc:
+        except (ShapeError, IncompatibleShapesError) as exc:
             report.outlines.append(f"region {len(regions)}: {exc}")
             ms, mt, flipped = Shape.from_polygon(rs), Shape.from_polygon(rt), 0
         else:

@@ -214,6 +214,31 @@ class _Frame(NamedTuple):
         return other.centre + (z - self.centre) * (other.scale / self.scale)
 
 
+def frames_of(items):
+    """Normalising frame of every drawing: its bounding box, or one box for all
+    when they share a canvas (each box lies mostly, 80 %, inside the first's or
+    contains it), so that items keep their absolute places.
+
+    Parameters
+    ----------
+    items : list of list of Item
+
+    Returns
+    -------
+    list of _Frame
+    """
+    pts = [np.concatenate([r for it in key for r in it.rings]) for key in items]
+    boxes = np.array([[z.real.min(), z.imag.min(), z.real.max(), z.imag.max()] for z in pts])
+    size = np.maximum(boxes[:, 2:] - boxes[:, :2], 1e-12 * np.abs(boxes).max(initial=1.0))
+    lo, hi = np.maximum(boxes[:, :2], boxes[0, :2]), np.minimum(boxes[:, 2:], boxes[0, 2:])
+    inter = np.prod(np.clip(hi - lo, 0, None), axis=1)
+    area = np.prod(size, axis=1)
+    if np.all(inter >= 0.8 * np.minimum(area, area[0])):
+        joint = _Frame.of(np.concatenate(pts))
+        return [joint] * len(items)
+    return [_Frame.of(z) for z in pts]
+
+
 def _features(item_rings, closed, frame):
     """(centroid, size) of an item's outer ring in normalised coordinates."""
     z = (item_rings[0] - frame.centre) / frame.scale

@@ -1,0 +1,178 @@
+"""Automatic correspondence: regions, holes and polylines paired; what has no
+partner grows from a small copy; the in-betweens neither fold nor cross."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import isotween
+from isotween import Shape
+from isotween.correspondence import check_compatible, correspond
+from isotween.correspondence.regions import TINY, items_of, ring_area
+from isotween.errors import IncompatibleShapesError, ParameterError, ShapeError
+from isotween.metrics import flipped_faces, outline_crossings
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def disc(n, r=1.0, centre=0j, ry=None, reverse=False):
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    z = centre + r * np.cos(t) + 1j * (r if ry is None else ry) * np.sin(t)
+    z = z[::-1] if reverse else z
+    return np.c_[z.real, z.imag]
+
+
+def glyph(char):
+    pytest.importorskip("matplotlib")
+    sys.path.insert(0, str(ROOT / "scripts"))
+    from build_examples import glyph as outline
+
+    return Shape.from_polygon(outline(char))
+
+
+def morph(src, tgt, frames=9):
+    check_compatible(src, tgt)
+    seq = isotween.interpolate(src, tgt, frames=frames)
+    return seq, flipped_faces(seq, reduce=None), outline_crossings(seq)
+
+
+def ring(shape, path):
+    return shape.z[shape.paths[path][0]]
+
+
+def is_small_copy(small, big):
+    """Whether ring ``small`` is ``big`` scaled by TINY (or less) about its centroid, moved."""
+    a, b = small - small.mean(), big - big.mean()
+    s = np.vdot(b, a).real / np.vdot(b, b).real
+    return 0 < s <= TINY * (1 + 1e-9) and np.allclose(a, s * b, atol=1e-9 * np.abs(b).max())
+
+
+def test_one_region_into_two_grows_the_second_from_a_small_copy():
+    src = Shape.from_polygon(disc(40, 1.0, -1.5))
+    tgt = Shape.from_polygon([disc(40, 1.0, -1.5), disc(30, 0.6, 1.5)])
+    a, b, report = correspond(src, tgt, points=120)
+    assert report.regions == {"paired": 1, "grown": 1, "shrunk": 0}
+    assert report.pairs == [(0, 0)]
+    assert len(a.regions) == len(b.regions) == 2 and a.n_faces == b.n_faces > 0
+    # the paired disc is the same in both: every vertex stays where it is (known exact motion)
+    kept = a.paths[a.regions[0][0]][0]
+    np.testing.assert_allclose(a.vertices[kept], b.vertices[kept], atol=1e-12)
+    # the new disc grows from a small copy of itself, at its own place
+    grown = a.regions[1][0]
+    assert is_small_copy(ring(a, grown), ring(b, grown))
+    assert abs(ring(a, grown).mean() - 1.5) < 1e-9
+    seq, flips, crossings = morph(a, b)
+    assert not flips.any() and not crossings.any()
+
+
+def test_two_regions_into_one_shrinks_the_unpaired_one_outside_the_fill():
+    src = Shape.from_polygon([disc(40, 1.0, -1.5), disc(30, 0.6, 0.2)])
+    tgt = Shape.from_polygon(disc(50, 1.3, 0.0))
+    a, b, report = correspond(src, tgt)
+    assert report.regions == {"paired": 1, "grown": 0, "shrunk": 1}
+    # the larger source disc overlaps the target disc more and is closer in size
+    assert report.pairs == [(0, 0)]
+    shrunk = a.regions[1][0]
+    assert is_small_copy(ring(b, shrunk), ring(a, shrunk))
+    # its small copy lies outside the target disc, so the two never cross
+    assert np.all(np.abs(ring(b, shrunk)) > 1.3)
+    seq, flips, crossings = morph(a, b)
+    assert not flips.any() and not crossings.any()
+
+
+def test_split_mode_merges_into_the_nearest_region():
+    src = Shape.from_polygon([disc(40, 1.0, -1.5), disc(30, 0.4, 1.5)])
+    tgt = Shape.from_polygon(disc(50, 1.0, -1.5))
+    a, b, report = correspond(src, tgt, unmatched="split", outline=True)
+    assert report.regions == {"paired": 1, "grown": 0, "shrunk": 1}
+    assert "merged" in report.summary()
+    small = ring(b, a.regions[1][0])
+    assert np.all(np.abs(small + 1.5) < 1.0)  # inside the disc it merges into
+
+
+def test_a_hole_opens_from_a_small_ring_inside_the_region():
+    square = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    src = Shape.from_polygon(square)
+    tgt = Shape.from_polygon([square, disc(24, 0.8, 1.6 + 2.2j, reverse=True)])
+    a, b, report = correspond(src, tgt, points=100)
+    assert report.holes == {"paired": 0, "grown": 1, "shrunk": 0} and "1 opened" in report.summary()
+    hole = a.regions[0][1]
+    assert is_small_copy(ring(a, hole), ring(b, hole))
+    assert abs(ring(a, hole).mean() - (1.6 + 2.2j)) < 1e-4  # where the hole will be (resampled)
+    seq, flips, crossings = morph(a, b)
+    assert not flips.any() and not crossings.any()
+
+
+def test_i_into_l_pairs_the_stems_and_shrinks_the_dot():
+    i, l_ = glyph("i"), glyph("l")
+    a, b, report = correspond(i, l_)
+    items = items_of(i, "i")
+    stem = int(np.argmax([abs(ring_area(it.rings[0])) for it in items]))
+    assert report.pairs == [(stem, 0)]
+    assert report.regions == {"paired": 1, "grown": 0, "shrunk": 1}
+    seq, flips, crossings = morph(a, b)
+    assert not flips.any() and not crossings.any()
+
+
+def test_b_into_d_closes_one_hole():
+    a, b, report = correspond(glyph("B"), glyph("D"), outline=True, points=200)
+    assert report.regions["paired"] == 1 and report.holes == {"paired": 1, "grown": 0, "shrunk": 1}
+    seq, _, crossings = morph(a, b)
+    assert not crossings.any()
+
+
+def test_compatible_pair_comes_back_unchanged():
+    src = Shape.from_polygon(disc(30))
+    tgt = src.with_vertices(src.vertices * 2)
+    a, b, report = correspond(src, tgt)
+    assert a is src and b is tgt and report.unchanged
+    assert "unchanged" in report.summary()
+
+
+def test_polylines_pair_with_polylines_and_keep_their_ends():
+    t = np.linspace(0, 1, 20)
+    src = Shape.from_polyline([np.c_[0.3 * t, 0 * t], np.c_[t, 0 * t + 3]])
+    tgt = Shape.from_polyline([np.c_[t[:11], 0 * t[:11] + 3.2]])
+    a, b, report = correspond(src, tgt)
+    assert report.lines == {"paired": 1, "grown": 0, "shrunk": 1}
+    assert all(not c for _, c in a.paths) and a.n_faces == 0
+    # the source line of the same length goes with the target line
+    paired = next(k for k in range(2) if np.allclose(ring(a, k).imag, 3))
+    np.testing.assert_allclose(ring(b, paired).imag, 3.2)
+
+
+def test_segment_bounds_every_segment_in_both_drawings():
+    src = Shape.from_polygon(disc(13, 2.0))
+    tgt = Shape.from_polygon(disc(7, 1.0, ry=3.0))
+    a, b, _ = correspond(src, tgt, segment=0.25, outline=True)
+    for s in (a, b):
+        assert np.abs(s.edge_vectors()).max() <= 0.25 + 1e-12
+
+
+def test_forced_pairs_and_their_errors():
+    two = Shape.from_polygon([disc(20, 1.0, -2), disc(20, 1.0, 2)])
+    swapped = Shape.from_polygon([disc(24, 1.0, 2.1), disc(24, 1.0, -2.1)])
+    assert correspond(two, swapped, outline=True).report.pairs == [(0, 1), (1, 0)]
+    forced = correspond(two, swapped, outline=True, pairs=[(0, 0)]).report
+    assert sorted(forced.pairs) == [(0, 0), (1, 1)]
+    with pytest.raises(IncompatibleShapesError, match="cannot pair source region 0 with target region 5"):
+        correspond(two, swapped, pairs=[(0, 5)])
+    with pytest.raises(IncompatibleShapesError, match="source region 1 with two regions"):
+        correspond(two, swapped, pairs=[(1, 0), (1, 1)])
+
+
+def test_bad_options_are_refused_before_any_work():
+    src, tgt = Shape.from_polygon(disc(20)), Shape.from_polygon(disc(30, 2.0))
+    with pytest.raises(ParameterError, match=r"mesh_size=1e-05 would make about") as err:
+        correspond(src, tgt, mesh_size=1e-5)
+    # the estimate: the larger region's area over that of an equilateral triangle of side 1e-5
+    estimate = float(str(err.value).split("about ")[1].split()[0])
+    assert abs(estimate / (4 * np.pi / (np.sqrt(3) / 4 * 1e-10)) - 1) < 0.02
+    with pytest.raises(ParameterError, match="points or segment"):
+        correspond(src, tgt, points=40, segment=0.1)
+    with pytest.raises(ParameterError, match="unmatched"):
+        correspond(src, tgt, unmatched="vanish")
+    with pytest.raises(ShapeError, match="the target has no paths"):
+        correspond(src, Shape(disc(5), [[0, 1], [2, 3]]))
