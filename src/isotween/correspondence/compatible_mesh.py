@@ -263,7 +263,8 @@ def _angles(z, f):
     p = z[f]
     u = np.roll(p, -1, axis=1) - p
     v = np.roll(p, -2, axis=1) - p
-    return np.abs(np.angle(v / u))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.nan_to_num(np.abs(np.angle(v / u)), nan=0.0)
 
 
 def _min_angle(z, f):
