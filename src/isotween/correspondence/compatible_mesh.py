@@ -1,0 +1,782 @@
+"""Compatible triangle meshes of two corresponding polygons, with no flipped
+triangle in either, by construction.
+
+The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
+2004):
+
+1. Each polygon is triangulated on its own by shapely's constrained Delaunay
+   triangulation (no vertex is added). The source mesh is refined with
+   interior Steiner points (centroid insertion and Lawson flips) down to the
+   target edge length ``mesh_size``.
+2. A polygon with holes is first cut into a disc: every hole gets two cuts to
+   the outer ring, segments between corresponding ring vertices that lie inside
+   both polygons. Both polygons are triangulated piecewise, so the cuts are
+   edges of both meshes; the first cut of every hole is then opened (its two
+   vertices duplicated) to make the mesh a disc.
+3. Both discs are mapped onto the unit circle with their boundary vertices at
+   the same places (mean of the two normalised arc lengths) and the interior
+   vertices of the source mesh by mean-value weights, which are positive:
+   Tutte's theorem (Floater 2003) makes both maps embeddings.
+4. Their overlay in the circle is built combinatorially: every target chord
+   is cut by the source edges it crosses, an intersection vertex is the pair
+   (source edge, target chord), and every overlay cell is a convex polygon
+   inside one triangle of each mesh. Cells are fan-triangulated and mapped
+   back affinely through their source and their target triangle.
+5. Interior vertices are smoothed and edges flipped jointly in both meshes,
+   each change accepted only when every triangle of both meshes keeps a
+   positive area and the smallest angle does not decrease.
+
+When the source mesh mapped onto the target by mean-value weights (which
+reproduce affine maps) is already free of flips, step 4 is skipped.
+"""
+
+import time
+from typing import NamedTuple
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.sparse.linalg import splu
+
+from ..errors import IncompatibleShapesError, ShapeError, require
+from ..shape import Shape
+
+__all__ = ["CompatibleMeshes", "compatible_meshes"]
+
+
+class CompatibleMeshes(NamedTuple):
+    """What `compatible_meshes` returns.
+
+    Attributes
+    ----------
+    source, target : Shape
+        Triangle meshes with identical ``faces`` (F, 3), counter-clockwise
+        with positive area in both. Vertices 0..K-1 are the ring vertices in
+        input order (ring 0 first), then the interior vertices; ``paths`` are
+        the rings.
+    info : dict
+        ``vertices``, ``faces``, ``ring_vertices`` (K), ``steiner`` (interior
+        vertices), ``cuts`` (cut segments per hole), ``overlay`` (whether the
+        overlay was needed), ``min_angle_source`` / ``min_angle_target``
+        (degrees, final), ``min_angle_before_source`` /
+        ``min_angle_before_target`` (before the quality step), ``seconds``.
+    """
+
+    source: Shape
+    target: Shape
+    info: dict
+
+
+def compatible_meshes(source_rings, target_rings, mesh_size=None):
+    """Compatible triangle meshes of two corresponding polygons with holes.
+
+    Parameters
+    ----------
+    source_rings, target_rings : list of (k_r, 2) array_like of float
+        Ring 0 is the outer boundary, rings 1.. the holes; the same number of
+        rings and the same k_r in both. Vertex i of ring r of the source
+        corresponds to vertex i of ring r of the target. Any orientation.
+        Every ring must be simple, the holes inside the outer ring, not
+        nested and not touching.
+    mesh_size : float, optional
+        Target edge length of the source mesh's interior. Default: the mean
+        edge length of the source rings.
+
+    Returns
+    -------
+    CompatibleMeshes
+        ``(source, target, info)``; see there.
+
+    Raises
+    ------
+    ShapeError
+        A ring with fewer than 3 vertices, repeated vertices, a ring that
+        touches or crosses itself or another, a hole outside the outer ring or
+        inside another hole (the message names ring and vertex); or no cut
+        joins a hole to the outer ring in both shapes.
+    IncompatibleShapesError
+        Different numbers of rings or vertices per ring, or a ring that runs
+        clockwise in one shape and counter-clockwise in the other (a mirror).
+    ParameterError
+        ``mesh_size`` is not a positive number.
+    MissingDependencyError
+        shapely >= 2.1 is missing (``pip install 'isotween[cli]'``).
+    """
+    from ..errors import ParameterError
+
+    started = time.perf_counter()
+    shapely = require("shapely", "cli")
+    if not hasattr(shapely, "constrained_delaunay_triangles"):
+        raise ShapeError("compatible meshing needs shapely >= 2.1: pip install -U 'shapely>=2.1'")
+    src = _rings(source_rings, "source")
+    tgt = _rings(target_rings, "target")
+    if len(src) != len(tgt):
+        raise IncompatibleShapesError(f"the source has {len(src)} ring(s) but the target has {len(tgt)}")
+    for r, (a, b) in enumerate(zip(src, tgt)):
+        if len(a) != len(b):
+            raise IncompatibleShapesError(
+                f"ring {r} has {len(a)} vertices in the source but {len(b)} in the target")
+    for rings, name in ((src, "source"), (tgt, "target")):
+        _check_rings(rings, name)
+    order = _orientation(src, tgt)
+    sizes = np.array([len(r) for r in src])
+    start = np.r_[0, np.cumsum(sizes)[:-1]]
+    K = int(sizes.sum())
+    zs, zt = np.concatenate(src), np.concatenate(tgt)
+    rings = [start[r] + order[r] for r in range(len(src))]  # outer ccw, holes cw
+    if mesh_size is None:
+        mesh_size = float(np.mean(np.concatenate([np.abs(np.diff(np.r_[z, z[:1]])) for z in src])))
+    elif not (np.isscalar(mesh_size) and np.isfinite(mesh_size) and mesh_size > 0):
+        raise ParameterError(f"mesh_size must be a positive number, got {mesh_size!r}")
+
+    cuts = _cuts(zs, zt, rings)
+    f_src = _triangulate(zs, rings, cuts, "source")
+    f_tgt = _triangulate(zt, rings, cuts, "target")
+    fixed_keys = _keys(np.array([c for pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2))
+    z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size))
+    S = len(z1) - K
+
+    # first try: the source mesh mapped by mean-value weights (reproduces affine maps)
+    w_tgt = _convex_map(z1, f1, np.arange(K), zt)
+    overlay = not np.all(_areas(w_tgt, f1) > 1e-12 * _scale2(zt))
+    if overlay:
+        z1, w_tgt, f1 = _overlay(z1, f1, zt, f_tgt, rings, cuts, K)
+    before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
+    z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K)
+    a1, a2 = _areas(z1, f1), _areas(w_tgt, f1)
+    if not (np.all(a1 > 0) and np.all(a2 > 0)):  # a construction error, never expected
+        bad = int(np.flatnonzero((a1 <= 0) | (a2 <= 0))[0])
+        raise ShapeError(f"compatible meshing produced a degenerate triangle {bad} {f1[bad].tolist()}; "
+                         "the outlines may be too close to degenerate")
+    paths = [(start[r] + np.arange(sizes[r]), True) for r in range(len(sizes))]
+    s = Shape(np.c_[z1.real, z1.imag], faces=f1, paths=paths)
+    t = s.with_vertices(np.c_[w_tgt.real, w_tgt.imag])
+    info = {
+        "ring_vertices": K, "vertices": len(z1), "faces": len(f1), "steiner": len(z1) - K,
+        "refinement_steiner": S, "cuts": [list(map(int, np.ravel(c))) for c in cuts], "overlay": overlay,
+        "min_angle_before_source": before[0], "min_angle_before_target": before[1],
+        "min_angle_source": _min_angle(z1, f1), "min_angle_target": _min_angle(w_tgt, f1),
+        "seconds": time.perf_counter() - started,
+    }
+    return CompatibleMeshes(s, t, info)
+
+
+# ---------------------------------------------------------------- validation
+def _rings(rings, name):
+    """List of (k,) complex arrays from a list of (k, 2) arrays."""
+    if isinstance(rings, np.ndarray) and rings.ndim == 2:
+        rings = [rings]
+    out = []
+    for r, ring in enumerate(rings):
+        a = np.asarray(ring, dtype=np.float64)
+        if a.ndim != 2 or a.shape[1] != 2:
+            raise ShapeError(f"ring {r} of the {name} must be a (k, 2) array, got shape {a.shape}")
+        if len(a) < 3:
+            raise ShapeError(f"ring {r} of the {name} has {len(a)} vertices; a ring needs at least 3")
+        bad = np.flatnonzero(~np.all(np.isfinite(a), axis=1))
+        if bad.size:
+            raise ShapeError(f"vertex {bad[0]} of ring {r} of the {name} is not finite: {a[bad[0]].tolist()}")
+        out.append(a[:, 0] + 1j * a[:, 1])
+    if not out:
+        raise ShapeError(f"the {name} has no rings")
+    return out
+
+
+def _check_rings(rings, name):
+    """Raise ShapeError naming ring and vertex unless the rings form a valid polygon with holes."""
+    import shapely
+
+    z = np.concatenate(rings)
+    ring_of = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
+    local = np.concatenate([np.arange(len(r)) for r in rings])
+    nxt = np.concatenate([np.roll(np.arange(len(r)), -1) for r in rings]) + np.repeat(
+        np.r_[0, np.cumsum([len(r) for r in rings])[:-1]], [len(r) for r in rings])
+    seg = np.stack([z, z[nxt]], axis=1)
+    zero = np.flatnonzero(seg[:, 0] == seg[:, 1])
+    if zero.size:
+        i = zero[0]
+        raise ShapeError(f"vertices {local[i]} and {local[nxt[i]]} of ring {ring_of[i]} of the {name} coincide")
+    lines = shapely.linestrings(np.stack([seg.real, seg.imag], axis=-1))
+    i, j = shapely.STRtree(lines).query(lines, predicate="intersects")
+    keep = i < j
+    i, j = i[keep], j[keep]
+    adjacent = (nxt[i] == j) | (nxt[j] == i)
+    d1, d2 = seg[i, 1] - seg[i, 0], seg[j, 1] - seg[j, 0]
+    folded = adjacent & (np.abs((np.conj(d1) * d2).imag) <= 1e-15 * np.abs(d1) * np.abs(d2)) & (
+        (np.conj(d1) * d2).real < 0)
+    bad = np.flatnonzero(~adjacent | folded)
+    if bad.size:
+        a, b = i[bad[0]], j[bad[0]]
+        p = shapely.intersection(lines[a], lines[b])
+        x, y = shapely.get_coordinates(p)[0]
+        raise ShapeError(
+            f"the {name} outline touches or crosses itself at ({x:.6g}, {y:.6g}): edge {local[a]}-{local[nxt[a]]} "
+            f"of ring {ring_of[a]} meets edge {local[b]}-{local[nxt[b]]} of ring {ring_of[b]}")
+    polys = [shapely.Polygon(np.c_[r.real, r.imag]) for r in rings]
+    for h in range(1, len(rings)):
+        p = shapely.Point(rings[h][0].real, rings[h][0].imag)
+        if not polys[0].contains(p):
+            raise ShapeError(f"ring {h} of the {name} (a hole) lies outside ring 0, the outer boundary "
+                             f"(its vertex 0 at ({p.x:.6g}, {p.y:.6g}))")
+        for g in range(1, len(rings)):
+            if g != h and polys[g].contains(p):
+                raise ShapeError(f"ring {h} of the {name} (a hole) lies inside ring {g}, another hole")
+
+
+def _signed_area(z):
+    return 0.5 * np.sum((np.conj(z) * np.roll(z, -1)).imag)
+
+
+def _orientation(src, tgt):
+    """Per ring, the vertex order that makes the outer ring ccw and the holes cw."""
+    order = []
+    for r, (a, b) in enumerate(zip(src, tgt)):
+        sa, sb = np.sign(_signed_area(a)), np.sign(_signed_area(b))
+        if sa != sb:
+            raise IncompatibleShapesError(
+                f"ring {r} runs {'counter-' if sa > 0 else ''}clockwise in the source but "
+                f"{'counter-' if sb > 0 else ''}clockwise in the target: the correspondence mirrors it")
+        want = 1 if r == 0 else -1
+        idx = np.arange(len(a))
+        order.append(idx if sa == want else idx[::-1].copy())
+    return order
+
+
+# ---------------------------------------------------------------- triangulation
+def _keys(e):
+    """(m,) int64 keys of undirected edges (m, 2)."""
+    e = np.sort(np.asarray(e, dtype=np.int64).reshape(-1, 2), axis=1)
+    return e[:, 0] * (1 << 32) + e[:, 1]
+
+
+def _areas(z, f):
+    """(F,) signed areas of triangles ``f`` (F, 3) over complex positions ``z``."""
+    return 0.5 * (np.conj(z[f[:, 1]] - z[f[:, 0]]) * (z[f[:, 2]] - z[f[:, 0]])).imag
+
+
+def _scale2(z):
+    return float(np.ptp(z.real) ** 2 + np.ptp(z.imag) ** 2)
+
+
+def _angles(z, f):
+    """(F, 3) corner angles in radians."""
+    p = z[f]
+    u = np.roll(p, -1, axis=1) - p
+    v = np.roll(p, -2, axis=1) - p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.nan_to_num(np.abs(np.angle(v / u)), nan=0.0)
+
+
+def _min_angle(z, f):
+    return float(np.degrees(_angles(z, f).min())) if len(f) else 0.0
+
+
+def _triangulate(z, rings, cuts, name):
+    """Constrained Delaunay triangles (F, 3) of the polygon, ccw, with every cut as an edge."""
+    import shapely
+    from shapely.ops import split
+
+    xy = np.c_[z.real, z.imag]
+    poly = shapely.Polygon(xy[rings[0]], [xy[r] for r in rings[1:]])
+    pieces = [poly]
+    if cuts:
+        lines = shapely.MultiLineString([xy[list(c)] for pair in cuts for c in pair])
+        pieces = list(split(poly, lines).geoms)
+    tris = [g for p in pieces for g in shapely.constrained_delaunay_triangles(p).geoms]
+    coords = shapely.get_coordinates(tris).reshape(-1, 4, 2)[:, :3]
+    table = {(x, y): i for i, (x, y) in enumerate(map(tuple, xy))}
+    try:
+        f = np.array([[table[tuple(c)] for c in t] for t in coords], dtype=np.int64).reshape(-1, 3)
+    except KeyError as exc:
+        raise ShapeError(f"the {name} outline is too close to degenerate to triangulate near {exc.args[0]}") from None
+    a = _areas(z, f)
+    f[a < 0] = f[a < 0][:, ::-1]
+    area = abs(_signed_area(z[rings[0]])) - sum(abs(_signed_area(z[r])) for r in rings[1:])
+    if not np.isclose(np.abs(a).sum(), area, rtol=1e-9, atol=0) or np.any(a == 0):
+        raise ShapeError(f"the {name} outline is too close to degenerate to triangulate")
+    return f
+
+
+def _cuts(zs, zt, rings):
+    """Two cuts per hole: ((outer vertex, hole vertex), (outer vertex, hole vertex)).
+
+    A cut is a segment between a ring vertex of the hole and one of the outer
+    ring that lies inside both polygons and crosses no other cut; the outer
+    vertices of all cuts differ.
+    """
+    import shapely
+
+    if len(rings) == 1:
+        return []
+    xys = [np.c_[z.real, z.imag] for z in (zs, zt)]
+    polys = [shapely.Polygon(xy[rings[0]], [xy[r] for r in rings[1:]]) for xy in xys]
+    bounds = [shapely.boundary(p) for p in polys]
+    for p in polys:
+        shapely.prepare(p)
+    outer = rings[0]
+    chosen, used = [], set()
+    taken = []  # lines of chosen cuts, per shape
+    for h in range(1, len(rings)):
+        hole = rings[h]
+        # candidate pairs: nearest outer vertices (in both shapes) of every hole vertex
+        d = np.abs(zs[hole][:, None] - zs[outer][None, :]) + np.abs(zt[hole][:, None] - zt[outer][None, :])
+        k = min(len(outer), 8)
+        near = np.argpartition(d, k - 1, axis=1)[:, :k]
+        hi = np.repeat(np.arange(len(hole)), k)
+        oi = near.ravel()
+        cand_len = d[hi, oi]
+        order = np.argsort(cand_len, kind="stable")
+        hv, ov = hole[hi[order]], outer[oi[order]]
+        ok = np.ones(len(hv), dtype=bool)
+        for xy, poly, bnd in zip(xys, polys, bounds):
+            seg = shapely.linestrings(np.stack([xy[ov], xy[hv]], axis=1))
+            ok &= shapely.covers(poly, seg)
+            ok &= shapely.get_num_geometries(shapely.intersection(seg, bnd)) == 2
+        ok &= ~np.isin(ov, list(used))
+        cand = np.flatnonzero(ok)
+        picks = []
+        for c in cand:
+            if any(np.any(shapely.intersects(
+                    shapely.linestrings(xy[[ov[c], hv[c]]]), taken_s)) for xy, taken_s in
+                    zip(xys, [[t[s] for t in taken] for s in range(2)]) if taken_s):
+                continue
+            if picks:  # the second cut starts far from the first on the hole
+                p0 = picks[0]
+                gap = abs(np.flatnonzero(hole == hv[c])[0] - np.flatnonzero(hole == hv[p0])[0])
+                if min(gap, len(hole) - gap) < max(1, len(hole) // 4) or ov[c] == ov[p0]:
+                    continue
+            picks.append(c)
+            taken.append([shapely.linestrings(xy[[ov[c], hv[c]]]) for xy in xys])
+            if len(picks) == 2:
+                break
+        if len(picks) < 2:
+            raise ShapeError(
+                f"ring {h} (a hole) has no two vertices that join the outer ring by straight cuts inside both "
+                "the source and the target; resample the rings more finely")
+        chosen.append(tuple((int(ov[c]), int(hv[c])) for c in picks))
+        used.update(int(ov[c]) for c in picks)
+    return chosen
+
+
+# ---------------------------------------------------------------- refinement
+def _edge_table(f):
+    """Directed half-edges of faces f (F, 3): (a, b, opposite, face, corner) and twin (-1 on the boundary)."""
+    a = f.ravel()
+    b = np.roll(f, -1, axis=1).ravel()
+    c = np.roll(f, -2, axis=1).ravel()
+    key = np.minimum(a, b) * (1 << 32) + np.maximum(a, b)
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    twin = np.full(len(a), -1, dtype=np.int64)
+    same = np.flatnonzero(ks[1:] == ks[:-1])
+    twin[order[same]] = order[same + 1]
+    twin[order[same + 1]] = order[same]
+    return a, b, c, key, twin
+
+
+def _incircle(pa, pb, pc, pd):
+    """> 0 when pd lies inside the circle through the ccw triangle (pa, pb, pc)."""
+    a, b, c = pa - pd, pb - pd, pc - pd
+    return (np.abs(a) ** 2 * (np.conj(b) * c).imag + np.abs(b) ** 2 * (np.conj(c) * a).imag
+            + np.abs(c) ** 2 * (np.conj(a) * b).imag)
+
+
+def _independent(score, fa, fb, n_faces):
+    """Mask of candidate flips (best score first) that share no face."""
+    rank = np.empty(len(score), dtype=np.int64)
+    rank[np.argsort(-score, kind="stable")] = np.arange(len(score))
+    claim = np.full(n_faces, len(score), dtype=np.int64)
+    np.minimum.at(claim, fa, rank)
+    np.minimum.at(claim, fb, rank)
+    return (claim[fa] == rank) & (claim[fb] == rank)
+
+
+def _flip(f, h, twin, a, b, c):
+    """Flip the edges of half-edges h (each in its own pair of faces), in place."""
+    g = twin[h]
+    f1, f2 = h // 3, g // 3
+    d = c[g]
+    f[f1] = np.c_[a[h], d, c[h]]
+    f[f2] = np.c_[d, b[h], c[h]]
+
+
+def _lawson(z, f, fixed_keys, rounds=200):
+    """Flip non-Delaunay edges (not fixed ones) until none is left; f is changed in place."""
+    for _ in range(rounds):
+        a, b, c, key, twin = _edge_table(f)
+        h = np.flatnonzero((twin > np.arange(len(a))) & ~np.isin(key, fixed_keys))
+        d = c[twin[h]]
+        s = _incircle(z[a[h]], z[b[h]], z[c[h]], z[d])
+        scale = np.abs(z[a[h]] - z[b[h]]) ** 4
+        h, s = h[s > 1e-12 * scale], s[s > 1e-12 * scale]
+        if not len(h):
+            return f
+        h = h[_independent(s, h // 3, twin[h] // 3, len(f))]
+        new1 = _areas(z, np.c_[a[h], c[twin[h]], c[h]])
+        new2 = _areas(z, np.c_[c[twin[h]], b[h], c[h]])
+        h = h[(new1 > 0) & (new2 > 0)]
+        if not len(h):
+            return f
+        _flip(f, h, twin, a, b, c)
+    return f
+
+
+def _refine(z, f, fixed_keys, size, rounds=30):
+    """Insert interior Steiner points (triangle centroids) until no triangle is much larger
+    than an equilateral one of side ``size``; Lawson flips keep it Delaunay.
+
+    Returns
+    -------
+    (N,) complex positions (input vertices first), (F, 3) faces
+    """
+    f = _lawson(z, f.copy(), fixed_keys)
+    big = 1.5 * np.sqrt(3) / 4 * size ** 2
+    for _ in range(rounds):
+        area = _areas(z, f)
+        bad = np.flatnonzero(area > big)
+        if not len(bad):
+            break
+        m = len(z) + np.arange(len(bad))
+        z = np.r_[z, z[f[bad]].mean(axis=1)]
+        t = f[bad]
+        f = np.r_[np.delete(f, bad, axis=0), np.c_[t[:, 0], t[:, 1], m], np.c_[t[:, 1], t[:, 2], m],
+                  np.c_[t[:, 2], t[:, 0], m]]
+        f = _lawson(z, f, fixed_keys)
+    return z, f
+
+
+# ---------------------------------------------------------------- convex maps
+def _mean_value_laplacian(z, f):
+    """Sparse (N, N) matrix L with rows sum_j w_ij (z_j - z_i), mean-value weights (Floater 2003)."""
+    N = len(z)
+    ang = _angles(z, f)
+    t = np.tan(ang / 2)
+    i = f.ravel()
+    j = np.roll(f, -1, axis=1).ravel()
+    k = np.roll(f, -2, axis=1).ravel()
+    w_ij = t.ravel() / np.abs(z[j] - z[i])
+    w_ik = t.ravel() / np.abs(z[k] - z[i])
+    rows, cols, w = np.r_[i, i], np.r_[j, k], np.r_[w_ij, w_ik]
+    W = coo_matrix((w, (rows, cols)), shape=(N, N)).tocsr()
+    return W - coo_matrix((np.asarray(W.sum(axis=1)).ravel(), (np.arange(N), np.arange(N))), shape=(N, N))
+
+
+def _convex_map(z, f, fixed, values):
+    """Positions (N,) complex: ``values`` at vertices ``fixed``, mean-value combinations elsewhere."""
+    N = len(z)
+    out = np.empty(N, dtype=complex)
+    out[fixed] = values
+    free = np.setdiff1d(np.arange(N), fixed)
+    if len(free):
+        L = _mean_value_laplacian(z, f).tocsr()
+        rhs = -(L[free][:, fixed] @ values)
+        lu = splu(L[free][:, free].tocsc())
+        sol = lu.solve(np.c_[rhs.real, rhs.imag])
+        out[free] = sol[:, 0] + 1j * sol[:, 1]
+    return out
+
+
+# ---------------------------------------------------------------- disc and overlay
+def _open_cuts(f, cuts, first_copy):
+    """Faces (F, 3) with the first cut (u, v) of every hole opened.
+
+    The boundary cycle runs ``.., p, u, v, (hole).., v', u', q, ..`` with the
+    copies ``u' = first_copy + 2 h`` and ``v' = first_copy + 2 h + 1``: faces
+    around u between the cut and q take u', faces around v between the cut
+    and the hole vertex before v take v'.
+    """
+    out = f.copy()
+    for h, ((u, v), _) in enumerate(cuts):
+        for vert, other, copy, reached in ((u, v, first_copy + 2 * h, False), (v, u, first_copy + 2 * h + 1, True)):
+            rows, cols = np.nonzero(f == vert)
+            nxt = {int(f[r, (c + 1) % 3]): int(r) for r, c in zip(rows, cols)}
+            w, side = other, []
+            while w in nxt:  # ccw around vert from the cut to the boundary
+                face = nxt[w]
+                side.append(face)
+                w = int(f[face, (int(np.flatnonzero(f[face] == vert)[0]) + 2) % 3])
+            mask = np.isin(rows, side) == reached
+            out[rows[mask], cols[mask]] = copy
+    return out
+
+
+def _disc_cycle(rings, cuts, first_copy):
+    """Boundary cycle of the cut polygon: outer ccw, detours around each hole along its first cut."""
+    detour = {}
+    for h, ((u, v), _) in enumerate(cuts):
+        hole = rings[h + 1]
+        s = int(np.flatnonzero(hole == v)[0])
+        around = np.roll(hole, -s)  # v first, hole order (cw: interior on the left)
+        detour[u] = [u] + list(around) + [first_copy + 2 * h + 1, first_copy + 2 * h]
+    cyc = []
+    for u in rings[0]:
+        cyc.extend(detour.get(int(u), [int(u)]))
+    return np.array(cyc, dtype=np.int64)
+
+
+def _orient(pa, pb, pc):
+    """Twice the signed area of (pa, pb, pc); > 0 when pc lies left of pa -> pb."""
+    return (np.conj(pb - pa) * (pc - pa)).imag
+
+
+def _side(D, pos, B, u, a, b):
+    """(m,) side of vertices u against chords a -> b: +1 left, -1 right, 0 endpoint.
+
+    Boundary vertices are decided by their cyclic order on the circle (exact);
+    interior ones by the orientation sign.
+    """
+    s = np.sign(_orient(D[a], D[b], D[u])).astype(np.int64)
+    on = pos[u] >= 0
+    pa, pb, pu = pos[a][on], pos[b][on], pos[u][on]
+    right = ((pu - pa) % B) < ((pb - pa) % B)
+    s[on] = np.where(right, -1, 1)
+    s[(u == a) | (u == b)] = 0
+    return s
+
+
+def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
+    """Common refinement of the source mesh (z1, f1) and the target triangulation f_tgt.
+
+    Returns
+    -------
+    z, w : (N,) complex
+        Source and target positions; 0..K-1 the rings, then the source's
+        interior vertices, then the intersection vertices.
+    f : (F, 3) int array
+    """
+    import shapely
+
+    N1, nh = len(z1), len(cuts)
+    copies = np.array([x for (u, v), _ in cuts for x in (u, v)], dtype=np.int64)
+    orig = np.r_[np.arange(N1), copies]
+    zs_all = z1[orig]
+    zt_all = np.full(len(orig), np.nan + 0j)
+    ring_ids = orig < K
+    zt_all[ring_ids] = zt[orig[ring_ids]]
+    F1, F2 = _open_cuts(f1, cuts, N1), _open_cuts(f_tgt, cuts, N1)
+    cyc = _disc_cycle(rings, cuts, N1)
+    B = len(cyc)
+    pos = np.full(len(orig), -1, dtype=np.int64)
+    pos[cyc] = np.arange(B)
+    # boundary on the unit circle at the mean of both normalised arc lengths
+    ls = np.abs(np.diff(zs_all[np.r_[cyc, cyc[:1]]]))
+    lt = np.abs(np.diff(zt_all[np.r_[cyc, cyc[:1]]]))
+    s = 0.5 * (np.r_[0, np.cumsum(ls)[:-1]] / ls.sum() + np.r_[0, np.cumsum(lt)[:-1]] / lt.sum())
+    D = _convex_map(zs_all, F1, cyc, np.exp(2j * np.pi * s))
+
+    # target chords: edges of F2 that are neither boundary edges nor edges of F1
+    a1, b1, _, key1, twin1 = _edge_table(F1)
+    a2, b2, _, key2, twin2 = _edge_table(F2)
+    rep2 = np.flatnonzero(twin2 > np.arange(len(a2)))
+    chords = np.c_[a2[rep2], b2[rep2]]
+    chords = chords[~np.isin(key2[rep2], key1)]
+    ca, cb = chords[:, 0], chords[:, 1]
+    rep1 = np.flatnonzero(twin1 > np.arange(len(a1)))  # interior edges of F1, one half-edge each
+    lo, hi = a1[rep1], b1[rep1]
+    interior = pos < 0
+
+    def candidates():
+        cl = shapely.linestrings(np.stack([np.c_[D[ca].real, D[ca].imag], np.c_[D[cb].real, D[cb].imag]], axis=1))
+        el = shapely.linestrings(np.stack([np.c_[D[lo].real, D[lo].imag], np.c_[D[hi].real, D[hi].imag]], axis=1))
+        e, c = shapely.STRtree(cl).query(el)
+        return e, c
+
+    for _ in range(20):  # move interior disc vertices off the chords they nearly touch
+        e, c = candidates()
+        u = np.r_[lo[e], hi[e]]
+        cc = np.r_[c, c]
+        near = interior[u] & (np.abs(_orient(D[ca[cc]], D[cb[cc]], D[u])) < tol * np.abs(D[cb[cc]] - D[ca[cc]]))
+        if not near.any():
+            break
+        for vert, ch in zip(*np.unique(np.c_[u[near], cc[near]], axis=0).T):
+            _nudge(D, F1, vert, D[cb[ch]] - D[ca[ch]], tol)
+    su, sv = _side(D, pos, B, lo[e], ca[c], cb[c]), _side(D, pos, B, hi[e], ca[c], cb[c])
+    hit = su * sv == -1
+    e, c = e[hit], c[hit]
+    ou = _orient(D[ca[c]], D[cb[c]], D[lo[e]])
+    ov = _orient(D[ca[c]], D[cb[c]], D[hi[e]])
+    te = ou / (ou - ov)  # along lo -> hi
+    ncross = len(e)
+    Nd = len(orig)
+    xid = Nd + np.arange(ncross)
+    Dx = D[lo[e]] + te * (D[hi[e]] - D[lo[e]])
+    dc = D[cb[c]] - D[ca[c]]
+    tc = (np.conj(dc) * (Dx - D[ca[c]])).real / np.abs(dc) ** 2
+    zs_x = zs_all[lo[e]] + te * (zs_all[hi[e]] - zs_all[lo[e]])
+    zt_x = zt_all[ca[c]] + tc * (zt_all[cb[c]] - zt_all[ca[c]])
+
+    # ports: the corners and edge crossings on the boundary of every source triangle
+    nF = len(F1)
+    h1 = rep1[e]
+    g1 = twin1[h1]
+    p_face = np.r_[np.repeat(np.arange(nF), 3), h1 // 3, g1 // 3]
+    p_pos = np.r_[np.tile([0.0, 1.0, 2.0], nF), h1 % 3 + te, g1 % 3 + (1 - te)]
+    p_vid = np.r_[F1.ravel(), xid, xid]
+    p_chord = np.r_[np.full(3 * nF, -1), c, c]
+    # chord pieces inside each triangle: pairs of crossing ports, or a crossing and a corner
+    xp = 3 * nF + np.arange(2 * ncross)
+    key = p_face[xp] * (len(chords) + 1) + p_chord[xp]
+    o = np.argsort(key, kind="stable")
+    ks = key[o]
+    pair = np.flatnonzero(ks[1:] == ks[:-1])
+    single = np.ones(len(o), dtype=bool)
+    single[pair] = single[pair + 1] = False
+    pieces = [np.c_[xp[o[pair]], xp[o[pair + 1]]]]
+    lone = xp[o[single]]
+    fl, cl_ = p_face[lone], p_chord[lone]
+    corner = np.flatnonzero(F1[fl] == ca[cl_][:, None]) if len(lone) else np.zeros(0, dtype=np.int64)
+    ka = (F1[fl] == ca[cl_][:, None]) | (F1[fl] == cb[cl_][:, None])
+    k = np.argmax(ka, axis=1)
+    if len(lone) and not ka.any(axis=1).all():
+        raise ShapeError("compatible meshing: a chord ends inside a triangle (inconsistent overlay)")
+    pieces.append(np.c_[lone, 3 * fl + k])
+    del corner
+    pieces = np.vstack(pieces)
+
+    # faces of each triangle's subdivision (an outerplanar graph) by tracing
+    order = np.lexsort((p_pos, p_face))
+    nP = len(p_face)
+    rank = np.empty(nP, dtype=np.int64)
+    count = np.bincount(p_face, minlength=nF)
+    first = np.r_[0, np.cumsum(count)[:-1]]
+    rank[order] = np.arange(nP) - first[p_face[order]]
+    nxt_port = np.empty(nP, dtype=np.int64)
+    succ = np.arange(nP) + 1
+    succ[first + count - 1] = first
+    nxt_port[order] = order[succ]
+    h_src = np.r_[np.arange(nP), pieces[:, 0], pieces[:, 1]]
+    h_dst = np.r_[nxt_port, pieces[:, 1], pieces[:, 0]]
+    P = count[p_face[h_src]]
+    off_out = (rank[h_dst] - rank[h_src]) % P
+    off_back = (rank[h_src] - rank[h_dst]) % P
+    M = int(count.max()) + 1
+    kout = h_src * M + off_out
+    so = np.argsort(kout, kind="stable")
+    idx = np.searchsorted(kout[so], h_dst * M + off_back, side="left") - 1
+    nxt = so[idx]
+    if np.any(h_src[nxt] != h_dst):
+        raise ShapeError("compatible meshing: inconsistent overlay cells")
+    nH = len(h_src)
+    _, label = connected_components(coo_matrix((np.ones(nH), (np.arange(nH), nxt)), shape=(nH, nH)),
+                                    connection="weak")
+    apex_h = np.full(label.max() + 1, nH, dtype=np.int64)
+    np.minimum.at(apex_h, label, np.arange(nH))
+    apex = p_vid[h_src[apex_h[label]]]
+    vs, vd = p_vid[h_src], p_vid[h_dst]
+    keep = (vs != apex) & (vd != apex)
+    faces = np.c_[apex[keep], vs[keep], vd[keep]]
+
+    # target positions of the source's interior vertices: barycentric in the target triangle
+    inner = np.flatnonzero(interior)
+    tri = shapely.polygons(np.stack([np.c_[D[F2[:, i]].real, D[F2[:, i]].imag] for i in (0, 1, 2, 0)], axis=1))
+    pts = shapely.points(np.c_[D[inner].real, D[inner].imag])
+    pi, ti = shapely.STRtree(tri).query(pts, predicate="intersects")
+    A, Bc, C = D[F2[ti, 0]], D[F2[ti, 1]], D[F2[ti, 2]]
+    p = D[inner[pi]]
+    area = _orient(A, Bc, C)
+    lam = np.c_[_orient(Bc, C, p), _orient(C, A, p), _orient(A, Bc, p)] / area[:, None]
+    best = np.lexsort((-lam.min(axis=1), pi))
+    firsts = np.r_[True, pi[best][1:] != pi[best][:-1]]
+    sel = best[firsts]
+    if len(sel) != len(inner):
+        raise ShapeError("compatible meshing: an interior vertex fell outside the target triangulation")
+    zt_all[inner[pi[sel]]] = np.sum(lam[sel] * zt_all[F2[ti[sel]]], axis=1)
+
+    # glue the cut copies back and number: rings, source interior, intersections
+    vmap = np.r_[np.arange(N1), copies, N1 + np.arange(ncross)]
+    z = np.r_[z1, zs_x]
+    w = np.r_[zt_all[:N1], zt_x]
+    return z, w, vmap[faces]
+
+
+def _nudge(D, F, vert, direction, tol):
+    """Move interior disc vertex ``vert`` off a line with ``direction``, keeping its star valid."""
+    star = np.flatnonzero(np.any(F == vert, axis=1))
+    n = 1j * direction / np.abs(direction)
+    old = D[vert]
+    for step in 1e3 * tol * 0.5 ** np.arange(12):
+        for sgn in (1, -1):
+            D[vert] = old + sgn * step * n
+            if np.all(_areas(D, F[star]) > 0):
+                return
+    D[vert] = old
+
+
+# ---------------------------------------------------------------- joint quality improvement
+def _quality(z, w, f):
+    """(F,) smallest corner angle of every face over both meshes, radians."""
+    return np.minimum(_angles(z, f).min(axis=1), _angles(w, f).min(axis=1))
+
+
+def _valid(z, w, f, eps):
+    return (_areas(z, f) > eps[0]) & (_areas(w, f) > eps[1])
+
+
+def _smooth(z, w, f, K, eps, rng):
+    """Move an independent set of interior vertices towards their neighbours' mean in both meshes
+    where no incident face of either mesh loses positive area and the star's smallest angle grows."""
+    N = len(z)
+    a, b, _, _, _ = _edge_table(f)
+    deg = np.bincount(a, minlength=N).astype(float)
+    mz = np.bincount(a, weights=z[b].real, minlength=N) + 1j * np.bincount(a, weights=z[b].imag, minlength=N)
+    mw = np.bincount(a, weights=w[b].real, minlength=N) + 1j * np.bincount(a, weights=w[b].imag, minlength=N)
+    prio = rng.random(N)
+    prio[:K] = -1.0
+    top = np.full(N, -1.0)
+    np.maximum.at(top, a, prio[b])
+    move = np.flatnonzero((prio > top) & (deg > 0))
+    if not len(move):
+        return z, w, 0
+    star = np.any(np.isin(f, move), axis=1)
+    fs = f[star]
+    owner = np.max(np.where(np.isin(fs, move), fs, -1), axis=1)
+    old = np.full(N, np.inf)
+    np.minimum.at(old, owner, _quality(z, w, fs))
+    accepted = np.zeros(N, dtype=bool)
+    for step in (1.0, 0.5, 0.25):
+        cand = move[~accepted[move]]
+        z2, w2 = z.copy(), w.copy()
+        z2[cand] += step * (mz[cand] / deg[cand] - z[cand])
+        w2[cand] += step * (mw[cand] / deg[cand] - w[cand])
+        ok = np.ones(N, dtype=bool)
+        good = _valid(z2, w2, fs, eps)
+        np.logical_and.at(ok, owner, good)
+        new = np.full(N, np.inf)
+        np.minimum.at(new, owner, _quality(z2, w2, fs))
+        take = cand[ok[cand] & (new[cand] > old[cand] + 1e-9)]
+        z[take], w[take] = z2[take], w2[take]
+        accepted[take] = True
+    return z, w, int(accepted.sum())
+
+
+def _joint_flips(z, w, f, eps):
+    """Flip edges whose flip raises the smallest angle of their two faces in both meshes together;
+    f is changed in place. Returns the number of flips."""
+    a, b, c, key, twin = _edge_table(f)
+    h = np.flatnonzero(twin > np.arange(len(a)))
+    d = c[twin[h]]
+    new1, new2 = np.c_[a[h], d, c[h]], np.c_[d, b[h], c[h]]
+    ok = _valid(z, w, new1, eps) & _valid(z, w, new2, eps)
+    q_old = np.minimum(_quality(z, w, f[h // 3]), _quality(z, w, f[twin[h] // 3]))
+    q_new = np.minimum(_quality(z, w, new1), _quality(z, w, new2))
+    gain = q_new - q_old
+    sel = ok & (gain > 1e-6)
+    h, gain = h[sel], gain[sel]
+    if not len(h):
+        return 0
+    h = h[_independent(gain, h // 3, twin[h] // 3, len(f))]
+    _flip(f, h, twin, a, b, c)
+    return len(h)
+
+
+def _improve(z, w, f, K, rounds=30, seed=0):
+    """Joint edge flips and smoothing of interior vertices (Surazhsky and Gotsman 2004 style)."""
+    rng = np.random.default_rng(seed)
+    eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
+    f = f.copy()
+    for _ in range(rounds):
+        flips = _joint_flips(z, w, f, eps)
+        z, w, moved = _smooth(z, w, f, K, eps, rng)
+        if not flips and not moved:
+            break
+    return z, w, f

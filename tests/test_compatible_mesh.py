@@ -1,0 +1,222 @@
+"""Compatible meshes of two corresponding polygons: no flipped triangle in either, by construction."""
+
+import numpy as np
+import pytest
+
+from isotween import resample
+from isotween.correspondence.compatible_mesh import compatible_meshes
+from isotween.errors import IncompatibleShapesError, ShapeError
+
+pytest.importorskip("shapely", minversion="2.1")
+
+
+# ---------------------------------------------------------------- shapes
+def glyph(char, size=10.0, per_curve=6):
+    """Closed rings of a DejaVu Sans Bold glyph (as scripts/build_examples.py): outer ring, then holes."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.path import Path
+    from matplotlib.textpath import TextPath
+
+    path = TextPath((0, 0), char, size=size, prop=FontProperties(family="DejaVu Sans", weight="bold"))
+    rings, ring = [], []
+    steps = np.linspace(0, 1, per_curve + 1)[1:]
+    for curve, code in path.iter_bezier():
+        if code == Path.MOVETO:
+            if ring:
+                rings.append(np.vstack(ring))
+            ring = [curve.control_points[-1:]]
+        elif code != Path.CLOSEPOLY:
+            ring.append(curve(steps) if len(curve.control_points) > 2 else curve.control_points[-1:])
+    rings.append(np.vstack(ring))
+    out = []
+    for r in rings:
+        r = r[np.r_[True, np.any(np.abs(np.diff(r, axis=0)) > 1e-9, axis=1)]]
+        out.append(r[:-1] if np.allclose(r[0], r[-1]) else r)
+    out.sort(key=lambda r: -abs(signed_area(r)))
+    return out
+
+
+def signed_area(r):
+    z = r[:, 0] + 1j * r[:, 1]
+    return 0.5 * np.sum((np.conj(z) * np.roll(z, -1)).imag)
+
+
+def polygon_area(rings):
+    return abs(signed_area(rings[0])) - sum(abs(signed_area(r)) for r in rings[1:])
+
+
+def rect(x0, y0, x1, y1, n):
+    """Counter-clockwise rectangle with about n points per unit of perimeter... as a ring."""
+    corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1], [x0, y0]], dtype=float)
+    pts = [np.linspace(corners[i], corners[i + 1], n, endpoint=False) for i in range(4)]
+    return np.vstack(pts)
+
+
+def grid_icon():
+    """A square with a 2 x 2 grid of square windows (4 holes)."""
+    holes = [rect(x, y, x + 3, y + 3, 4)[::-1] for y in (1, 5) for x in (1, 5)]
+    return [rect(0, 0, 9, 9, 12)] + holes
+
+
+def clipboard():
+    """A board with a clip on top (non-convex outline) and 4 slots (holes)."""
+    outer = np.array([[0, 0], [8, 0], [8, 10], [5.5, 10], [5.5, 11.2], [2.5, 11.2], [2.5, 10], [0, 10]], float)
+    holes = [rect(1.5, y, 6.5, y + 1.0, 4)[::-1] for y in (1.2, 3.4, 5.6, 7.8)]
+    return [outer] + holes
+
+
+def rings_of(shape):
+    return [shape.vertices[p] for p, _ in shape.paths]
+
+
+def pair(src, tgt, points):
+    s, t = resample(src, tgt, points=points)
+    return rings_of(s), rings_of(t)
+
+
+def bend(rings, angle):
+    """Bend along x (a circular arc of total turning ``angle``) and rotate by 0.4 rad."""
+    out = []
+    allx = np.concatenate([r[:, 0] for r in rings])
+    length = np.ptp(allx)
+    radius = length / angle
+    for r in rings:
+        phi = (r[:, 0] - allx.min()) / radius
+        z = (radius + r[:, 1]) * np.exp(1j * phi) * np.exp(0.4j)
+        out.append(np.c_[z.real, z.imag])
+    return out
+
+
+def check(result, src, tgt):
+    """The properties every result must have."""
+    s, t = result.source, result.target
+    np.testing.assert_array_equal(s.faces, t.faces)
+    K = sum(len(r) for r in src)
+    np.testing.assert_array_equal(s.vertices[:K], np.vstack(src))  # the outlines exactly, in order
+    np.testing.assert_array_equal(t.vertices[:K], np.vstack(tgt))
+    a_s, a_t = s.face_areas(), t.face_areas()
+    assert np.sum(a_s <= 0) == 0 and np.sum(a_t <= 0) == 0  # no flipped or degenerate triangle
+    np.testing.assert_allclose(a_s.sum(), polygon_area(src), rtol=1e-9)
+    np.testing.assert_allclose(a_t.sum(), polygon_area(tgt), rtol=1e-9)
+    assert len(np.unique(s.faces, axis=0)) == s.n_faces
+    # every vertex is used and the boundary edges are exactly the ring edges
+    assert np.array_equal(np.unique(s.faces), np.arange(s.n_vertices))
+    e = np.sort(s.faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    keys, counts = np.unique(e[:, 0] * s.n_vertices + e[:, 1], return_counts=True)
+    assert counts.max() == 2
+    ring_edges = np.vstack([np.c_[p, np.roll(p, -1)] for p, _ in s.paths])
+    ring_keys = np.sort(np.sort(ring_edges, axis=1) @ np.array([s.n_vertices, 1]))
+    np.testing.assert_array_equal(np.sort(keys[counts == 1]), ring_keys)
+    return a_s, a_t
+
+
+# ---------------------------------------------------------------- the hard cases
+@pytest.mark.parametrize("case", ["C-G", "P-bent-P", "B-8", "grid-clipboard"])
+def test_hard_cases_have_no_flipped_triangle(case):
+    pytest.importorskip("matplotlib")
+    if case == "C-G":
+        src, tgt = pair(glyph("C"), glyph("G"), 120)
+    elif case == "P-bent-P":
+        p = glyph("P")
+        src, tgt = pair(p, bend(p, 2.0), 130)
+    elif case == "B-8":
+        src, tgt = pair(glyph("B"), glyph("8"), 180)
+    else:
+        src, tgt = pair(grid_icon(), clipboard(), 150)
+    result = compatible_meshes(src, tgt)
+    check(result, src, tgt)
+    info = result.info
+    assert info["faces"] == result.source.n_faces and info["vertices"] == result.source.n_vertices
+    assert info["steiner"] == info["vertices"] - sum(len(r) for r in src)
+    assert len(info["cuts"]) == len(src) - 1
+    assert info["min_angle_source"] > 0 and info["min_angle_target"] > 0
+
+
+def test_random_star_polygons_never_flip():
+    rng = np.random.default_rng(7)
+    for _ in range(30):
+        k = int(rng.integers(6, 40))
+
+        def star(lo, hi):
+            th = (np.arange(k) + 0.8 * rng.random(k)) / k * 2 * np.pi
+            r = lo + (hi - lo) * rng.random(k)
+            return np.c_[r * np.cos(th), r * np.sin(th)] + rng.normal(size=2)
+
+        src, tgt = star(1.0, 2.0), star(0.2, 2.5)
+        if rng.random() < 0.5:  # clockwise input: the output keeps the input order
+            src, tgt = src[::-1], tgt[::-1]
+        check(compatible_meshes([src], [tgt], mesh_size=rng.uniform(0.2, 0.6)), [src], [tgt])
+
+
+def test_holes_one_and_two():
+    def ellipse(k, a, b, c=0j, cw=False):
+        th = np.linspace(0, 2 * np.pi, k, endpoint=False) * (-1 if cw else 1)
+        z = c + a * np.cos(th) + 1j * b * np.sin(th)
+        return np.c_[z.real, z.imag]
+
+    th = np.linspace(0, 2 * np.pi, 60, endpoint=False)
+    flower = (2.5 + np.cos(5 * th)) * np.exp(1j * th)
+    flower = np.c_[flower.real, flower.imag]
+    one = ([ellipse(60, 3, 2), ellipse(20, 0.8, 0.6, 0.7 + 0.3j, True)],
+           [flower, ellipse(20, 0.5, 0.9, -0.3j, True)])
+    two = ([ellipse(60, 3, 2), ellipse(20, 0.6, 0.5, 1.4, True), ellipse(16, 0.5, 0.5, -1.2, True)],
+           [flower, ellipse(20, 0.4, 0.5, 0.4j, True), ellipse(16, 0.3, 0.3, -0.5 - 0.5j, True)])
+    for src, tgt in (one, two):
+        result = compatible_meshes(src, tgt, mesh_size=0.3)
+        check(result, src, tgt)
+        assert len(result.info["cuts"]) == len(src) - 1
+
+
+def test_affine_target_gives_the_affine_image():
+    p = [r * 0.1 for r in glyph("P")] if _has_matplotlib() else None
+    if p is None:
+        pytest.skip("matplotlib missing")
+    A = np.array([[1.3, 0.4], [-0.2, 0.8]])
+    tgt = [r @ A.T + [3.0, -1.0] for r in p]
+    result = compatible_meshes(p, tgt)
+    check(result, p, tgt)
+    expected = result.source.vertices @ A.T + [3.0, -1.0]
+    np.testing.assert_allclose(result.target.vertices, expected, rtol=0, atol=1e-9)
+    assert result.info["steiner"] > 0  # interior vertices too
+
+
+def _has_matplotlib():
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def test_similar_shapes_share_the_source_mesh():
+    """A rotated, scaled copy: the target mesh is the source mesh moved (no overlay needed)."""
+    th = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    z = (2 + 0.6 * np.cos(3 * th)) * np.exp(1j * th)
+    src = np.c_[z.real, z.imag]
+    w = 0.5 * np.exp(1.1j) * z + 4
+    result = compatible_meshes([src], [np.c_[w.real, w.imag]])
+    assert not result.info["overlay"]
+    moved = 0.5 * np.exp(1.1j) * result.source.z + 4
+    np.testing.assert_allclose(result.target.z, moved, atol=1e-9)
+
+
+# ---------------------------------------------------------------- bad input
+def test_bad_input_is_named():
+    square = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    bowtie = np.array([[0, 0], [4, 4], [4, 0], [0, 4]], float)
+    with pytest.raises(ShapeError, match=r"source outline touches or crosses itself at \(2, 2\): edge 0-1 of ring 0"):
+        compatible_meshes([bowtie], [square])
+    hole_out = [square, np.array([[5, 1], [5, 2], [6, 2], [6, 1]], float)]
+    hole_in = [square, np.array([[1, 1], [1, 2], [2, 2], [2, 1]], float)]
+    with pytest.raises(ShapeError, match="ring 1 of the target .a hole. lies outside ring 0"):
+        compatible_meshes(hole_in, hole_out)
+    with pytest.raises(IncompatibleShapesError, match="the source has 2 ring.s. but the target has 1"):
+        compatible_meshes(hole_in, [square])
+    with pytest.raises(IncompatibleShapesError, match="ring 0 has 4 vertices in the source but 5"):
+        compatible_meshes([square], [np.r_[square, [[-1, 2]]]])
+    with pytest.raises(IncompatibleShapesError, match="ring 0 runs counter-clockwise in the source but clockwise"):
+        compatible_meshes([square], [square[::-1]])
+    with pytest.raises(ShapeError, match="vertices 1 and 2 of ring 0 of the target coincide"):
+        compatible_meshes([square], [np.array([[0, 0], [4, 0], [4, 0], [0, 4]], float)])
+    with pytest.raises(ShapeError, match="ring 0 of the source has 2 vertices"):
+        compatible_meshes([square[:2]], [square[:2]])
