@@ -131,10 +131,26 @@ def test_malformed_inputs(tmp_path, pair, name, text, needles):
     assert not out.exists()
 
 
-def test_different_vertex_counts_name_both_files(tmp_path, pair):
+def test_different_vertex_counts_are_put_in_correspondence(tmp_path, pair):
     io.save(chain(7), tmp_path / "short.json")
-    result = run("interpolate", pair[0], tmp_path / "short.json", "-o", tmp_path / "o.npz")
-    assert_one_line_error(result, str(pair[0]), "short.json", "--resample", "isotween prepare")
+    result = run("interpolate", pair[0], tmp_path / "short.json", "-n", 5, "-o", tmp_path / "o.npz")
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.strip().splitlines()
+    assert len(lines) == 2 and lines[0].startswith("correspondence: polylines 1 paired; 12 points")
+    seq = io.load_sequence(tmp_path / "o.npz")
+    # both ends lie on their chains (y = 0.3 x^2), end points kept
+    for frame in (seq.frames[0], seq.frames[-1]):
+        np.testing.assert_allclose(frame[:, 1], 0.3 * frame[:, 0] ** 2, atol=0.01)
+        np.testing.assert_allclose(frame[[0, -1]], [[0, 0], [1, 0.3]], atol=1e-12)
+
+
+def test_shapes_without_paths_name_the_file(tmp_path, pair):
+    io.save(Shape(np.eye(3)[:, :2] + [[0, 0], [0, 0], [1, 1]], [[0, 1], [1, 2], [2, 0], [0, 2]][:3]),
+            tmp_path / "soup.npz")
+    soup = io.load(tmp_path / "soup.npz")
+    assert not soup.paths
+    result = run("interpolate", pair[0], tmp_path / "soup.npz", "-o", tmp_path / "o.npz")
+    assert_one_line_error(result, "soup.npz (target)", "the target has no paths")
     assert not (tmp_path / "o.npz").exists()
 
 

@@ -13,7 +13,7 @@ from .options import (
     solver_options,
     timer,
 )
-from .prepare import correspondence_options, make_compatible
+from .prepare import correspondence_kwargs, correspondence_options, make_compatible
 
 
 @main.command("interpolate")
@@ -23,22 +23,24 @@ from .prepare import correspondence_options, make_compatible
 @solver_options
 @correspondence_options
 @output_options
-def interpolate_command(source, target, output, fmt, texture, plot, quiet, resample_points, mesh_area,
-                        **params):
+def interpolate_command(source, target, output, fmt, texture, plot, quiet, **params):
     """Interpolate SOURCE into TARGET as-isometrically-as-possible.
 
-    SOURCE and TARGET are shape files (.obj .off .svg .json .npz) with the
-    same vertex count and connectivity, or outlines made compatible on the
-    fly with --resample N and/or --mesh. The output kind follows -o: an
-    animation (.gif .mp4 .html), a strip of frames (.png), a sequence file
-    (.npz .json), or a folder of frame files (with --format).
+    SOURCE and TARGET are shape files (.obj .off .svg .json .npz). Shapes
+    that do not share vertex count and connectivity are put in
+    correspondence first (regions, holes and polylines paired, outlines
+    resampled, filled regions meshed as solids), and one line says what was
+    done. The output kind follows -o: an animation (.gif .mp4 .html), a
+    strip of frames (.png), a sequence file (.npz .json), or a folder of
+    frame files (with --format).
     """
     from .. import interpolate
     from ..io import load
 
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
-    src, tgt = make_compatible(load(source), load(target), source, target, resample_points, mesh_area)
+    options = correspondence_kwargs(params)
+    src, tgt = make_compatible(load(source), load(target), source, target, quiet=quiet, **options)
     kwargs = solver_kwargs(params)
     with progress(quiet, total=kwargs.get("max_iter")) as callback:
         seq = interpolate(src, tgt, callback=callback, **kwargs)

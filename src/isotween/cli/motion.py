@@ -4,6 +4,7 @@ import click
 
 from . import main
 from .options import check_outputs, emit, frames_option, output_options, progress, timer
+from .prepare import correspondence_kwargs, make_keys_compatible, outline_correspondence_options
 
 _scheme = click.option("--scheme", type=click.Choice(["midpoint", "paper"]), default="midpoint",
                        show_default=True, help="Time discretisation of the energy (Eq. 6).")
@@ -20,16 +21,22 @@ _max_iter = click.option("--max-iter", type=int, default=100, show_default=True,
 @_scheme
 @_tol
 @_max_iter
+@outline_correspondence_options
 @output_options
 def transfer_command(source_start, source_end, target_start, frames, scheme, tol, max_iter,
-                     output, fmt, texture, plot, quiet):
-    """Move TARGET_START the way SOURCE_START moves into SOURCE_END (Sec. 5.1)."""
+                     output, fmt, texture, plot, quiet, **params):
+    """Move TARGET_START the way SOURCE_START moves into SOURCE_END (Sec. 5.1).
+
+    Shapes that do not share connectivity are first put in correspondence
+    together as outlines, and one line says what was done.
+    """
     from .. import transfer
     from ..io import load
 
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
-    shapes = [load(p) for p in (source_start, source_end, target_start)]
+    paths = (source_start, source_end, target_start)
+    shapes = make_keys_compatible([load(p) for p in paths], paths, quiet=quiet, **correspondence_kwargs(params))
     with progress(quiet, total=max_iter) as callback:
         seq = transfer(*shapes, frames=frames, scheme=scheme, tol=tol, max_iter=max_iter,
                        callback=callback)
@@ -73,10 +80,16 @@ def edit_command(sequence, frames, shapes, free_ends, output, fmt, texture, plot
 @_scheme
 @_tol
 @_max_iter
+@outline_correspondence_options
 @output_options
 def keyframes_command(keyframes, frames, times, easing, smooth, scheme, tol, max_iter,
-                      output, fmt, texture, plot, quiet):
-    """AIAP through every KEYFRAME file at once (at least two)."""
+                      output, fmt, texture, plot, quiet, **params):
+    """AIAP through every KEYFRAME file at once (at least two).
+
+    Keyframes that do not share connectivity are first put in
+    correspondence together as outlines (each paired with the first, one
+    point count per ring), and one line says what was done.
+    """
     from .. import interpolate_keyframes
     from ..errors import ParameterError
     from ..io import load
@@ -88,7 +101,8 @@ def keyframes_command(keyframes, frames, times, easing, smooth, scheme, tol, max
             times = [float(x) for x in times.split(",")]
         except ValueError:
             raise ParameterError(f"--times must be numbers separated by commas, got {times!r}") from None
-    shapes = [load(p) for p in keyframes]
+    shapes = make_keys_compatible([load(p) for p in keyframes], keyframes, quiet=quiet,
+                                  **correspondence_kwargs(params))
     with progress(quiet, total=max_iter) as callback:
         seq = interpolate_keyframes(shapes, times=times, frames=frames, easing=easing, smooth=smooth,
                                     scheme=scheme, tol=tol, max_iter=max_iter, callback=callback)

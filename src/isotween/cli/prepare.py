@@ -1,39 +1,85 @@
 """``isotween prepare SOURCE TARGET -o DIR``: a compatible pair written as files,
-and the ``--resample`` / ``--mesh`` options that `interpolate` shares."""
+and the correspondence options that `interpolate`, `keyframes` and `transfer` share."""
 
 import warnings
 
 import click
 
-from ..errors import ParameterError
+from ..errors import IncompatibleShapesError, ParameterError, ShapeError
 from . import main
 from .options import _compose, ensure_compatible
 
-__all__ = ["correspondence_options", "make_compatible"]
+__all__ = ["correspondence_options", "outline_correspondence_options", "correspondence_kwargs",
+           "make_compatible", "make_keys_compatible", "CORRESPONDENCE_KEYS"]
 
-correspondence_options = _compose(click.option(
+#: names of the correspondence options among a command's parameters
+CORRESPONDENCE_KEYS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched",
+                       "resample_points", "mesh_area")
+
+_outline_options = (
+    click.option("--points", type=int, default=None, metavar="N",
+                 help="Inputs that need correspondence: N points on all rings together "
+                      "[default: the larger input's count]."),
+    click.option("--segment", type=float, default=None, metavar="LENGTH",
+                 help="Instead of --points: enough points that no segment is longer than LENGTH."),
+    click.option("--rotation", is_flag=True,
+                 help="Factor out rotation when choosing where each ring starts."),
+    click.option("--unmatched", type=click.Choice(["grow", "split"]), default="grow", show_default=True,
+                 help="A region or hole with no partner grows from a small copy at its own place, or "
+                      "splits off from the nearest region."),
+)
+
+outline_correspondence_options = _compose(*_outline_options)
+
+correspondence_options = _compose(*_outline_options, click.option(
+    "--outline", is_flag=True, help="Morph outlines only (no triangle meshes for filled regions).",
+), click.option(
+    "--mesh-size", type=float, default=None, metavar="LENGTH",
+    help="Target triangle edge length of the filled regions' meshes [default: the outline's spacing].",
+), click.option(
     "--resample", "resample_points", type=int, default=None, metavar="N",
-    help="Resample both outlines to N vertices in all (arc length, best start and orientation).",
+    help="Older form: resample the outlines to N vertices in all, rings paired in order.",
 ), click.option(
     "--mesh", "mesh_area", is_flag=False, flag_value="auto", default=None, metavar="[MAX_AREA]",
-    help="Triangulate the source outline (largest triangle area MAX_AREA; default: none, triangles "
-         "grow from the outline inwards) and map the mesh onto the target outline (needs isotween[mesh]).",
+    help="Older form: triangulate the source outline with Triangle (largest triangle area MAX_AREA) and "
+         "map it onto the target outline (needs isotween[mesh]; may flip triangles).",
 ))
 
 
-def make_compatible(src, tgt, source_path, target_path, resample_points=None, mesh_area=None):
-    """Resample and/or mesh a loaded pair as the options ask, then check compatibility.
+def correspondence_kwargs(params):
+    """Pop the correspondence options out of a command's parameters (dict)."""
+    return {k: params.pop(k) for k in CORRESPONDENCE_KEYS if k in params}
 
-    Prints a warning line on stderr when the target mesh has flipped triangles.
+
+def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None, segment=None,
+                    rotation=False, outline=False, mesh_size=None, unmatched="grow",
+                    resample_points=None, mesh_area=None):
+    """Make a loaded pair compatible as the options ask, then check it.
+
+    Without ``--resample``/``--mesh``: a compatible pair is used as it is,
+    any other goes through `isotween.correspond`, whose one-line report is
+    printed (unless ``quiet``). With them: the older explicit steps
+    (`resample` with rings paired in order, `mesh_pair`), with a warning line
+    on stderr when the target mesh has flipped triangles.
 
     Returns
     -------
     (Shape, Shape)
     """
-    from ..correspondence import mesh_pair, resample
+    from ..correspondence import correspond, mesh_pair, resample
 
+    if resample_points is None and mesh_area is None:
+        try:
+            src, tgt, report = correspond(src, tgt, points=points, segment=segment, rotation=rotation,
+                                          outline=outline, mesh_size=mesh_size, unmatched=unmatched)
+        except (ShapeError, IncompatibleShapesError) as exc:
+            raise type(exc)(f"{source_path} (source) and {target_path} (target): {exc}") from None
+        if not report.unchanged and not quiet:
+            click.echo(report.summary())
+        ensure_compatible(src, tgt, source_path, target_path)
+        return src, tgt
     if resample_points is not None:
-        src, tgt = resample(src, tgt, points=resample_points)
+        src, tgt = resample(src, tgt, points=resample_points, rotation=rotation)
     if mesh_area is not None:
         if mesh_area == "auto":
             max_area = None
@@ -53,6 +99,34 @@ def make_compatible(src, tgt, source_path, target_path, resample_points=None, me
     return src, tgt
 
 
+def make_keys_compatible(shapes, paths, quiet=False, points=None, segment=None, rotation=False,
+                         unmatched="grow"):
+    """Several loaded shapes (keyframes, transfer inputs) made compatible together
+    as outlines by `isotween.correspondence.correspond_keys` when they are not;
+    its one-line report is printed unless ``quiet``.
+
+    Returns
+    -------
+    list of Shape
+    """
+    from ..correspondence import correspond_keys
+    from ..correspondence.compatibility import check_compatible
+
+    try:
+        shapes, report = correspond_keys(shapes, points=points, segment=segment, rotation=rotation,
+                                         unmatched=unmatched)
+    except (ShapeError, IncompatibleShapesError) as exc:
+        named = ", ".join(f"{p} (keyframe {k})" for k, p in enumerate(paths))
+        raise type(exc)(f"{named}: {exc}") from None
+    if not report.unchanged and not quiet:
+        click.echo(report.summary())
+    try:
+        check_compatible(*shapes, names=[str(p) for p in paths])
+    except IncompatibleShapesError as exc:
+        raise IncompatibleShapesError(f"{', '.join(str(p) for p in paths)} are not compatible: {exc}") from None
+    return shapes
+
+
 @main.command("prepare")
 @click.argument("source")
 @click.argument("target")
@@ -60,20 +134,25 @@ def make_compatible(src, tgt, source_path, target_path, resample_points=None, me
               help="Folder for source.FORMAT and target.FORMAT (created if missing).")
 @click.option("--format", "fmt", type=click.Choice(["obj", "off", "svg", "json", "npz"]), default="obj",
               show_default=True, help="File format of the two shapes.")
+@click.option("--quiet", "-q", is_flag=True, help="No correspondence report.")
 @correspondence_options
-def prepare_command(source, target, outdir, fmt, resample_points, mesh_area):
+def prepare_command(source, target, outdir, fmt, quiet, **params):
     """Make SOURCE and TARGET compatible and write them as OUTDIR/source.FORMAT
     and OUTDIR/target.FORMAT, ready for `isotween interpolate`.
 
-    Give --resample N (outlines with different point counts) and/or --mesh
-    (a triangle mesh from the outlines).
+    Give the correspondence options (--points, --segment, --outline,
+    --mesh-size, ...) or the older --resample N and/or --mesh.
     """
     from ..io import load, save
     from ..io._files import atomic_dir
 
-    if resample_points is None and mesh_area is None:
-        raise ParameterError("nothing to prepare: give --resample N and/or --mesh")
-    src, tgt = make_compatible(load(source), load(target), source, target, resample_points, mesh_area)
+    options = correspondence_kwargs(params)
+    defaults = {"points": None, "segment": None, "rotation": False, "outline": False, "mesh_size": None,
+                "unmatched": "grow", "resample_points": None, "mesh_area": None}
+    if options == defaults:
+        raise ParameterError("nothing to prepare: give --points N, --segment, --outline or --mesh-size "
+                             "(correspondence), or give --resample N and/or --mesh")
+    src, tgt = make_compatible(load(source), load(target), source, target, quiet=quiet, **options)
     with atomic_dir(outdir) as tmp:
         for shape, name in ((src, "source"), (tgt, "target")):
             save(shape, tmp / f"{name}.{fmt}")
