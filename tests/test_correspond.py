@@ -176,3 +176,56 @@ def test_bad_options_are_refused_before_any_work():
         correspond(src, tgt, unmatched="vanish")
     with pytest.raises(ShapeError, match="the target has no paths"):
         correspond(src, Shape(disc(5), [[0, 1], [2, 3]]))
+
+
+# ---------------------------------------------------------------- command line
+HEART = ('<path fill="#c00" fill-rule="evenodd" d="M8 1.314C12.438-3.248 23.534 4.735 8 15'
+         '-7.534 4.736 3.562-3.248 8 1.314"/>')
+BLOCKS = ('<path fill="#036" fill-rule="evenodd" d="M1 2h6v11h-6z M2.5 4h3v3h-3z"/>'
+          '<rect x="9" y="2" width="6" height="11" fill="#036"/>')
+
+
+def svg(path, body):
+    path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16">{body}</svg>')
+    return str(path)
+
+
+def cli(*args):
+    from click.testing import CliRunner
+
+    from isotween.cli import main
+
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def test_cli_morphs_two_drawings_with_different_ring_counts_without_flags(tmp_path):
+    pytest.importorskip("svgelements")
+    a, b = svg(tmp_path / "heart.svg", HEART), svg(tmp_path / "blocks.svg", BLOCKS)
+    result = cli("interpolate", a, b, "-n", 7, "-o", tmp_path / "out.npz")
+    assert result.exit_code == 0, result.output
+    report = result.stdout.splitlines()[0]
+    assert report.startswith("correspondence: regions 1 paired, 1 grown; holes 1 opened;")
+    assert "solid(s)" in report and "0 flipped" in report
+    seq = isotween.io.load_sequence(tmp_path / "out.npz")
+    assert seq.shape.n_faces > 0 and len(seq) == 7
+    assert not flipped_faces(seq, reduce=None).any() and not outline_crossings(seq).any()
+    quiet = cli("interpolate", a, b, "-n", 3, "-q", "-o", tmp_path / "q.npz")
+    assert quiet.exit_code == 0 and not quiet.stdout.startswith("correspondence")
+
+
+def test_cli_keyframes_and_transfer_make_all_inputs_compatible(tmp_path):
+    pytest.importorskip("svgelements")
+    k0, k1 = svg(tmp_path / "k0.svg", HEART), svg(tmp_path / "k1.svg", BLOCKS)
+    k2 = svg(tmp_path / "k2.svg", '<circle cx="8" cy="8" r="6" fill="#c00"/>')
+    result = cli("keyframes", k0, k1, k2, "--frames", 9, "-o", tmp_path / "keys.npz")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("correspondence: regions 1 paired, 1 grown; holes 1 opened;")
+    seq = isotween.io.load_sequence(tmp_path / "keys.npz")
+    # the keyframes are hit: frame 0 is the heart resampled (every vertex on its outline)
+    shapely = pytest.importorskip("shapely")
+    heart = shapely.LinearRing(isotween.load(k0).vertices)
+    outline = seq.frames[0][seq.shape.paths[0][0]]
+    assert np.all(shapely.distance(heart, shapely.points(outline)) < 1e-9)
+    result = cli("transfer", k0, k2, k1, "--frames", 5, "-o", tmp_path / "t.npz")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("correspondence:")
