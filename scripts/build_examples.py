@@ -1,6 +1,6 @@
 """Build the example gallery: src/isotween/examples/data/ and docs/gallery/*.png.
 
-    PYTHONPATH=src python3 scripts/build_examples.py
+    PYTHONPATH=src python3 scripts/build_examples.py [NAME ...]   # all, or only these
 
 Everything comes from data that pip packages ship, no downloads: glyph outlines
 of the DejaVu fonts bundled with matplotlib (matplotlib.textpath.TextPath), the
@@ -165,6 +165,12 @@ def ex_holes():
     return Shape.from_polygon(glyph("B")), Shape.from_polygon(glyph("8"))
 
 
+def ex_regions():
+    """Two drawings with different numbers of regions and holes, stored as they are:
+    `load_example` puts them in correspondence with the defaults of `isotween.correspond`."""
+    return Shape.from_polygon(glyph("j")), Shape.from_polygon(glyph("B"))
+
+
 def ex_curls():
     a, b = curl(60, 1.6, 0.12), curl(60, 1.1, 0.12, sign=-1.0)
     straight_a = np.c_[np.arange(60) * 0.12, np.zeros(60)]
@@ -218,6 +224,8 @@ EXAMPLES = [
      ex_glyphs, 160, {"frames": 13}),
     ("holes", "'B' into '8': a polygon with two holes (outer ring and holes paired in order)",
      ex_holes, 200, {"frames": 13}),
+    ("regions", "'j' into 'B' with no options: the stem becomes the B, the dot shrinks away, two holes open",
+     ex_regions, "correspond", {"frames": 13}),
     ("curls", "two open polylines curling into spirals, one by 1.6 turns, one by 1.1 the other way",
      ex_curls, None, {"frames": 17}),
     ("hopper", "a textured mesh: Grace Hopper's photograph bends and waves",
@@ -236,18 +244,31 @@ def build_texture():
     return out
 
 
-def main_build():
-    for old in DATA.glob("*"):
-        old.unlink()
-    texture = build_texture()
+def main_build(only=None):
+    """Build every example, or with ``only`` (a list of names) just those (the
+    others' data files and strips are kept as they are)."""
+    if only:
+        unknown = set(only) - {e[0] for e in EXAMPLES}
+        if unknown:
+            raise SystemExit(f"unknown example(s): {', '.join(sorted(unknown))}")
+    else:
+        for old in DATA.glob("*"):
+            old.unlink()
+    texture = DATA / "hopper.jpg" if only else build_texture()
     index = []
     for name, description, make, points, options in EXAMPLES:
+        if only and name not in only:
+            index.append(next(e for e in json.loads((DATA / "index.json").read_text())["examples"]
+                              if e["name"] == name))
+            continue
         src, tgt = make()
         io.save(src, DATA / f"{name}-source.npz")
         io.save(tgt, DATA / f"{name}-target.npz")
         entry = {"name": name, "description": description, "source": f"{name}-source.npz",
                  "target": f"{name}-target.npz", "options": options}
-        if points:
+        if points == "correspond":
+            entry["correspond"] = {}
+        elif points:
             entry["resample"] = points
         if name == "hopper":
             entry["texture"] = texture.name
@@ -257,6 +278,8 @@ def main_build():
 
     GALLERY.mkdir(parents=True, exist_ok=True)
     for name in isotween.examples.names():
+        if only and name not in only:
+            continue
         src, tgt, options = isotween.examples.load_example(name)
         texture = options.pop("texture", None)
         seq = isotween.interpolate(src, tgt, **options)
@@ -265,6 +288,8 @@ def main_build():
         print(f"{name}: {src.n_vertices} vertices, {src.n_edges} edges, {src.n_faces} faces, "
               f"{len(seq)} frames, {(GALLERY / f'{name}.png').stat().st_size // 1024} KiB strip")
     default = isotween.examples.names()[0]
+    if only and default not in only:
+        return
     with tempfile.TemporaryDirectory() as tmp:
         result = CliRunner().invoke(main, ["demo", "-o", tmp, "-q"])
         assert result.exit_code == 0, result.output
@@ -273,4 +298,6 @@ def main_build():
 
 
 if __name__ == "__main__":
-    main_build()
+    import sys
+
+    main_build(sys.argv[1:])

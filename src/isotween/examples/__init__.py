@@ -44,7 +44,9 @@ def load_example(name):
     """The source and target shapes of an example and how to interpolate them.
 
     Outline examples stored with different point counts are made compatible
-    here by `isotween.resample` (their ``resample`` entry is the point count).
+    here by `isotween.resample` (their ``resample`` entry is the point count),
+    drawings with different regions and holes by `isotween.correspond` (their
+    ``correspond`` entry holds its keyword arguments).
 
     Parameters
     ----------
@@ -59,13 +61,15 @@ def load_example(name):
         Keyword arguments of `isotween.interpolate` (``frames``, ...) and,
         for textured examples, ``texture``: the path of the image (str).
     """
-    from ..correspondence import resample
+    from ..correspondence import correspond, resample
     from ..io import load
 
     entry = _entry(name)
     source, target = load(DATA / entry["source"]), load(DATA / entry["target"])
     if entry.get("resample"):
         source, target = resample(source, target, points=entry["resample"])
+    if "correspond" in entry:
+        source, target, _ = correspond(source, target, **entry["correspond"])
     options = dict(entry.get("options", {}))
     if entry.get("texture"):
         options["texture"] = str(DATA / entry["texture"])
