@@ -208,6 +208,12 @@ def test_cli_morphs_two_drawings_with_different_ring_counts_without_flags(tmp_pa
     assert "solid(s)" in report and "0 flipped" in report
     seq = isotween.io.load_sequence(tmp_path / "out.npz")
     assert seq.shape.n_faces > 0 and len(seq) == 7
+    # in Python: the paint comes along, and the grown square fades in from a transparent copy
+    src, tgt, _ = correspond(isotween.load(a), isotween.load(b))
+    grown = src.regions[1][0]
+    assert src.paint[grown].opacity == 0.0 and tgt.paint[grown].opacity == 1.0
+    assert src.paint[src.regions[0][0]].fill == (0.8, 0.0, 0.0, 1.0)
+    assert tgt.paint[grown].fill == (0.0, 0.2, 0.4, 1.0)
     assert not flipped_faces(seq, reduce=None).any() and not outline_crossings(seq).any()
     quiet = cli("interpolate", a, b, "-n", 3, "-q", "-o", tmp_path / "q.npz")
     assert quiet.exit_code == 0 and not quiet.stdout.startswith("correspondence")

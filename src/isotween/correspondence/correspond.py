@@ -11,7 +11,7 @@ Stages (each swappable):
 """
 
 import numbers
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -108,7 +108,8 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
 
     Regions (outer ring and holes), unfilled rings and open polylines are
     paired by optimal assignment on normalised position, size and overlap;
-    an item with no partner grows from (or shrinks to) a small copy, a hole
+    an item with no partner grows from (or shrinks to) a small transparent
+    copy (``paint`` opacity 0, when the drawing has paint), a hole
     with no partner opens from (or closes to) a small ring inside its
     region. Every ring pair is then resampled to a common point count (best
     start and orientation), and each pair of filled regions becomes a pair of
@@ -319,7 +320,8 @@ def _fill_slots(items, frames, slots, unmatched):
                 rings, paint = present[k]
             else:
                 rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k], unmatched)
-                paint = ref_paint
+                # the small copy is also transparent: the item fades in (out) as it grows (shrinks)
+                paint = [None if p is None else replace(p, opacity=0.0) for p in ref_paint]
             per_key[k] += rings
             paints[k] += paint
         closed += [is_closed] * len(ref_rings)
