@@ -235,3 +235,23 @@ def test_cli_keyframes_and_transfer_make_all_inputs_compatible(tmp_path):
     result = cli("transfer", k0, k2, k1, "--frames", 5, "-o", tmp_path / "t.npz")
     assert result.exit_code == 0, result.output
     assert result.stdout.startswith("correspondence:")
+
+
+def test_cli_correspondence_options_and_errors(tmp_path):
+    pytest.importorskip("svgelements")
+    a, b = svg(tmp_path / "heart.svg", HEART), svg(tmp_path / "blocks.svg", BLOCKS)
+    result = cli("interpolate", a, b, "--outline", "--points", 120, "-n", 3, "-o", tmp_path / "o.npz")
+    assert result.exit_code == 0, result.output
+    seq = isotween.io.load_sequence(tmp_path / "o.npz")
+    assert seq.shape.n_vertices == 120 and seq.shape.n_faces == 0
+    result = cli("interpolate", a, b, "--segment", 0.5, "--outline", "-n", 3, "-o", tmp_path / "s.npz")
+    assert result.exit_code == 0, result.output
+    seq = isotween.io.load_sequence(tmp_path / "s.npz")
+    assert np.abs(seq.edge_vectors()[[0, -1]]).max() <= 0.5 + 1e-12
+    for args, needle in [
+        (["--mesh-size", 1e-6], "mesh_size=1e-06 would make about"),
+        (["--points", 40, "--segment", 1], "give points or segment, not both"),
+    ]:
+        result = cli("interpolate", a, b, *args, "-o", tmp_path / "bad.npz")
+        assert result.exit_code == 2 and needle in result.stderr, result.output
+        assert len(result.stderr.strip().splitlines()) == 1 and not (tmp_path / "bad.npz").exists()

@@ -36,7 +36,8 @@ def transfer_command(source_start, source_end, target_start, frames, scheme, tol
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
     paths = (source_start, source_end, target_start)
-    shapes = make_keys_compatible([load(p) for p in paths], paths, quiet=quiet, **correspondence_kwargs(params))
+    shapes = make_keys_compatible([load(p) for p in paths], paths, quiet=quiet, role="input",
+                                  **correspondence_kwargs(params))
     with progress(quiet, total=max_iter) as callback:
         seq = transfer(*shapes, frames=frames, scheme=scheme, tol=tol, max_iter=max_iter,
                        callback=callback)

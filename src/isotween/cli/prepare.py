@@ -100,10 +100,11 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
 
 
 def make_keys_compatible(shapes, paths, quiet=False, points=None, segment=None, rotation=False,
-                         unmatched="grow"):
+                         unmatched="grow", role="keyframe"):
     """Several loaded shapes (keyframes, transfer inputs) made compatible together
     as outlines by `isotween.correspondence.correspond_keys` when they are not;
-    its one-line report is printed unless ``quiet``.
+    its one-line report is printed unless ``quiet``. ``role`` names the
+    inputs in messages ("keyframe 1", "input 2").
 
     Returns
     -------
@@ -116,7 +117,7 @@ def make_keys_compatible(shapes, paths, quiet=False, points=None, segment=None, 
         shapes, report = correspond_keys(shapes, points=points, segment=segment, rotation=rotation,
                                          unmatched=unmatched)
     except (ShapeError, IncompatibleShapesError) as exc:
-        named = ", ".join(f"{p} (keyframe {k})" for k, p in enumerate(paths))
+        named = ", ".join(f"{p} ({role} {k})" for k, p in enumerate(paths))
         raise type(exc)(f"{named}: {exc}") from None
     if not report.unchanged and not quiet:
         click.echo(report.summary())
