@@ -99,3 +99,21 @@ def test_only_degenerate_subpaths_is_an_error_naming_them(tmp_path):
         warnings.simplefilter("ignore")
         with pytest.raises(FileFormatError, match=r'nothing to read .*<path id="flat">: filled subpath 0'):
             read(tmp_path, '<path id="flat" d="M0 0 L1 1 L2 2 z"/>')
+
+
+def test_regions_and_paint_read_back_identically(tmp_path):
+    body = ('<path fill="#336699" fill-opacity="0.5" stroke="#ff0000" stroke-width="0.25" opacity="0.75" '
+            'fill-rule="evenodd" d="M0 0 h10 v10 h-10 z M2 2 h6 v6 h-6 z M3 3 h4 v4 h-4 z"/>'
+            '<path fill="none" stroke="#00ff00" d="M0 12 L5 15 L9 12"/>' + HEART)
+    s = read(tmp_path, body)
+    assert s.regions == [[0, 1], [2], [4]]
+    io.save(s, tmp_path / "back.svg")
+    back = io.load(tmp_path / "back.svg")
+    np.testing.assert_array_equal(back.vertices, s.vertices)
+    assert [(p.tolist(), c) for p, c in back.paths] == [(p.tolist(), c) for p, c in s.paths]
+    assert back.regions == s.regions
+    for p, q in zip(back.paint, s.paint):
+        assert (p.fill is None) == (q.fill is None) and p.stroke == q.stroke
+        assert p.stroke_width == q.stroke_width and p.opacity == q.opacity
+        if p.fill is not None:
+            np.testing.assert_allclose(p.fill, q.fill, atol=1 / 255)

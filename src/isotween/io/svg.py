@@ -258,12 +258,17 @@ def _subpath_data(points, closed):
 def write_svg(shape, path):
     """Write the outline of a shape as SVG.
 
-    Each shape path becomes one ``<path>`` element (``Z`` for a closed ring);
-    edges outside every path (triangle sides, edge soups) are drawn as chains
-    in one more ``<path id="edges">``. Numbers are shortest round-trip
-    decimals in user units (y down, no flip), so a shape whose edges are its
-    paths, listing the vertices in order (what `read_svg` returns), reads back
-    identically. uv and faces are not stored.
+    Each shape path becomes one ``<path>`` element (``Z`` for a closed ring),
+    except that each filled region (``shape.regions``) is one element with
+    its outer ring and holes, ``fill-rule="evenodd"``, where its outer ring
+    comes in path order; the ``paint`` of every path is written as its fill,
+    stroke, stroke width and opacity. Edges outside every path (triangle
+    sides, edge soups) are drawn as chains in one more ``<path id="edges">``.
+    Numbers are shortest round-trip decimals in user units (y down, no flip),
+    so a shape whose edges are its paths, listing the vertices in order (what
+    `read_svg` returns), reads back identically, regions and paint included
+    (colours to 8 bits) when each region's holes follow its outer ring.
+    uv and faces are not stored.
     """
     v = shape.vertices
     lo, hi = (v.min(axis=0), v.max(axis=0)) if len(v) else (np.zeros(2), np.ones(2))
@@ -275,8 +280,17 @@ def write_svg(shape, path):
     elements = []
     covered = np.zeros(0, dtype=np.int64)
     paths = shape.paths or []
+    region_of = {k: r for r, ring_ids in enumerate(shape.regions or []) for k in ring_ids}
+    paint = shape.paint or [None] * len(paths)
     for k, (idx, closed) in enumerate(paths):
-        elements.append(f'  <path id="path{k}" d="{_subpath_data(v[idx], closed)}"/>')
+        if k not in region_of:
+            elements.append(f'  <path id="path{k}" d="{_subpath_data(v[idx], closed)}"{_paint_attributes(paint[k])}/>')
+        elif shape.regions[region_of[k]][0] == k:
+            ring_ids = shape.regions[region_of[k]]
+            d = " ".join(_subpath_data(v[paths[j][0]], True) for j in ring_ids)
+            filled = paint[k] if paint[k] is not None else Paint()
+            elements.append(f'  <path id="region{region_of[k]}" d="{d}" fill-rule="evenodd"'
+                            f'{_paint_attributes(filled)}/>')
     if paths:
         pe = np.vstack([np.column_stack([p, np.roll(p, -1)] if c else [p[:-1], p[1:]]) for p, c in paths])
         covered = np.unique(np.sort(pe, axis=1), axis=0)
@@ -299,6 +313,26 @@ def write_svg(shape, path):
         + "\n</g>\n</svg>\n"
     )
     write_text(path, text)
+
+
+def _hex(colour):
+    return "#" + "".join(f"{round(255 * c):02x}" for c in colour[:3])
+
+
+def _paint_attributes(paint):
+    """SVG presentation attributes of a `Paint` (empty for None: the group's style)."""
+    if paint is None:
+        return ""
+    out = f' fill="{_hex(paint.fill)}"' if paint.fill is not None else ' fill="none"'
+    if paint.fill is not None and paint.fill[3] < 1:
+        out += f' fill-opacity="{paint.fill[3]!r}"'
+    out += f' stroke="{_hex(paint.stroke)}"' if paint.stroke is not None else ' stroke="none"'
+    if paint.stroke is not None and paint.stroke[3] < 1:
+        out += f' stroke-opacity="{paint.stroke[3]!r}"'
+    out += f' stroke-width="{paint.stroke_width!r}"'
+    if paint.opacity < 1:
+        out += f' opacity="{paint.opacity!r}"'
+    return out
 
 
 def _member(rows, table):
