@@ -769,14 +769,92 @@ def _joint_flips(z, w, f, eps):
     return len(h)
 
 
-def _improve(z, w, f, K, rounds=30, seed=0):
-    """Joint edge flips and smoothing of interior vertices (Surazhsky and Gotsman 2004 style)."""
+def _collapse(z, w, f, K, eps, limit):
+    """Collapse the shortest edge of faces whose smallest angle (in either mesh) is below ``limit``.
+
+    An interior vertex x merges into its neighbour y when the link condition
+    holds (x and y share exactly the two neighbours across their edge), every
+    new face keeps a positive area in both meshes and the smallest angle
+    around x grows. Collapses in one call touch disjoint faces.
+
+    Returns
+    -------
+    (F', 3) faces (removed vertices are no longer referenced), number of collapses
+    """
+    N = len(z)
+    q = _quality(z, w, f)
+    bad = np.flatnonzero(q < limit)
+    if not len(bad):
+        return f, 0
+    p = f[bad]
+    nx = np.roll(p, -1, axis=1)
+    ls, lt = np.abs(z[nx] - z[p]), np.abs(w[nx] - w[p])
+    L = np.maximum(ls / ls.sum(axis=1, keepdims=True), lt / lt.sum(axis=1, keepdims=True))
+    k = np.argmin(L, axis=1)
+    r = np.arange(len(bad))
+    a, b = p[r, k], nx[r, k]
+    x = np.r_[a[a >= K], b[b >= K]]
+    y = np.r_[b[a >= K], a[b >= K]]
+    score = np.r_[q[bad][a >= K], q[bad][b >= K]]
+    if not len(x):
+        return f, 0
+    o = np.lexsort((score, x))
+    x, y, score = x[o], y[o], score[o]
+    keep = np.r_[True, x[1:] != x[:-1]]
+    x, y, score = x[keep], y[keep], score[keep]
+    nF = len(f)
+    vf = coo_matrix((np.ones(3 * nF), (f.ravel(), np.repeat(np.arange(nF), 3))), shape=(N, nF)).tocsr()
+    A = coo_matrix((np.ones(3 * nF), (f.ravel(), np.roll(f, -1, axis=1).ravel())), shape=(N, N)).tocsr()
+    A = ((A + A.T) > 0).astype(np.int64).tocsr()
+    link = np.asarray(A[x].multiply(A[y]).sum(axis=1)).ravel() == 2
+    cx, fx = vf[x].nonzero()  # faces around x
+    cy, fy = vf[y].nonzero()
+    rank = np.empty(len(x), dtype=np.int64)
+    rank[np.argsort(score, kind="stable")] = np.arange(len(x))
+    cc, ff = np.r_[cx, cy], np.r_[fx, fy]
+    claim = np.full(nF, len(x), dtype=np.int64)
+    np.minimum.at(claim, ff, rank[cc])
+    win = np.ones(len(x), dtype=bool)
+    np.logical_and.at(win, cc, claim[ff] == rank[cc])
+    old = np.full(len(x), np.inf)
+    np.minimum.at(old, cx, q[fx])
+    stay = ~np.any(f[fx] == y[cx][:, None], axis=1)
+    cs, fs = cx[stay], fx[stay]
+    nf = np.where(f[fs] == x[cs][:, None], y[cs][:, None], f[fs])
+    ok = np.ones(len(x), dtype=bool)
+    np.logical_and.at(ok, cs, _valid(z, w, nf, eps))
+    new = np.full(len(x), np.inf)
+    np.minimum.at(new, cs, _quality(z, w, nf))
+    take = win & link & ok & (new > old)
+    if not take.any():
+        return f, 0
+    vmap = np.arange(N)
+    vmap[x[take]] = y[take]
+    g = vmap[f]
+    g = g[(g[:, 0] != g[:, 1]) & (g[:, 1] != g[:, 2]) & (g[:, 2] != g[:, 0])]
+    return g, int(take.sum())
+
+
+def _improve(z, w, f, K, rounds=40, limit=20.0, seed=0):
+    """Joint edge collapses, edge flips and smoothing of interior vertices in both meshes
+    (Surazhsky and Gotsman 2004 style); every step keeps both meshes valid.
+
+    Returns
+    -------
+    z, w : (N',) complex, f : (F', 3); vertices no face uses any more are dropped
+    (the first K, the rings, are kept in place).
+    """
     rng = np.random.default_rng(seed)
     eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
     f = f.copy()
     for _ in range(rounds):
+        f, collapsed = _collapse(z, w, f, K, eps, np.radians(limit))
         flips = _joint_flips(z, w, f, eps)
         z, w, moved = _smooth(z, w, f, K, eps, rng)
-        if not flips and not moved:
+        if not (collapsed or flips or moved):
             break
-    return z, w, f
+    used = np.zeros(len(z), dtype=bool)
+    used[f] = True
+    used[:K] = True
+    new_id = np.cumsum(used) - 1
+    return z[used], w[used], new_id[f]
