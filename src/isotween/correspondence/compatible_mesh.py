@@ -5,29 +5,32 @@ The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
 2004):
 
 1. Each polygon is triangulated on its own by shapely's constrained Delaunay
-   triangulation (no vertex is added). The source mesh is refined with
-   interior Steiner points (centroid insertion and Lawson flips) down to the
-   target edge length ``mesh_size``.
-2. A polygon with holes is first cut into a disc: every hole gets two cuts to
-   the outer ring, segments between corresponding ring vertices that lie inside
-   both polygons. Both polygons are triangulated piecewise, so the cuts are
-   edges of both meshes; the first cut of every hole is then opened (its two
-   vertices duplicated) to make the mesh a disc.
-3. Both discs are mapped onto the unit circle with their boundary vertices at
-   the same places (mean of the two normalised arc lengths) and the interior
-   vertices of the source mesh by mean-value weights, which are positive:
-   Tutte's theorem (Floater 2003) makes both maps embeddings.
-4. Their overlay in the circle is built combinatorially: every target chord
-   is cut by the source edges it crosses, an intersection vertex is the pair
+   triangulation (no vertex is added). A polygon with holes is first cut into
+   a disc: every hole gets two cuts to the outer ring, segments between
+   corresponding ring vertices that lie inside both polygons. Both polygons
+   are triangulated piecewise, so the cuts are edges of both meshes; the
+   first cut of every hole is then opened (its two vertices duplicated).
+2. First try: the source mesh, refined with interior Steiner points (centroid
+   insertion and Lawson flips down to the edge length ``mesh_size``), mapped
+   onto the target outline by mean-value weights (which reproduce affine
+   maps). If no target triangle is flipped, that is the result.
+3. Otherwise both triangulations are mapped onto the unit circle with their
+   boundary vertices at the same places (the mean of the two normalised arc
+   lengths); interior vertices (``refine_first=True`` only) by mean-value
+   weights, which are positive, so Tutte's theorem (Floater 2003) makes both
+   maps embeddings. Their overlay is built combinatorially: a target chord is
+   cut by the source edges it crosses, an intersection vertex is the pair
    (source edge, target chord), and every overlay cell is a convex polygon
-   inside one triangle of each mesh. Cells are fan-triangulated and mapped
-   back affinely through their source and their target triangle.
-5. Interior vertices are smoothed and edges flipped jointly in both meshes,
-   each change accepted only when every triangle of both meshes keeps a
-   positive area and the smallest angle does not decrease.
-
-When the source mesh mapped onto the target by mean-value weights (which
-reproduce affine maps) is already free of flips, step 4 is skipped.
+   inside one triangle of each mesh. Sides against chords are decided by the
+   cyclic order of the boundary vertices (exact); an interior vertex within
+   ``tol`` of a chord is first moved off it inside its star. Cells are
+   fan-triangulated and mapped back affinely through their source and their
+   target triangle. Faces larger than ``mesh_size`` (in either mesh) are then
+   split at their centroid in both meshes.
+4. Quality: edge collapses, edge flips (both meshes at once, as they share
+   connectivity) and smoothing of interior vertices (each mesh on its own),
+   every change accepted only when every triangle keeps a positive area and
+   the smallest angle around it grows.
 """
 
 import time
@@ -56,8 +59,9 @@ class CompatibleMeshes(NamedTuple):
         the rings.
     info : dict
         ``vertices``, ``faces``, ``ring_vertices`` (K), ``steiner`` (interior
-        vertices), ``cuts`` (cut segments per hole), ``overlay`` (whether the
-        overlay was needed), ``min_angle_source`` / ``min_angle_target``
+        vertices), ``cuts`` (per hole: outer and hole vertex of its two cuts),
+        ``overlay`` (whether the overlay was needed), ``crossings``
+        (intersection vertices the overlay made, before the quality step), ``min_angle_source`` / ``min_angle_target``
         (degrees, final), ``min_angle_before_source`` /
         ``min_angle_before_target`` (before the quality step), ``seconds``.
     """
@@ -67,7 +71,7 @@ class CompatibleMeshes(NamedTuple):
     info: dict
 
 
-def compatible_meshes(source_rings, target_rings, mesh_size=None):
+def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_first=False):
     """Compatible triangle meshes of two corresponding polygons with holes.
 
     Parameters
@@ -134,15 +138,19 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None):
     f_tgt = _triangulate(zt, rings, cuts, "target")
     fixed_keys = _keys(np.array([c for pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2))
     z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size))
-    S = len(z1) - K
 
     # first try: the source mesh mapped by mean-value weights (reproduces affine maps)
     w_tgt = _convex_map(z1, f1, np.arange(K), zt)
     overlay = not np.all(_areas(w_tgt, f1) > 1e-12 * _scale2(zt))
-    if overlay:
-        z1, w_tgt, f1 = _overlay(z1, f1, zt, f_tgt, rings, cuts, K)
+    crossings = 0
+    if overlay:  # the two triangulations overlaid, then refined in both at once
+        steiner = len(z1) - K if refine_first else 0
+        z1, w_tgt, f1 = _overlay(z1, f1, zt, f_tgt, rings, cuts, K) if refine_first else \
+            _overlay(zs, f_src, zt, f_tgt, rings, cuts, K)
+        crossings = len(z1) - K - steiner
+        z1, w_tgt, f1 = _joint_refine(z1, w_tgt, f1, float(mesh_size))
     before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
-    z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K)
+    z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, joint=not overlay)
     a1, a2 = _areas(z1, f1), _areas(w_tgt, f1)
     if not (np.all(a1 > 0) and np.all(a2 > 0)):  # a construction error, never expected
         bad = int(np.flatnonzero((a1 <= 0) | (a2 <= 0))[0])
@@ -153,7 +161,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None):
     t = s.with_vertices(np.c_[w_tgt.real, w_tgt.imag])
     info = {
         "ring_vertices": K, "vertices": len(z1), "faces": len(f1), "steiner": len(z1) - K,
-        "refinement_steiner": S, "cuts": [list(map(int, np.ravel(c))) for c in cuts], "overlay": overlay,
+        "crossings": crossings, "cuts": [list(map(int, np.ravel(c))) for c in cuts], "overlay": overlay,
         "min_angle_before_source": before[0], "min_angle_before_target": before[1],
         "min_angle_source": _min_angle(z1, f1), "min_angle_target": _min_angle(w_tgt, f1),
         "seconds": time.perf_counter() - started,
@@ -668,6 +676,20 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
 
     # target positions of the source's interior vertices: barycentric in the target triangle
     inner = np.flatnonzero(interior)
+    if len(inner):
+        zt_all[inner] = _locate(D, F2, zt_all, inner)
+
+    # glue the cut copies back and number: rings, source interior, intersections
+    vmap = np.r_[np.arange(N1), copies, N1 + np.arange(ncross)]
+    z = np.r_[z1, zs_x]
+    w = np.r_[zt_all[:N1], zt_x]
+    return z, w, vmap[faces]
+
+
+def _locate(D, F2, zt_all, inner):
+    """Target positions of disc vertices ``inner``: barycentric in the target triangle holding them."""
+    import shapely
+
     tri = shapely.polygons(np.stack([np.c_[D[F2[:, i]].real, D[F2[:, i]].imag] for i in (0, 1, 2, 0)], axis=1))
     pts = shapely.points(np.c_[D[inner].real, D[inner].imag])
     pi, ti = shapely.STRtree(tri).query(pts, predicate="intersects")
@@ -680,13 +702,9 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     sel = best[firsts]
     if len(sel) != len(inner):
         raise ShapeError("compatible meshing: an interior vertex fell outside the target triangulation")
-    zt_all[inner[pi[sel]]] = np.sum(lam[sel] * zt_all[F2[ti[sel]]], axis=1)
-
-    # glue the cut copies back and number: rings, source interior, intersections
-    vmap = np.r_[np.arange(N1), copies, N1 + np.arange(ncross)]
-    z = np.r_[z1, zs_x]
-    w = np.r_[zt_all[:N1], zt_x]
-    return z, w, vmap[faces]
+    out = np.empty(len(inner), dtype=complex)
+    out[pi[sel]] = np.sum(lam[sel] * zt_all[F2[ti[sel]]], axis=1)
+    return out
 
 
 def _nudge(D, F, vert, direction, tol):
@@ -712,14 +730,22 @@ def _valid(z, w, f, eps):
     return (_areas(z, f) > eps[0]) & (_areas(w, f) > eps[1])
 
 
-def _smooth(z, w, f, K, eps, rng):
-    """Move an independent set of interior vertices towards their neighbours' mean in both meshes
-    where no incident face of either mesh loses positive area and the star's smallest angle grows."""
+def _smooth(z, w, f, K, eps, rng, joint):
+    """Move an independent set of interior vertices towards the mean of their neighbours.
+
+    A move is accepted where no incident face loses positive area and the
+    smallest angle around the vertex grows. ``joint``: a vertex moves in both
+    meshes or in neither, judged on the smaller angle of the two (this keeps
+    a target that is an affine image of the source one); otherwise each mesh
+    on its own (the meshes share connectivity, not positions).
+
+    Returns
+    -------
+    z, w : (N,) complex, moved : int
+    """
     N = len(z)
     a, b, _, _, _ = _edge_table(f)
     deg = np.bincount(a, minlength=N).astype(float)
-    mz = np.bincount(a, weights=z[b].real, minlength=N) + 1j * np.bincount(a, weights=z[b].imag, minlength=N)
-    mw = np.bincount(a, weights=w[b].real, minlength=N) + 1j * np.bincount(a, weights=w[b].imag, minlength=N)
     prio = rng.random(N)
     prio[:K] = -1.0
     top = np.full(N, -1.0)
@@ -730,23 +756,38 @@ def _smooth(z, w, f, K, eps, rng):
     star = np.any(np.isin(f, move), axis=1)
     fs = f[star]
     owner = np.max(np.where(np.isin(fs, move), fs, -1), axis=1)
-    old = np.full(N, np.inf)
-    np.minimum.at(old, owner, _quality(z, w, fs))
-    accepted = np.zeros(N, dtype=bool)
-    for step in (1.0, 0.5, 0.25):
-        cand = move[~accepted[move]]
-        z2, w2 = z.copy(), w.copy()
-        z2[cand] += step * (mz[cand] / deg[cand] - z[cand])
-        w2[cand] += step * (mw[cand] / deg[cand] - w[cand])
+
+    def judge(p, e):
+        """(N,) valid star, (N,) smallest star angle."""
         ok = np.ones(N, dtype=bool)
-        good = _valid(z2, w2, fs, eps)
-        np.logical_and.at(ok, owner, good)
-        new = np.full(N, np.inf)
-        np.minimum.at(new, owner, _quality(z2, w2, fs))
-        take = cand[ok[cand] & (new[cand] > old[cand] + 1e-9)]
-        z[take], w[take] = z2[take], w2[take]
-        accepted[take] = True
-    return z, w, int(accepted.sum())
+        np.logical_and.at(ok, owner, _areas(p, fs) > e)
+        q = np.full(N, np.inf)
+        np.minimum.at(q, owner, _angles(p, fs).min(axis=1))
+        return ok, q
+
+    mean = [(np.bincount(a, weights=p[b].real, minlength=N) + 1j * np.bincount(a, weights=p[b].imag, minlength=N))
+            / np.maximum(deg, 1) for p in (z, w)]
+    pos = [z.copy(), w.copy()]
+    old = [judge(p, e)[1] for p, e in zip(pos, eps)]
+    done = np.zeros((2, N), dtype=bool)
+    for step in (1.0, 0.5, 0.25):
+        trial, res = [], []
+        for i in (0, 1):
+            p2 = pos[i].copy()
+            cand = move[~done[i, move]]
+            p2[cand] += step * (mean[i][cand] - pos[i][cand])
+            trial.append(p2)
+            res.append(judge(p2, eps[i]))
+        if joint:
+            gain = np.minimum(res[0][1], res[1][1]) > np.minimum(old[0], old[1]) + 1e-9
+            ok = [res[0][0] & res[1][0] & gain] * 2
+        else:
+            ok = [res[i][0] & (res[i][1] > old[i] + 1e-9) for i in (0, 1)]
+        for i in (0, 1):
+            take = move[ok[i][move] & ~done[i, move]]
+            pos[i][take] = trial[i][take]
+            done[i, take] = True
+    return pos[0], pos[1], int(done.any(axis=0).sum())
 
 
 def _joint_flips(z, w, f, eps):
@@ -835,7 +876,30 @@ def _collapse(z, w, f, K, eps, limit):
     return g, int(take.sum())
 
 
-def _improve(z, w, f, K, rounds=40, limit=20.0, seed=0):
+def _joint_refine(z, w, f, size, rounds=30):
+    """Split faces larger than an equilateral triangle of side ``size`` (in the source; the target
+    size scaled by the area ratio) at their centroid in both meshes, then flip edges jointly."""
+    ratio = np.sqrt(abs(_areas(w, f).sum() / _areas(z, f).sum()))
+    big_s = 1.5 * np.sqrt(3) / 4 * size ** 2
+    big_t = big_s * ratio ** 2
+    eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
+    for _ in range(rounds):
+        bad = np.flatnonzero((_areas(z, f) > big_s) | (_areas(w, f) > big_t))
+        if not len(bad):
+            break
+        m = len(z) + np.arange(len(bad))
+        t = f[bad]
+        z = np.r_[z, z[t].mean(axis=1)]
+        w = np.r_[w, w[t].mean(axis=1)]
+        f = np.r_[np.delete(f, bad, axis=0), np.c_[t[:, 0], t[:, 1], m], np.c_[t[:, 1], t[:, 2], m],
+                  np.c_[t[:, 2], t[:, 0], m]]
+        for _ in range(10):
+            if not _joint_flips(z, w, f, eps):
+                break
+    return z, w, f
+
+
+def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
     """Joint edge collapses, edge flips and smoothing of interior vertices in both meshes
     (Surazhsky and Gotsman 2004 style); every step keeps both meshes valid.
 
@@ -850,7 +914,7 @@ def _improve(z, w, f, K, rounds=40, limit=20.0, seed=0):
     for _ in range(rounds):
         f, collapsed = _collapse(z, w, f, K, eps, np.radians(limit))
         flips = _joint_flips(z, w, f, eps)
-        z, w, moved = _smooth(z, w, f, K, eps, rng)
+        z, w, moved = _smooth(z, w, f, K, eps, rng, joint)
         if not (collapsed or flips or moved):
             break
     used = np.zeros(len(z), dtype=bool)
