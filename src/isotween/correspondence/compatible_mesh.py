@@ -134,9 +134,12 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
         raise ParameterError(f"mesh_size must be a positive number, got {mesh_size!r}")
 
     cuts = _cuts(zs, zt, rings)
-    f_src = _triangulate(zs, rings, cuts, "source")
-    f_tgt = _triangulate(zt, rings, cuts, "target")
-    fixed_keys = _keys(np.array([c for pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2))
+    cut_edges = np.array([c for pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2)
+    f_src = _triangulate(zs, rings, cut_edges, "source")
+    # the target keeps every source diagonal that is a diagonal of the target too: fewer crossings
+    shared = _shared_diagonals(f_src, zt, _polygon(zt, rings), cut_edges)
+    f_tgt = _triangulate(zt, rings, np.r_[cut_edges, shared], "target")
+    fixed_keys = _keys(cut_edges)
     z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size))
 
     # first try: the source mesh mapped by mean-value weights (reproduces affine maps)
@@ -150,7 +153,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
         crossings = len(z1) - K - steiner
         z1, w_tgt, f1 = _joint_refine(z1, w_tgt, f1, float(mesh_size))
     before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
-    z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, joint=not overlay)
+    z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, not overlay)
     a1, a2 = _areas(z1, f1), _areas(w_tgt, f1)
     if not (np.all(a1 > 0) and np.all(a2 > 0)):  # a construction error, never expected
         bad = int(np.flatnonzero((a1 <= 0) | (a2 <= 0))[0])
@@ -279,30 +282,87 @@ def _min_angle(z, f):
     return float(np.degrees(_angles(z, f).min())) if len(f) else 0.0
 
 
-def _triangulate(z, rings, cuts, name):
-    """Constrained Delaunay triangles (F, 3) of the polygon, ccw, with every cut as an edge."""
+def _polygon(z, rings):
+    import shapely
+
+    xy = np.c_[z.real, z.imag]
+    return shapely.Polygon(xy[rings[0]], [xy[r] for r in rings[1:]])
+
+
+def _inside(z, poly, pairs):
+    """(m,) whether each segment between vertices ``pairs`` (m, 2) lies inside the polygon and
+    meets its boundary only at its two ends."""
+    import shapely
+
+    if not len(pairs):
+        return np.zeros(0, dtype=bool)
+    seg = shapely.linestrings(np.stack([np.c_[z[pairs[:, 0]].real, z[pairs[:, 0]].imag],
+                                        np.c_[z[pairs[:, 1]].real, z[pairs[:, 1]].imag]], axis=1))
+    return shapely.covers(poly, seg) & (
+        shapely.get_num_geometries(shapely.intersection(seg, shapely.boundary(poly))) == 2)
+
+
+def _triangulate(z, rings, constraints, name):
+    """Constrained Delaunay triangles (F, 3) of the polygon, ccw, with every constraint as an edge.
+
+    Parameters
+    ----------
+    z : (K,) complex
+        Ring vertices.
+    rings : list of (k_r,) int arrays
+    constraints : (m, 2) int array
+        Segments between ring vertices that lie inside the polygon and do
+        not cross each other (cuts and diagonals); the polygon is split along
+        them and every piece triangulated on its own.
+    """
     import shapely
     from shapely.ops import split
 
     xy = np.c_[z.real, z.imag]
-    poly = shapely.Polygon(xy[rings[0]], [xy[r] for r in rings[1:]])
+    poly = _polygon(z, rings)
     pieces = [poly]
-    if cuts:
-        lines = shapely.MultiLineString([xy[list(c)] for pair in cuts for c in pair])
+    if len(constraints):
+        lines = shapely.MultiLineString(list(xy[np.asarray(constraints)]))
         pieces = list(split(poly, lines).geoms)
     tris = [g for p in pieces for g in shapely.constrained_delaunay_triangles(p).geoms]
     coords = shapely.get_coordinates(tris).reshape(-1, 4, 2)[:, :3]
-    table = {(x, y): i for i, (x, y) in enumerate(map(tuple, xy))}
-    try:
-        f = np.array([[table[tuple(c)] for c in t] for t in coords], dtype=np.int64).reshape(-1, 3)
-    except KeyError as exc:
-        raise ShapeError(f"the {name} outline is too close to degenerate to triangulate near {exc.args[0]}") from None
+    q = (coords[..., 0] + 1j * coords[..., 1]).ravel()
+    order = np.argsort(z)  # complex: by x, then y
+    idx = np.minimum(np.searchsorted(z[order], q), len(z) - 1)
+    found = z[order][idx] == q
+    if not found.all():
+        c = q[~found][0]
+        raise ShapeError(f"the {name} outline is too close to degenerate to triangulate near "
+                         f"({c.real:.6g}, {c.imag:.6g})")
+    f = order[idx].reshape(-1, 3)
     a = _areas(z, f)
     f[a < 0] = f[a < 0][:, ::-1]
     area = abs(_signed_area(z[rings[0]])) - sum(abs(_signed_area(z[r])) for r in rings[1:])
     if not np.isclose(np.abs(a).sum(), area, rtol=1e-9, atol=0) or np.any(a == 0):
         raise ShapeError(f"the {name} outline is too close to degenerate to triangulate")
     return f
+
+
+def _shared_diagonals(f_src, zt, poly_t, fixed):
+    """(m, 2) interior edges of the source triangulation that are also diagonals of the target
+    polygon and cross none of each other there (nor the ``fixed`` segments (c, 2))."""
+    import shapely
+
+    a, b, _, key, twin = _edge_table(f_src)
+    h = np.flatnonzero((twin > np.arange(len(a))) & ~np.isin(key, _keys(fixed)))
+    d = np.c_[a[h], b[h]]
+    d = d[_inside(zt, poly_t, d)]
+    if not len(d):
+        return d
+    allseg = np.r_[fixed.reshape(-1, 2), d]
+    lines = shapely.linestrings(np.stack([np.c_[zt[allseg[:, 0]].real, zt[allseg[:, 0]].imag],
+                                          np.c_[zt[allseg[:, 1]].real, zt[allseg[:, 1]].imag]], axis=1))
+    i, j = shapely.STRtree(lines).query(lines, predicate="crosses")
+    drop = np.zeros(len(allseg), dtype=bool)
+    for u, v in zip(i, j):  # crossings are rare (none for a polygon without holes)
+        if u < v and not drop[u] and not drop[v]:
+            drop[max(u, v)] = True
+    return d[~drop[len(fixed):]]
 
 
 def _cuts(zs, zt, rings):
@@ -470,11 +530,13 @@ def _mean_value_laplacian(z, f):
 
 
 def _convex_map(z, f, fixed, values):
-    """Positions (N,) complex: ``values`` at vertices ``fixed``, mean-value combinations elsewhere."""
-    N = len(z)
-    out = np.empty(N, dtype=complex)
+    """Positions (N,) complex: ``values`` at vertices ``fixed``, mean-value combinations elsewhere.
+
+    ``z`` (N,) complex gives the weights (from the shape of the triangles f (F, 3)).
+    """
+    out = z.astype(complex)  # vertices in no face stay where they are
     out[fixed] = values
-    free = np.setdiff1d(np.arange(N), fixed)
+    free = np.setdiff1d(np.unique(f), fixed)
     if len(free):
         L = _mean_value_laplacian(z, f).tocsr()
         rhs = -(L[free][:, fixed] @ values)
