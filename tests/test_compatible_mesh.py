@@ -5,7 +5,7 @@ import pytest
 
 from isotween import resample
 from isotween.correspondence.compatible_mesh import compatible_meshes
-from isotween.errors import IncompatibleShapesError, ShapeError
+from isotween.errors import IncompatibleShapesError, ParameterError, ShapeError
 
 pytest.importorskip("shapely", minversion="2.1")
 
@@ -224,3 +224,11 @@ def test_bad_input_is_named():
         compatible_meshes([square], [np.array([[0, 0], [4, 0], [4, 0], [0, 4]], float)])
     with pytest.raises(ShapeError, match="ring 0 of the source has 2 vertices"):
         compatible_meshes([square[:2]], [square[:2]])
+
+
+def test_too_fine_a_mesh_is_refused_before_meshing():
+    square = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    with pytest.raises(ParameterError, match=r"mesh_size=0.001 would make about 3.7e\+07 triangles.*at least 0.0043"):
+        compatible_meshes([square], [square], mesh_size=1e-3)  # 16 / (sqrt(3)/4 * 1e-6) = 3.7e7
+    with pytest.raises(ParameterError, match="mesh_size must be a positive number"):
+        compatible_meshes([square], [square], mesh_size=-1.0)

@@ -46,6 +46,8 @@ from ..shape import Shape
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
 
+MAX_FACES = 2_000_000  # refused before meshing: the overlay and quality step hold several copies
+
 
 class CompatibleMeshes(NamedTuple):
     """What `compatible_meshes` returns.
@@ -102,7 +104,9 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
         Different numbers of rings or vertices per ring, or a ring that runs
         clockwise in one shape and counter-clockwise in the other (a mirror).
     ParameterError
-        ``mesh_size`` is not a positive number.
+        ``mesh_size`` is not a positive number, or so small that the source
+        mesh would pass ``MAX_FACES`` triangles (refused before meshing,
+        naming the count it would reach).
     MissingDependencyError
         shapely >= 2.1 is missing (``pip install 'isotween[cli]'``).
     """
@@ -133,6 +137,13 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     elif not (np.isscalar(mesh_size) and np.isfinite(mesh_size) and mesh_size > 0):
         raise ParameterError(f"mesh_size must be a positive number, got {mesh_size!r}")
 
+    area = abs(_signed_area(zs[rings[0]])) - sum(abs(_signed_area(zs[r])) for r in rings[1:])
+    expected = area / (np.sqrt(3) / 4 * mesh_size ** 2)
+    if expected > MAX_FACES:
+        raise ParameterError(
+            f"mesh_size={mesh_size:.6g} would make about {expected:.3g} triangles in the source mesh, "
+            f"more than the {MAX_FACES} allowed; use a mesh size of at least "
+            f"{np.sqrt(area / (np.sqrt(3) / 4 * MAX_FACES)):.3g}")
     cuts = _cuts(zs, zt, rings)
     cut_edges = np.array([c for pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2)
     f_src = _triangulate(zs, rings, cut_edges, "source")
@@ -694,13 +705,10 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     pieces = [np.c_[xp[o[pair]], xp[o[pair + 1]]]]
     lone = xp[o[single]]
     fl, cl_ = p_face[lone], p_chord[lone]
-    corner = np.flatnonzero(F1[fl] == ca[cl_][:, None]) if len(lone) else np.zeros(0, dtype=np.int64)
-    ka = (F1[fl] == ca[cl_][:, None]) | (F1[fl] == cb[cl_][:, None])
-    k = np.argmax(ka, axis=1)
+    ka = (F1[fl] == ca[cl_][:, None]) | (F1[fl] == cb[cl_][:, None])  # the chord's end at a corner
     if len(lone) and not ka.any(axis=1).all():
         raise ShapeError("compatible meshing: a chord ends inside a triangle (inconsistent overlay)")
-    pieces.append(np.c_[lone, 3 * fl + k])
-    del corner
+    pieces.append(np.c_[lone, 3 * fl + np.argmax(ka, axis=1)])
     pieces = np.vstack(pieces)
 
     # faces of each triangle's subdivision (an outerplanar graph) by tracing
