@@ -800,11 +800,29 @@ def _valid(z, w, f, eps):
     return (_areas(z, f) > eps[0]) & (_areas(w, f) > eps[1])
 
 
-def _smooth(z, w, f, K, eps, rng, joint):
-    """Move an independent set of interior vertices towards the mean of their neighbours.
+def _odt(z, f):
+    """(N,) area-weighted mean of the circumcentres of each vertex's triangles (optimal Delaunay
+    triangulation smoothing, Chen and Xu 2004)."""
+    u, v = z[f[:, 1]] - z[f[:, 0]], z[f[:, 2]] - z[f[:, 0]]
+    area = 0.5 * (np.conj(u) * v).imag
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cc = z[f[:, 0]] + (np.abs(u) ** 2 * v - np.abs(v) ** 2 * u) / (4j * area)
+    cc = np.where(np.isfinite(cc), cc, z[f].mean(axis=1))
+    idx = f.ravel()
+    wts = np.repeat(area, 3)
+    num = np.bincount(idx, weights=wts * np.repeat(cc.real, 3), minlength=len(z)) + 1j * np.bincount(
+        idx, weights=wts * np.repeat(cc.imag, 3), minlength=len(z))
+    den = np.bincount(idx, weights=wts, minlength=len(z))
+    return np.where(den > 0, num / np.where(den > 0, den, 1), z)
 
-    A move is accepted where no incident face loses positive area and the
-    smallest angle around the vertex grows. ``joint``: a vertex moves in both
+
+def _smooth(z, w, f, K, eps, rng, joint):
+    """Move an independent set of interior vertices to better places.
+
+    Goals: the circumcentre mean of `_odt` (not with ``joint``), else the
+    neighbours' mean, at full, half and quarter step. A move is accepted
+    where no incident face loses positive area and the smallest angle around
+    the vertex grows. ``joint``: a vertex moves in both
     meshes or in neither, judged on the smaller angle of the two (this keeps
     a target that is an affine image of the source one); otherwise each mesh
     on its own (the meshes share connectivity, not positions).
@@ -835,17 +853,19 @@ def _smooth(z, w, f, K, eps, rng, joint):
         np.minimum.at(q, owner, _angles(p, fs).min(axis=1))
         return ok, q
 
-    mean = [(np.bincount(a, weights=p[b].real, minlength=N) + 1j * np.bincount(a, weights=p[b].imag, minlength=N))
-            / np.maximum(deg, 1) for p in (z, w)]
+    goals = [[(np.bincount(a, weights=p[b].real, minlength=N) + 1j * np.bincount(a, weights=p[b].imag, minlength=N))
+              / np.maximum(deg, 1) for p in (z, w)]]  # Laplacian: affine images stay affine images
+    if not joint:
+        goals.insert(0, [_odt(p, f) for p in (z, w)])
     pos = [z.copy(), w.copy()]
     old = [judge(p, e)[1] for p, e in zip(pos, eps)]
     done = np.zeros((2, N), dtype=bool)
-    for step in (1.0, 0.5, 0.25):
+    for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
         trial, res = [], []
         for i in (0, 1):
             p2 = pos[i].copy()
             cand = move[~done[i, move]]
-            p2[cand] += step * (mean[i][cand] - pos[i][cand])
+            p2[cand] += step * (goal[i][cand] - pos[i][cand])
             trial.append(p2)
             res.append(judge(p2, eps[i]))
         if joint:
