@@ -283,10 +283,11 @@ def _scale2(z):
 def _angles(z, f):
     """(F, 3) corner angles in radians."""
     p = z[f]
-    u = np.roll(p, -1, axis=1) - p
-    v = np.roll(p, -2, axis=1) - p
+    u = p[:, [1, 2, 0]] - p
+    v = p[:, [2, 0, 1]] - p
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.nan_to_num(np.abs(np.angle(v / u)), nan=0.0)
+        ang = np.abs(np.angle(v / u))
+    return np.where(np.isnan(ang), 0.0, ang)
 
 
 def _min_angle(z, f):
@@ -1005,7 +1006,7 @@ def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
         f, collapsed = _collapse(z, w, f, K, eps, np.radians(limit))
         flips = _joint_flips(z, w, f, eps)
         z, w, moved = _smooth(z, w, f, K, eps, rng, joint)
-        if not (collapsed or flips or moved):
+        if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):
             break
     used = np.zeros(len(z), dtype=bool)
     used[f] = True
