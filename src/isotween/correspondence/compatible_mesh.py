@@ -41,7 +41,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
-from ..errors import IncompatibleShapesError, ShapeError, require
+from ..errors import IncompatibleShapesError, MissingDependencyError, ParameterError, ShapeError, require
 from ..shape import Shape
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
@@ -63,9 +63,10 @@ class CompatibleMeshes(NamedTuple):
         ``vertices``, ``faces``, ``ring_vertices`` (K), ``steiner`` (interior
         vertices), ``cuts`` (per hole: outer and hole vertex of its two cuts),
         ``overlay`` (whether the overlay was needed), ``crossings``
-        (intersection vertices the overlay made, before the quality step), ``min_angle_source`` / ``min_angle_target``
-        (degrees, final), ``min_angle_before_source`` /
-        ``min_angle_before_target`` (before the quality step), ``seconds``.
+        (intersection vertices the overlay made, before the quality step),
+        ``min_angle_source`` / ``min_angle_target`` (degrees, final),
+        ``min_angle_before_source`` / ``min_angle_before_target`` (before the
+        quality step), ``seconds``.
     """
 
     source: Shape
@@ -110,12 +111,11 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     MissingDependencyError
         shapely >= 2.1 is missing (``pip install 'isotween[cli]'``).
     """
-    from ..errors import ParameterError
-
     started = time.perf_counter()
     shapely = require("shapely", "cli")
     if not hasattr(shapely, "constrained_delaunay_triangles"):
-        raise ShapeError("compatible meshing needs shapely >= 2.1: pip install -U 'shapely>=2.1'")
+        raise MissingDependencyError(
+            f"compatible meshing needs shapely >= 2.1 (found {shapely.__version__}): pip install -U 'shapely>=2.1'")
     src = _rings(source_rings, "source")
     tgt = _rings(target_rings, "target")
     if len(src) != len(tgt):
@@ -310,8 +310,8 @@ def _inside(z, poly, pairs):
         return np.zeros(0, dtype=bool)
     seg = shapely.linestrings(np.stack([np.c_[z[pairs[:, 0]].real, z[pairs[:, 0]].imag],
                                         np.c_[z[pairs[:, 1]].real, z[pairs[:, 1]].imag]], axis=1))
-    return shapely.covers(poly, seg) & (
-        shapely.get_num_geometries(shapely.intersection(seg, shapely.boundary(poly))) == 2)
+    # DE-9IM: the segment's interior meets the polygon's interior, neither its boundary nor outside
+    return shapely.relate_pattern(poly, seg, "1**F**F**")
 
 
 def _triangulate(z, rings, constraints, name):
@@ -389,8 +389,7 @@ def _cuts(zs, zt, rings):
     if len(rings) == 1:
         return []
     xys = [np.c_[z.real, z.imag] for z in (zs, zt)]
-    polys = [shapely.Polygon(xy[rings[0]], [xy[r] for r in rings[1:]]) for xy in xys]
-    bounds = [shapely.boundary(p) for p in polys]
+    polys = [_polygon(z, rings) for z in (zs, zt)]
     for p in polys:
         shapely.prepare(p)
     outer = rings[0]
@@ -407,12 +406,9 @@ def _cuts(zs, zt, rings):
         cand_len = d[hi, oi]
         order = np.argsort(cand_len, kind="stable")
         hv, ov = hole[hi[order]], outer[oi[order]]
-        ok = np.ones(len(hv), dtype=bool)
-        for xy, poly, bnd in zip(xys, polys, bounds):
-            seg = shapely.linestrings(np.stack([xy[ov], xy[hv]], axis=1))
-            ok &= shapely.covers(poly, seg)
-            ok &= shapely.get_num_geometries(shapely.intersection(seg, bnd)) == 2
-        ok &= ~np.isin(ov, list(used))
+        ok = ~np.isin(ov, list(used))
+        for z, poly in zip((zs, zt), polys):
+            ok[ok] = _inside(z, poly, np.c_[ov[ok], hv[ok]])
         cand = np.flatnonzero(ok)
         picks = []
         for c in cand:
@@ -628,7 +624,7 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     """
     import shapely
 
-    N1, nh = len(z1), len(cuts)
+    N1 = len(z1)
     copies = np.array([x for (u, v), _ in cuts for x in (u, v)], dtype=np.int64)
     orig = np.r_[np.arange(N1), copies]
     zs_all = z1[orig]
