@@ -232,3 +232,24 @@ def test_too_fine_a_mesh_is_refused_before_meshing():
         compatible_meshes([square], [square], mesh_size=1e-3)  # 16 / (sqrt(3)/4 * 1e-6) = 3.7e7
     with pytest.raises(ParameterError, match="mesh_size must be a positive number"):
         compatible_meshes([square], [square], mesh_size=-1.0)
+
+
+def test_a_hole_cut_to_another_hole():
+    """A centre hole walled in by two arc-shaped holes whose gaps turn by 90 degrees: no straight cut
+    reaches the outer ring in both shapes, so the centre hole is cut to an arc hole."""
+    def circle(k, r, cw=False):
+        th = np.linspace(0, 2 * np.pi, k, endpoint=False) * (-1 if cw else 1)
+        return np.c_[r * np.cos(th), r * np.sin(th)]
+
+    def arc(a0, a1, turn):
+        th = np.radians(np.linspace(a0, a1, 12) + turn)
+        z = np.r_[2.5 * np.exp(1j * th), 1.5 * np.exp(1j * th[::-1])][::-1]  # clockwise
+        return np.c_[z.real, z.imag]
+
+    src = [circle(64, 4.0), arc(10, 170, 0), arc(190, 350, 0), circle(16, 0.6, cw=True)]
+    tgt = [circle(64, 4.0), arc(10, 170, 90), arc(190, 350, 90), circle(16, 0.6, cw=True)]
+    result = compatible_meshes(src, tgt, mesh_size=0.4)
+    check(result, src, tgt)
+    joined_to = {h: u for h, u, _, _, _ in result.info["cuts"]}
+    assert joined_to[3] >= 64  # the centre hole hangs from a hole, not from the outer ring
+    assert len(result.info["cuts"]) == 3 and result.info["overlay"]  # the cut disc was overlaid

@@ -6,8 +6,9 @@ The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
 
 1. Each polygon is triangulated on its own by shapely's constrained Delaunay
    triangulation (no vertex is added). A polygon with holes is first cut into
-   a disc: every hole gets two cuts to the outer ring, segments between
-   corresponding ring vertices that lie inside both polygons. Both polygons
+   a disc: every hole gets two cuts to the outer ring or to a hole joined
+   before, segments between corresponding ring vertices that lie inside both
+   polygons. Both polygons
    are triangulated piecewise, so the cuts are edges of both meshes; the
    first cut of every hole is then opened (its two vertices duplicated).
 2. First try: the source mesh, refined with interior Steiner points (centroid
@@ -61,7 +62,8 @@ class CompatibleMeshes(NamedTuple):
         the rings.
     info : dict
         ``vertices``, ``faces``, ``ring_vertices`` (K), ``steiner`` (interior
-        vertices), ``cuts`` (per hole: outer and hole vertex of its two cuts),
+        vertices), ``cuts`` (per hole: ``[hole, u1, v1, u2, v2]``, its two
+        cuts from vertex u of a joined ring to vertex v of the hole),
         ``overlay`` (whether the overlay was needed), ``crossings``
         (intersection vertices the overlay made, before the quality step),
         ``min_angle_source`` / ``min_angle_target`` (degrees, final),
@@ -145,7 +147,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
             f"more than the {MAX_FACES} allowed; use a mesh size of at least "
             f"{np.sqrt(area / (np.sqrt(3) / 4 * MAX_FACES)):.3g}")
     cuts = _cuts(zs, zt, rings)
-    cut_edges = np.array([c for pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2)
+    cut_edges = np.array([c for _, *pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2)
     f_src = _triangulate(zs, rings, cut_edges, "source")
     # the target keeps every source diagonal that is a diagonal of the target too: fewer crossings
     shared = _shared_diagonals(f_src, zt, _polygon(zt, rings), cut_edges)
@@ -175,7 +177,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     t = s.with_vertices(np.c_[w_tgt.real, w_tgt.imag])
     info = {
         "ring_vertices": K, "vertices": len(z1), "faces": len(f1), "steiner": len(z1) - K,
-        "crossings": crossings, "cuts": [list(map(int, np.ravel(c))) for c in cuts], "overlay": overlay,
+        "crossings": crossings, "cuts": [[h, *u, *v] for h, u, v in cuts], "overlay": overlay,
         "min_angle_before_source": before[0], "min_angle_before_target": before[1],
         "min_angle_source": _min_angle(z1, f1), "min_angle_target": _min_angle(w_tgt, f1),
         "seconds": time.perf_counter() - started,
@@ -377,61 +379,83 @@ def _shared_diagonals(f_src, zt, poly_t, fixed):
     return d[~drop[len(fixed):]]
 
 
-def _cuts(zs, zt, rings):
-    """Two cuts per hole: ((outer vertex, hole vertex), (outer vertex, hole vertex)).
+def _cuts(zs, zt, rings, near=12):
+    """Two cuts per hole, joining it to the outer ring or to a hole joined before.
 
-    A cut is a segment between a ring vertex of the hole and one of the outer
-    ring that lies inside both polygons and crosses no other cut; the outer
-    vertices of all cuts differ.
+    A cut is a segment between a vertex of the hole and a vertex of a joined
+    ring that lies inside both polygons and crosses no other cut; no vertex
+    ends two cuts, and the two cuts of a hole start a quarter of the hole
+    apart. Holes are joined nearest first (summed cut length in both shapes).
+
+    Returns
+    -------
+    list of (hole, (u1, v1), (u2, v2))
+        In joining order; u on the joined ring, v on the hole; the first cut
+        is opened to make the polygon a disc.
     """
     import shapely
 
     if len(rings) == 1:
         return []
-    xys = [np.c_[z.real, z.imag] for z in (zs, zt)]
     polys = [_polygon(z, rings) for z in (zs, zt)]
     for p in polys:
         shapely.prepare(p)
-    outer = rings[0]
-    chosen, used = [], set()
-    taken = []  # lines of chosen cuts, per shape
-    for h in range(1, len(rings)):
-        hole = rings[h]
-        # candidate pairs: nearest outer vertices (in both shapes) of every hole vertex
-        d = np.abs(zs[hole][:, None] - zs[outer][None, :]) + np.abs(zt[hole][:, None] - zt[outer][None, :])
-        k = min(len(outer), 8)
-        near = np.argpartition(d, k - 1, axis=1)[:, :k]
-        hi = np.repeat(np.arange(len(hole)), k)
-        oi = near.ravel()
-        cand_len = d[hi, oi]
-        order = np.argsort(cand_len, kind="stable")
-        hv, ov = hole[hi[order]], outer[oi[order]]
-        ok = ~np.isin(ov, list(used))
-        for z, poly in zip((zs, zt), polys):
-            ok[ok] = _inside(z, poly, np.c_[ov[ok], hv[ok]])
-        cand = np.flatnonzero(ok)
-        picks = []
-        for c in cand:
-            if any(np.any(shapely.intersects(
-                    shapely.linestrings(xy[[ov[c], hv[c]]]), taken_s)) for xy, taken_s in
-                    zip(xys, [[t[s] for t in taken] for s in range(2)]) if taken_s):
-                continue
-            if picks:  # the second cut starts far from the first on the hole
-                p0 = picks[0]
-                gap = abs(np.flatnonzero(hole == hv[c])[0] - np.flatnonzero(hole == hv[p0])[0])
-                if min(gap, len(hole) - gap) < max(1, len(hole) // 4) or ov[c] == ov[p0]:
-                    continue
-            picks.append(c)
-            taken.append([shapely.linestrings(xy[[ov[c], hv[c]]]) for xy in xys])
-            if len(picks) == 2:
-                break
-        if len(picks) < 2:
+    joined = [0]
+    chosen, used, taken = [], set(), [[], []]  # taken: lines of the chosen cuts in each shape
+    while len(joined) < len(rings):
+        best = None
+        for h in (h for h in range(1, len(rings)) if h not in joined):
+            picks = _hole_cuts(zs, zt, rings, h, np.concatenate([rings[j] for j in joined]), polys, used,
+                               taken, near)
+            if picks is not None and (best is None or picks[0] < best[0]):
+                best = (picks[0], h, picks[1])
+        if best is None:
+            h = next(h for h in range(1, len(rings)) if h not in joined)
             raise ShapeError(
-                f"ring {h} (a hole) has no two vertices that join the outer ring by straight cuts inside both "
-                "the source and the target; resample the rings more finely")
-        chosen.append(tuple((int(ov[c]), int(hv[c])) for c in picks))
-        used.update(int(ov[c]) for c in picks)
+                f"ring {h} (a hole) has no two vertices that join the outer ring or another hole by straight "
+                "cuts inside both the source and the target; resample the rings more finely")
+        _, h, pair = best
+        chosen.append((h, *pair))
+        joined.append(h)
+        for u, v in pair:
+            used.update((u, v))
+            for s, z in enumerate((zs, zt)):
+                taken[s].append(shapely.linestrings(np.c_[z[[u, v]].real, z[[u, v]].imag]))
     return chosen
+
+
+def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
+    """(summed length, ((u1, v1), (u2, v2))) of the shortest two valid cuts from hole h to the
+    vertices ``base``, or None."""
+    import shapely
+
+    hole = rings[h]
+    d = np.abs(zs[hole][:, None] - zs[base][None, :]) + np.abs(zt[hole][:, None] - zt[base][None, :])
+    k = min(len(base), near)
+    nearest = np.argpartition(d, k - 1, axis=1)[:, :k]
+    hi = np.repeat(np.arange(len(hole)), k)
+    bi = nearest.ravel()
+    order = np.argsort(d[hi, bi], kind="stable")
+    hi, bi = hi[order], bi[order]
+    hv, bv = hole[hi], base[bi]
+    ok = ~np.isin(bv, list(used)) & ~np.isin(hv, list(used))
+    for z, poly in zip((zs, zt), polys):
+        ok[ok] = _inside(z, poly, np.c_[bv[ok], hv[ok]])
+    picks = []
+    for c in np.flatnonzero(ok):
+        if any(len(t) and np.any(shapely.intersects(
+                shapely.linestrings(np.c_[z[[bv[c], hv[c]]].real, z[[bv[c], hv[c]]].imag]),
+                t + [shapely.linestrings(np.c_[z[[bv[p], hv[p]]].real, z[[bv[p], hv[p]]].imag]) for p in picks]))
+               for z, t in zip((zs, zt), taken)):
+            continue
+        if picks:  # the second cut: another joined vertex, a quarter of the hole away from the first
+            gap = abs(int(hi[c]) - int(hi[picks[0]]))
+            if min(gap, len(hole) - gap) < max(1, len(hole) // 4) or bv[c] == bv[picks[0]]:
+                continue
+        picks.append(c)
+        if len(picks) == 2:
+            return float(d[hi[picks[0]], bi[picks[0]]]), tuple((int(bv[c]), int(hv[c])) for c in picks)
+    return None
 
 
 # ---------------------------------------------------------------- refinement
@@ -564,8 +588,8 @@ def _open_cuts(f, cuts, first_copy):
     and the hole vertex before v take v'.
     """
     out = f.copy()
-    for h, ((u, v), _) in enumerate(cuts):
-        for vert, other, copy, reached in ((u, v, first_copy + 2 * h, False), (v, u, first_copy + 2 * h + 1, True)):
+    for i, (_, (u, v), _) in enumerate(cuts):
+        for vert, other, copy, reached in ((u, v, first_copy + 2 * i, False), (v, u, first_copy + 2 * i + 1, True)):
             rows, cols = np.nonzero(f == vert)
             nxt = {int(f[r, (c + 1) % 3]): int(r) for r, c in zip(rows, cols)}
             w, side = other, []
@@ -579,17 +603,22 @@ def _open_cuts(f, cuts, first_copy):
 
 
 def _disc_cycle(rings, cuts, first_copy):
-    """Boundary cycle of the cut polygon: outer ccw, detours around each hole along its first cut."""
-    detour = {}
-    for h, ((u, v), _) in enumerate(cuts):
-        hole = rings[h + 1]
-        s = int(np.flatnonzero(hole == v)[0])
-        around = np.roll(hole, -s)  # v first, hole order (cw: interior on the left)
-        detour[u] = [u] + list(around) + [first_copy + 2 * h + 1, first_copy + 2 * h]
-    cyc = []
-    for u in rings[0]:
-        cyc.extend(detour.get(int(u), [int(u)]))
-    return np.array(cyc, dtype=np.int64)
+    """(B,) boundary cycle of the cut polygon: the outer ring ccw with a detour along the first cut
+    of every hole, around the hole (and the holes joined to it) and back along the cut's copies."""
+    detour = {u: (h, v, first_copy + 2 * i, first_copy + 2 * i + 1) for i, (h, (u, v), _) in enumerate(cuts)}
+    out = []
+
+    def walk(ring):
+        for x in ring:
+            out.append(int(x))
+            if int(x) in detour:
+                h, v, u_copy, v_copy = detour[int(x)]
+                hole = rings[h]
+                walk(np.roll(hole, -int(np.flatnonzero(hole == v)[0])))  # v first, the hole's order
+                out.extend((v_copy, u_copy))
+
+    walk(rings[0])
+    return np.array(out, dtype=np.int64)
 
 
 def _orient(pa, pb, pc):
@@ -625,7 +654,7 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     import shapely
 
     N1 = len(z1)
-    copies = np.array([x for (u, v), _ in cuts for x in (u, v)], dtype=np.int64)
+    copies = np.array([x for _, (u, v), _ in cuts for x in (u, v)], dtype=np.int64)
     orig = np.r_[np.arange(N1), copies]
     zs_all = z1[orig]
     zt_all = np.full(len(orig), np.nan + 0j)
