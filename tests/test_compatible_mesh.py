@@ -5,7 +5,7 @@ import pytest
 
 from isotween import resample
 from isotween.correspondence.compatible_mesh import compatible_meshes
-from isotween.errors import IncompatibleShapesError, ShapeError
+from isotween.errors import IncompatibleShapesError, ParameterError, ShapeError
 
 pytest.importorskip("shapely", minversion="2.1")
 
@@ -134,8 +134,9 @@ def test_hard_cases_have_no_flipped_triangle(case):
 
 def test_random_star_polygons_never_flip():
     rng = np.random.default_rng(7)
-    for _ in range(30):
-        k = int(rng.integers(6, 40))
+    overlays = [0, 0]
+    for i in range(24):
+        k = int(rng.integers(6, 30))
 
         def star(lo, hi):
             th = (np.arange(k) + 0.8 * rng.random(k)) / k * 2 * np.pi
@@ -145,7 +146,10 @@ def test_random_star_polygons_never_flip():
         src, tgt = star(1.0, 2.0), star(0.2, 2.5)
         if rng.random() < 0.5:  # clockwise input: the output keeps the input order
             src, tgt = src[::-1], tgt[::-1]
-        check(compatible_meshes([src], [tgt], mesh_size=rng.uniform(0.2, 0.6)), [src], [tgt])
+        result = compatible_meshes([src], [tgt], mesh_size=rng.uniform(0.35, 0.7), refine_first=i % 2 == 1)
+        check(result, [src], [tgt])
+        overlays[i % 2] += result.info["overlay"]
+    assert min(overlays) >= 6  # both overlay variants were exercised, not only the direct map
 
 
 def test_holes_one_and_two():
@@ -220,3 +224,32 @@ def test_bad_input_is_named():
         compatible_meshes([square], [np.array([[0, 0], [4, 0], [4, 0], [0, 4]], float)])
     with pytest.raises(ShapeError, match="ring 0 of the source has 2 vertices"):
         compatible_meshes([square[:2]], [square[:2]])
+
+
+def test_too_fine_a_mesh_is_refused_before_meshing():
+    square = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    with pytest.raises(ParameterError, match=r"mesh_size=0.001 would make about 3.7e\+07 triangles.*at least 0.0043"):
+        compatible_meshes([square], [square], mesh_size=1e-3)  # 16 / (sqrt(3)/4 * 1e-6) = 3.7e7
+    with pytest.raises(ParameterError, match="mesh_size must be a positive number"):
+        compatible_meshes([square], [square], mesh_size=-1.0)
+
+
+def test_a_hole_cut_to_another_hole():
+    """A centre hole walled in by two arc-shaped holes whose gaps turn by 90 degrees: no straight cut
+    reaches the outer ring in both shapes, so the centre hole is cut to an arc hole."""
+    def circle(k, r, cw=False):
+        th = np.linspace(0, 2 * np.pi, k, endpoint=False) * (-1 if cw else 1)
+        return np.c_[r * np.cos(th), r * np.sin(th)]
+
+    def arc(a0, a1, turn):
+        th = np.radians(np.linspace(a0, a1, 12) + turn)
+        z = np.r_[2.5 * np.exp(1j * th), 1.5 * np.exp(1j * th[::-1])][::-1]  # clockwise
+        return np.c_[z.real, z.imag]
+
+    src = [circle(64, 4.0), arc(10, 170, 0), arc(190, 350, 0), circle(16, 0.6, cw=True)]
+    tgt = [circle(64, 4.0), arc(10, 170, 90), arc(190, 350, 90), circle(16, 0.6, cw=True)]
+    result = compatible_meshes(src, tgt, mesh_size=0.4)
+    check(result, src, tgt)
+    joined_to = {h: u for h, u, _, _, _ in result.info["cuts"]}
+    assert joined_to[3] >= 64  # the centre hole hangs from a hole, not from the outer ring
+    assert len(result.info["cuts"]) == 3 and result.info["overlay"]  # the cut disc was overlaid

@@ -1,4 +1,5 @@
-"""Meshes from outlines: triangulation with holes, harmonic target, flips, errors, CLI."""
+"""Meshes from outlines: compatible meshes by default, the Triangle path with its harmonic target
+(flips reported), errors, CLI."""
 
 import numpy as np
 import pytest
@@ -8,7 +9,11 @@ from isotween import Shape, io, mesh_pair, resample
 from isotween.cli import main
 from isotween.errors import IncompatibleShapesError, ShapeError
 
-pytest.importorskip("triangle")
+pytest.importorskip("shapely", minversion="2.1")
+
+
+def needs_triangle():
+    pytest.importorskip("triangle")
 
 
 def ellipse(k, a, b, centre=0j, reverse=False):
@@ -44,9 +49,20 @@ def test_rigid_motion_gives_a_rigidly_moved_mesh(washer):
     assert src.n_vertices > washer.n_vertices  # the interior was filled
 
 
+def test_default_mesh_fills_the_polygon_and_leaves_the_hole(washer):
+    small = washer.with_vertices(washer.vertices * 0.01)
+    src, tgt, flipped = mesh_pair(small, small, max_area=5e-6)
+    areas = src.face_areas()
+    assert np.all(areas > 0) and flipped.size == 0
+    np.testing.assert_allclose(areas.sum(), polygon_area(small), rtol=1e-12)
+    np.testing.assert_allclose(tgt.vertices, src.vertices, atol=1e-12)  # the same outline: the same mesh
+    assert src.n_faces > polygon_area(small) / 5e-6  # max_area sets the mesh size
+
+
 def test_mesh_fills_the_polygon_and_leaves_the_hole(washer):
+    needs_triangle()
     small = washer.with_vertices(washer.vertices * 0.01)  # areas written 5e-06 must still reach Triangle
-    src, _, _ = mesh_pair(small, small, max_area=5e-6, min_angle=25)
+    src, _, _ = mesh_pair(small, small, max_area=5e-6, min_angle=25, mesher="triangle")
     areas = src.face_areas()
     assert np.all(areas > 0)
     np.testing.assert_allclose(areas.sum(), polygon_area(small), rtol=1e-12)
@@ -76,13 +92,30 @@ def test_bent_outline_is_the_target_boundary_exactly():
     assert flipped.size == 0 and np.all(tgt.face_areas() > 0)
 
 
+def test_default_mesher_has_no_flips_where_the_harmonic_map_folds():
+    # a disc into a five-petal flower: the cotangent map of the source mesh flips triangles
+    th = np.linspace(0, 2 * np.pi, 80, endpoint=False)
+    flower = (2.5 + 1.2 * np.cos(5 * th)) * np.exp(1j * th)
+    disc = Shape.from_polygon(ellipse(80, 2.5, 2.5))
+    target = disc.with_vertices(np.c_[flower.real, flower.imag])
+    if pytest.importorskip("triangle"):
+        with pytest.warns(UserWarning, match="flipped triangle"):
+            assert mesh_pair(disc, target, mesher="triangle").flipped.size > 0
+    src, tgt, flipped = mesh_pair(disc, target)
+    assert flipped.size == 0 and np.all(src.face_areas() > 0) and np.all(tgt.face_areas() > 0)
+    np.testing.assert_array_equal(tgt.vertices[:80], target.vertices)
+
+
 def test_flipped_target_triangles_are_reported(washer):
+    needs_triangle()
     # push part of the outer boundary through the hole: the map folds
     z = washer.z.copy()
     z[:8] = z[:8] - 4.5
     target = washer.with_vertices(np.c_[z.real, z.imag])
+    with pytest.raises(ShapeError, match="target outline touches or crosses itself"):
+        mesh_pair(washer, target)  # the default mesher refuses the crossing target outline
     with pytest.warns(UserWarning, match="flipped triangle"):
-        src, tgt, flipped = mesh_pair(washer, target)
+        src, tgt, flipped = mesh_pair(washer, target, mesher="triangle")
     expected = np.flatnonzero(np.sign(tgt.face_areas()) != np.sign(src.face_areas()))
     assert flipped.size > 0
     np.testing.assert_array_equal(flipped, expected)
@@ -94,14 +127,20 @@ def test_self_touching_outline():
     with pytest.raises(ShapeError, match=r"touches itself at \(1, 1\): vertex 1 of ring 0 and vertex 4 of ring 0"):
         mesh_pair(eight, eight)
     t_junction = Shape.from_polygon([[0, 0], [4, 0], [4, 4], [2, 0], [0, 4]])
-    with pytest.raises(ShapeError, match=r"touches itself at \(2, 0\)"):
+    with pytest.raises(ShapeError, match=r"touches or crosses itself at \(2, 0\): edge 0-1 of ring 0"):
         mesh_pair(t_junction, t_junction)
+    if pytest.importorskip("triangle"):
+        with pytest.raises(ShapeError, match=r"touches itself at \(2, 0\)"):
+            mesh_pair(t_junction, t_junction, mesher="triangle")
 
 
 def test_crossing_outline():
     bowtie = Shape.from_polygon([[0, 0], [2, 2], [2, 0], [0, 2]])
-    with pytest.raises(ShapeError, match=r"crosses itself near \(1, 1\)"):
+    with pytest.raises(ShapeError, match=r"touches or crosses itself at \(1, 1\): edge 0-1 of ring 0 meets edge 2-3"):
         mesh_pair(bowtie, bowtie)
+    if pytest.importorskip("triangle"):
+        with pytest.raises(ShapeError, match=r"crosses itself near \(1, 1\)"):
+            mesh_pair(bowtie, bowtie, mesher="triangle")
 
 
 def test_open_or_incompatible_outlines(washer):
@@ -140,18 +179,15 @@ def test_cli_mesh_on_the_fly_matches_prepare(tmp_path):
     np.testing.assert_allclose(seq.frames[-1], expected.target.vertices, atol=1e-12)
 
 
-def test_cli_warns_about_flipped_triangles(tmp_path, washer):
+def test_cli_refuses_a_crossing_target_outline(tmp_path, washer):
     z = washer.z.copy()
     z[:8] = z[:8] - 4.5  # as in test_flipped_target_triangles_are_reported
     io.save(washer, tmp_path / "a.svg")
     io.save(washer.with_vertices(np.c_[z.real, z.imag]), tmp_path / "b.svg")
     result = CliRunner().invoke(main, ["prepare", str(tmp_path / "a.svg"), str(tmp_path / "b.svg"),
                                        "--mesh", "-o", str(tmp_path / "p")])
-    assert result.exit_code == 0, result.output
-    with pytest.warns(UserWarning):
-        pair = mesh_pair(io.load(tmp_path / "a.svg"), io.load(tmp_path / "b.svg"))
-    assert result.stderr.startswith(f"warning: the target mesh has {pair.flipped.size} flipped triangle(s)")
-    assert io.load(tmp_path / "p" / "target.obj").n_faces == pair.target.n_faces
+    assert result.exit_code == 2 and "target outline touches or crosses itself" in result.stderr, result.output
+    assert not (tmp_path / "p").exists()
 
 
 def test_cli_errors_leave_no_output(tmp_path):

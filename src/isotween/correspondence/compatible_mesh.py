@@ -5,29 +5,33 @@ The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
 2004):
 
 1. Each polygon is triangulated on its own by shapely's constrained Delaunay
-   triangulation (no vertex is added). The source mesh is refined with
-   interior Steiner points (centroid insertion and Lawson flips) down to the
-   target edge length ``mesh_size``.
-2. A polygon with holes is first cut into a disc: every hole gets two cuts to
-   the outer ring, segments between corresponding ring vertices that lie inside
-   both polygons. Both polygons are triangulated piecewise, so the cuts are
-   edges of both meshes; the first cut of every hole is then opened (its two
-   vertices duplicated) to make the mesh a disc.
-3. Both discs are mapped onto the unit circle with their boundary vertices at
-   the same places (mean of the two normalised arc lengths) and the interior
-   vertices of the source mesh by mean-value weights, which are positive:
-   Tutte's theorem (Floater 2003) makes both maps embeddings.
-4. Their overlay in the circle is built combinatorially: every target chord
-   is cut by the source edges it crosses, an intersection vertex is the pair
+   triangulation (no vertex is added). A polygon with holes is first cut into
+   a disc: every hole gets two cuts to the outer ring or to a hole joined
+   before, segments between corresponding ring vertices that lie inside both
+   polygons. Both polygons
+   are triangulated piecewise, so the cuts are edges of both meshes; the
+   first cut of every hole is then opened (its two vertices duplicated).
+2. First try: the source mesh, refined with interior Steiner points (centroid
+   insertion and Lawson flips down to the edge length ``mesh_size``), mapped
+   onto the target outline by mean-value weights (which reproduce affine
+   maps). If no target triangle is flipped, that is the result.
+3. Otherwise both triangulations are mapped onto the unit circle with their
+   boundary vertices at the same places (the mean of the two normalised arc
+   lengths); interior vertices (``refine_first=True`` only) by mean-value
+   weights, which are positive, so Tutte's theorem (Floater 2003) makes both
+   maps embeddings. Their overlay is built combinatorially: a target chord is
+   cut by the source edges it crosses, an intersection vertex is the pair
    (source edge, target chord), and every overlay cell is a convex polygon
-   inside one triangle of each mesh. Cells are fan-triangulated and mapped
-   back affinely through their source and their target triangle.
-5. Interior vertices are smoothed and edges flipped jointly in both meshes,
-   each change accepted only when every triangle of both meshes keeps a
-   positive area and the smallest angle does not decrease.
-
-When the source mesh mapped onto the target by mean-value weights (which
-reproduce affine maps) is already free of flips, step 4 is skipped.
+   inside one triangle of each mesh. Sides against chords are decided by the
+   cyclic order of the boundary vertices (exact); an interior vertex within
+   ``tol`` of a chord is first moved off it inside its star. Cells are
+   fan-triangulated and mapped back affinely through their source and their
+   target triangle. Faces larger than ``mesh_size`` (in either mesh) are then
+   split at their centroid in both meshes.
+4. Quality: edge collapses, edge flips (both meshes at once, as they share
+   connectivity) and smoothing of interior vertices (each mesh on its own),
+   every change accepted only when every triangle keeps a positive area and
+   the smallest angle around it grows.
 """
 
 import time
@@ -38,10 +42,12 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
-from ..errors import IncompatibleShapesError, ShapeError, require
+from ..errors import IncompatibleShapesError, MissingDependencyError, ParameterError, ShapeError, require
 from ..shape import Shape
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
+
+MAX_FACES = 2_000_000  # refused before meshing: the overlay and quality step hold several copies
 
 
 class CompatibleMeshes(NamedTuple):
@@ -56,10 +62,13 @@ class CompatibleMeshes(NamedTuple):
         the rings.
     info : dict
         ``vertices``, ``faces``, ``ring_vertices`` (K), ``steiner`` (interior
-        vertices), ``cuts`` (cut segments per hole), ``overlay`` (whether the
-        overlay was needed), ``min_angle_source`` / ``min_angle_target``
-        (degrees, final), ``min_angle_before_source`` /
-        ``min_angle_before_target`` (before the quality step), ``seconds``.
+        vertices), ``cuts`` (per hole: ``[hole, u1, v1, u2, v2]``, its two
+        cuts from vertex u of a joined ring to vertex v of the hole),
+        ``overlay`` (whether the overlay was needed), ``crossings``
+        (intersection vertices the overlay made, before the quality step),
+        ``min_angle_source`` / ``min_angle_target`` (degrees, final),
+        ``min_angle_before_source`` / ``min_angle_before_target`` (before the
+        quality step), ``seconds``.
     """
 
     source: Shape
@@ -67,7 +76,7 @@ class CompatibleMeshes(NamedTuple):
     info: dict
 
 
-def compatible_meshes(source_rings, target_rings, mesh_size=None):
+def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_first=False):
     """Compatible triangle meshes of two corresponding polygons with holes.
 
     Parameters
@@ -98,16 +107,17 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None):
         Different numbers of rings or vertices per ring, or a ring that runs
         clockwise in one shape and counter-clockwise in the other (a mirror).
     ParameterError
-        ``mesh_size`` is not a positive number.
+        ``mesh_size`` is not a positive number, or so small that the source
+        mesh would pass ``MAX_FACES`` triangles (refused before meshing,
+        naming the count it would reach).
     MissingDependencyError
         shapely >= 2.1 is missing (``pip install 'isotween[cli]'``).
     """
-    from ..errors import ParameterError
-
     started = time.perf_counter()
     shapely = require("shapely", "cli")
     if not hasattr(shapely, "constrained_delaunay_triangles"):
-        raise ShapeError("compatible meshing needs shapely >= 2.1: pip install -U 'shapely>=2.1'")
+        raise MissingDependencyError(
+            f"compatible meshing needs shapely >= 2.1 (found {shapely.__version__}): pip install -U 'shapely>=2.1'")
     src = _rings(source_rings, "source")
     tgt = _rings(target_rings, "target")
     if len(src) != len(tgt):
@@ -129,20 +139,34 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None):
     elif not (np.isscalar(mesh_size) and np.isfinite(mesh_size) and mesh_size > 0):
         raise ParameterError(f"mesh_size must be a positive number, got {mesh_size!r}")
 
+    area = abs(_signed_area(zs[rings[0]])) - sum(abs(_signed_area(zs[r])) for r in rings[1:])
+    expected = area / (np.sqrt(3) / 4 * mesh_size ** 2)
+    if expected > MAX_FACES:
+        raise ParameterError(
+            f"mesh_size={mesh_size:.6g} would make about {expected:.3g} triangles in the source mesh, "
+            f"more than the {MAX_FACES} allowed; use a mesh size of at least "
+            f"{np.sqrt(area / (np.sqrt(3) / 4 * MAX_FACES)):.3g}")
     cuts = _cuts(zs, zt, rings)
-    f_src = _triangulate(zs, rings, cuts, "source")
-    f_tgt = _triangulate(zt, rings, cuts, "target")
-    fixed_keys = _keys(np.array([c for pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2))
+    cut_edges = np.array([c for _, *pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2)
+    f_src = _triangulate(zs, rings, cut_edges, "source")
+    # the target keeps every source diagonal that is a diagonal of the target too: fewer crossings
+    shared = _shared_diagonals(f_src, zt, _polygon(zt, rings), cut_edges)
+    f_tgt = _triangulate(zt, rings, np.r_[cut_edges, shared], "target")
+    fixed_keys = _keys(cut_edges)
     z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size))
-    S = len(z1) - K
 
     # first try: the source mesh mapped by mean-value weights (reproduces affine maps)
     w_tgt = _convex_map(z1, f1, np.arange(K), zt)
     overlay = not np.all(_areas(w_tgt, f1) > 1e-12 * _scale2(zt))
-    if overlay:
-        z1, w_tgt, f1 = _overlay(z1, f1, zt, f_tgt, rings, cuts, K)
+    crossings = 0
+    if overlay:  # the two triangulations overlaid, then refined in both at once
+        steiner = len(z1) - K if refine_first else 0
+        z1, w_tgt, f1 = _overlay(z1, f1, zt, f_tgt, rings, cuts, K) if refine_first else \
+            _overlay(zs, f_src, zt, f_tgt, rings, cuts, K)
+        crossings = len(z1) - K - steiner
+        z1, w_tgt, f1 = _joint_refine(z1, w_tgt, f1, float(mesh_size))
     before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
-    z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K)
+    z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, not overlay)
     a1, a2 = _areas(z1, f1), _areas(w_tgt, f1)
     if not (np.all(a1 > 0) and np.all(a2 > 0)):  # a construction error, never expected
         bad = int(np.flatnonzero((a1 <= 0) | (a2 <= 0))[0])
@@ -153,7 +177,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None):
     t = s.with_vertices(np.c_[w_tgt.real, w_tgt.imag])
     info = {
         "ring_vertices": K, "vertices": len(z1), "faces": len(f1), "steiner": len(z1) - K,
-        "refinement_steiner": S, "cuts": [list(map(int, np.ravel(c))) for c in cuts], "overlay": overlay,
+        "crossings": crossings, "cuts": [[h, *u, *v] for h, u, v in cuts], "overlay": overlay,
         "min_angle_before_source": before[0], "min_angle_before_target": before[1],
         "min_angle_source": _min_angle(z1, f1), "min_angle_target": _min_angle(w_tgt, f1),
         "seconds": time.perf_counter() - started,
@@ -261,34 +285,70 @@ def _scale2(z):
 def _angles(z, f):
     """(F, 3) corner angles in radians."""
     p = z[f]
-    u = np.roll(p, -1, axis=1) - p
-    v = np.roll(p, -2, axis=1) - p
+    u = p[:, [1, 2, 0]] - p
+    v = p[:, [2, 0, 1]] - p
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.nan_to_num(np.abs(np.angle(v / u)), nan=0.0)
+        ang = np.abs(np.angle(v / u))
+    return np.where(np.isnan(ang), 0.0, ang)
 
 
 def _min_angle(z, f):
     return float(np.degrees(_angles(z, f).min())) if len(f) else 0.0
 
 
-def _triangulate(z, rings, cuts, name):
-    """Constrained Delaunay triangles (F, 3) of the polygon, ccw, with every cut as an edge."""
+def _polygon(z, rings):
+    import shapely
+
+    xy = np.c_[z.real, z.imag]
+    return shapely.Polygon(xy[rings[0]], [xy[r] for r in rings[1:]])
+
+
+def _inside(z, poly, pairs):
+    """(m,) whether each segment between vertices ``pairs`` (m, 2) lies inside the polygon and
+    meets its boundary only at its two ends."""
+    import shapely
+
+    if not len(pairs):
+        return np.zeros(0, dtype=bool)
+    seg = shapely.linestrings(np.stack([np.c_[z[pairs[:, 0]].real, z[pairs[:, 0]].imag],
+                                        np.c_[z[pairs[:, 1]].real, z[pairs[:, 1]].imag]], axis=1))
+    # DE-9IM: the segment's interior meets the polygon's interior, neither its boundary nor outside
+    return shapely.relate_pattern(poly, seg, "1**F**F**")
+
+
+def _triangulate(z, rings, constraints, name):
+    """Constrained Delaunay triangles (F, 3) of the polygon, ccw, with every constraint as an edge.
+
+    Parameters
+    ----------
+    z : (K,) complex
+        Ring vertices.
+    rings : list of (k_r,) int arrays
+    constraints : (m, 2) int array
+        Segments between ring vertices that lie inside the polygon and do
+        not cross each other (cuts and diagonals); the polygon is split along
+        them and every piece triangulated on its own.
+    """
     import shapely
     from shapely.ops import split
 
     xy = np.c_[z.real, z.imag]
-    poly = shapely.Polygon(xy[rings[0]], [xy[r] for r in rings[1:]])
+    poly = _polygon(z, rings)
     pieces = [poly]
-    if cuts:
-        lines = shapely.MultiLineString([xy[list(c)] for pair in cuts for c in pair])
+    if len(constraints):
+        lines = shapely.MultiLineString(list(xy[np.asarray(constraints)]))
         pieces = list(split(poly, lines).geoms)
     tris = [g for p in pieces for g in shapely.constrained_delaunay_triangles(p).geoms]
     coords = shapely.get_coordinates(tris).reshape(-1, 4, 2)[:, :3]
-    table = {(x, y): i for i, (x, y) in enumerate(map(tuple, xy))}
-    try:
-        f = np.array([[table[tuple(c)] for c in t] for t in coords], dtype=np.int64).reshape(-1, 3)
-    except KeyError as exc:
-        raise ShapeError(f"the {name} outline is too close to degenerate to triangulate near {exc.args[0]}") from None
+    q = (coords[..., 0] + 1j * coords[..., 1]).ravel()
+    order = np.argsort(z)  # complex: by x, then y
+    idx = np.minimum(np.searchsorted(z[order], q), len(z) - 1)
+    found = z[order][idx] == q
+    if not found.all():
+        c = q[~found][0]
+        raise ShapeError(f"the {name} outline is too close to degenerate to triangulate near "
+                         f"({c.real:.6g}, {c.imag:.6g})")
+    f = order[idx].reshape(-1, 3)
     a = _areas(z, f)
     f[a < 0] = f[a < 0][:, ::-1]
     area = abs(_signed_area(z[rings[0]])) - sum(abs(_signed_area(z[r])) for r in rings[1:])
@@ -297,65 +357,105 @@ def _triangulate(z, rings, cuts, name):
     return f
 
 
-def _cuts(zs, zt, rings):
-    """Two cuts per hole: ((outer vertex, hole vertex), (outer vertex, hole vertex)).
+def _shared_diagonals(f_src, zt, poly_t, fixed):
+    """(m, 2) interior edges of the source triangulation that are also diagonals of the target
+    polygon and cross none of each other there (nor the ``fixed`` segments (c, 2))."""
+    import shapely
 
-    A cut is a segment between a ring vertex of the hole and one of the outer
-    ring that lies inside both polygons and crosses no other cut; the outer
-    vertices of all cuts differ.
+    a, b, _, key, twin = _edge_table(f_src)
+    h = np.flatnonzero((twin > np.arange(len(a))) & ~np.isin(key, _keys(fixed)))
+    d = np.c_[a[h], b[h]]
+    d = d[_inside(zt, poly_t, d)]
+    if not len(d):
+        return d
+    allseg = np.r_[fixed.reshape(-1, 2), d]
+    lines = shapely.linestrings(np.stack([np.c_[zt[allseg[:, 0]].real, zt[allseg[:, 0]].imag],
+                                          np.c_[zt[allseg[:, 1]].real, zt[allseg[:, 1]].imag]], axis=1))
+    i, j = shapely.STRtree(lines).query(lines, predicate="crosses")
+    drop = np.zeros(len(allseg), dtype=bool)
+    for u, v in zip(i, j):  # crossings are rare (none for a polygon without holes)
+        if u < v and not drop[u] and not drop[v]:
+            drop[max(u, v)] = True
+    return d[~drop[len(fixed):]]
+
+
+def _cuts(zs, zt, rings, near=12):
+    """Two cuts per hole, joining it to the outer ring or to a hole joined before.
+
+    A cut is a segment between a vertex of the hole and a vertex of a joined
+    ring that lies inside both polygons and crosses no other cut; no vertex
+    ends two cuts, and the two cuts of a hole start a quarter of the hole
+    apart. Holes are joined nearest first (summed cut length in both shapes).
+
+    Returns
+    -------
+    list of (hole, (u1, v1), (u2, v2))
+        In joining order; u on the joined ring, v on the hole; the first cut
+        is opened to make the polygon a disc.
     """
     import shapely
 
     if len(rings) == 1:
         return []
-    xys = [np.c_[z.real, z.imag] for z in (zs, zt)]
-    polys = [shapely.Polygon(xy[rings[0]], [xy[r] for r in rings[1:]]) for xy in xys]
-    bounds = [shapely.boundary(p) for p in polys]
+    polys = [_polygon(z, rings) for z in (zs, zt)]
     for p in polys:
         shapely.prepare(p)
-    outer = rings[0]
-    chosen, used = [], set()
-    taken = []  # lines of chosen cuts, per shape
-    for h in range(1, len(rings)):
-        hole = rings[h]
-        # candidate pairs: nearest outer vertices (in both shapes) of every hole vertex
-        d = np.abs(zs[hole][:, None] - zs[outer][None, :]) + np.abs(zt[hole][:, None] - zt[outer][None, :])
-        k = min(len(outer), 8)
-        near = np.argpartition(d, k - 1, axis=1)[:, :k]
-        hi = np.repeat(np.arange(len(hole)), k)
-        oi = near.ravel()
-        cand_len = d[hi, oi]
-        order = np.argsort(cand_len, kind="stable")
-        hv, ov = hole[hi[order]], outer[oi[order]]
-        ok = np.ones(len(hv), dtype=bool)
-        for xy, poly, bnd in zip(xys, polys, bounds):
-            seg = shapely.linestrings(np.stack([xy[ov], xy[hv]], axis=1))
-            ok &= shapely.covers(poly, seg)
-            ok &= shapely.get_num_geometries(shapely.intersection(seg, bnd)) == 2
-        ok &= ~np.isin(ov, list(used))
-        cand = np.flatnonzero(ok)
-        picks = []
-        for c in cand:
-            if any(np.any(shapely.intersects(
-                    shapely.linestrings(xy[[ov[c], hv[c]]]), taken_s)) for xy, taken_s in
-                    zip(xys, [[t[s] for t in taken] for s in range(2)]) if taken_s):
-                continue
-            if picks:  # the second cut starts far from the first on the hole
-                p0 = picks[0]
-                gap = abs(np.flatnonzero(hole == hv[c])[0] - np.flatnonzero(hole == hv[p0])[0])
-                if min(gap, len(hole) - gap) < max(1, len(hole) // 4) or ov[c] == ov[p0]:
-                    continue
-            picks.append(c)
-            taken.append([shapely.linestrings(xy[[ov[c], hv[c]]]) for xy in xys])
-            if len(picks) == 2:
-                break
-        if len(picks) < 2:
+    joined = [0]
+    chosen, used, taken = [], set(), [[], []]  # taken: lines of the chosen cuts in each shape
+    while len(joined) < len(rings):
+        best = None
+        for h in (h for h in range(1, len(rings)) if h not in joined):
+            picks = _hole_cuts(zs, zt, rings, h, np.concatenate([rings[j] for j in joined]), polys, used,
+                               taken, near)
+            if picks is not None and (best is None or picks[0] < best[0]):
+                best = (picks[0], h, picks[1])
+        if best is None:
+            h = next(h for h in range(1, len(rings)) if h not in joined)
             raise ShapeError(
-                f"ring {h} (a hole) has no two vertices that join the outer ring by straight cuts inside both "
-                "the source and the target; resample the rings more finely")
-        chosen.append(tuple((int(ov[c]), int(hv[c])) for c in picks))
-        used.update(int(ov[c]) for c in picks)
+                f"ring {h} (a hole) has no two vertices that join the outer ring or another hole by straight "
+                "cuts inside both the source and the target; resample the rings more finely")
+        _, h, pair = best
+        chosen.append((h, *pair))
+        joined.append(h)
+        for u, v in pair:
+            used.update((u, v))
+            for s, z in enumerate((zs, zt)):
+                taken[s].append(shapely.linestrings(np.c_[z[[u, v]].real, z[[u, v]].imag]))
     return chosen
+
+
+def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
+    """(summed length, ((u1, v1), (u2, v2))) of the shortest two valid cuts from hole h to the
+    vertices ``base``, or None."""
+    import shapely
+
+    hole = rings[h]
+    d = np.abs(zs[hole][:, None] - zs[base][None, :]) + np.abs(zt[hole][:, None] - zt[base][None, :])
+    k = min(len(base), near)
+    nearest = np.argpartition(d, k - 1, axis=1)[:, :k]
+    hi = np.repeat(np.arange(len(hole)), k)
+    bi = nearest.ravel()
+    order = np.argsort(d[hi, bi], kind="stable")
+    hi, bi = hi[order], bi[order]
+    hv, bv = hole[hi], base[bi]
+    ok = ~np.isin(bv, list(used)) & ~np.isin(hv, list(used))
+    for z, poly in zip((zs, zt), polys):
+        ok[ok] = _inside(z, poly, np.c_[bv[ok], hv[ok]])
+    picks = []
+    for c in np.flatnonzero(ok):
+        if any(len(t) and np.any(shapely.intersects(
+                shapely.linestrings(np.c_[z[[bv[c], hv[c]]].real, z[[bv[c], hv[c]]].imag]),
+                t + [shapely.linestrings(np.c_[z[[bv[p], hv[p]]].real, z[[bv[p], hv[p]]].imag]) for p in picks]))
+               for z, t in zip((zs, zt), taken)):
+            continue
+        if picks:  # the second cut: another joined vertex, a quarter of the hole away from the first
+            gap = abs(int(hi[c]) - int(hi[picks[0]]))
+            if min(gap, len(hole) - gap) < max(1, len(hole) // 4) or bv[c] == bv[picks[0]]:
+                continue
+        picks.append(c)
+        if len(picks) == 2:
+            return float(d[hi[picks[0]], bi[picks[0]]]), tuple((int(bv[c]), int(hv[c])) for c in picks)
+    return None
 
 
 # ---------------------------------------------------------------- refinement
@@ -462,11 +562,13 @@ def _mean_value_laplacian(z, f):
 
 
 def _convex_map(z, f, fixed, values):
-    """Positions (N,) complex: ``values`` at vertices ``fixed``, mean-value combinations elsewhere."""
-    N = len(z)
-    out = np.empty(N, dtype=complex)
+    """Positions (N,) complex: ``values`` at vertices ``fixed``, mean-value combinations elsewhere.
+
+    ``z`` (N,) complex gives the weights (from the shape of the triangles f (F, 3)).
+    """
+    out = z.astype(complex)  # vertices in no face stay where they are
     out[fixed] = values
-    free = np.setdiff1d(np.arange(N), fixed)
+    free = np.setdiff1d(np.unique(f), fixed)
     if len(free):
         L = _mean_value_laplacian(z, f).tocsr()
         rhs = -(L[free][:, fixed] @ values)
@@ -486,8 +588,8 @@ def _open_cuts(f, cuts, first_copy):
     and the hole vertex before v take v'.
     """
     out = f.copy()
-    for h, ((u, v), _) in enumerate(cuts):
-        for vert, other, copy, reached in ((u, v, first_copy + 2 * h, False), (v, u, first_copy + 2 * h + 1, True)):
+    for i, (_, (u, v), _) in enumerate(cuts):
+        for vert, other, copy, reached in ((u, v, first_copy + 2 * i, False), (v, u, first_copy + 2 * i + 1, True)):
             rows, cols = np.nonzero(f == vert)
             nxt = {int(f[r, (c + 1) % 3]): int(r) for r, c in zip(rows, cols)}
             w, side = other, []
@@ -501,17 +603,22 @@ def _open_cuts(f, cuts, first_copy):
 
 
 def _disc_cycle(rings, cuts, first_copy):
-    """Boundary cycle of the cut polygon: outer ccw, detours around each hole along its first cut."""
-    detour = {}
-    for h, ((u, v), _) in enumerate(cuts):
-        hole = rings[h + 1]
-        s = int(np.flatnonzero(hole == v)[0])
-        around = np.roll(hole, -s)  # v first, hole order (cw: interior on the left)
-        detour[u] = [u] + list(around) + [first_copy + 2 * h + 1, first_copy + 2 * h]
-    cyc = []
-    for u in rings[0]:
-        cyc.extend(detour.get(int(u), [int(u)]))
-    return np.array(cyc, dtype=np.int64)
+    """(B,) boundary cycle of the cut polygon: the outer ring ccw with a detour along the first cut
+    of every hole, around the hole (and the holes joined to it) and back along the cut's copies."""
+    detour = {u: (h, v, first_copy + 2 * i, first_copy + 2 * i + 1) for i, (h, (u, v), _) in enumerate(cuts)}
+    out = []
+
+    def walk(ring):
+        for x in ring:
+            out.append(int(x))
+            if int(x) in detour:
+                h, v, u_copy, v_copy = detour[int(x)]
+                hole = rings[h]
+                walk(np.roll(hole, -int(np.flatnonzero(hole == v)[0])))  # v first, the hole's order
+                out.extend((v_copy, u_copy))
+
+    walk(rings[0])
+    return np.array(out, dtype=np.int64)
 
 
 def _orient(pa, pb, pc):
@@ -546,8 +653,8 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     """
     import shapely
 
-    N1, nh = len(z1), len(cuts)
-    copies = np.array([x for (u, v), _ in cuts for x in (u, v)], dtype=np.int64)
+    N1 = len(z1)
+    copies = np.array([x for _, (u, v), _ in cuts for x in (u, v)], dtype=np.int64)
     orig = np.r_[np.arange(N1), copies]
     zs_all = z1[orig]
     zt_all = np.full(len(orig), np.nan + 0j)
@@ -624,13 +731,10 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     pieces = [np.c_[xp[o[pair]], xp[o[pair + 1]]]]
     lone = xp[o[single]]
     fl, cl_ = p_face[lone], p_chord[lone]
-    corner = np.flatnonzero(F1[fl] == ca[cl_][:, None]) if len(lone) else np.zeros(0, dtype=np.int64)
-    ka = (F1[fl] == ca[cl_][:, None]) | (F1[fl] == cb[cl_][:, None])
-    k = np.argmax(ka, axis=1)
+    ka = (F1[fl] == ca[cl_][:, None]) | (F1[fl] == cb[cl_][:, None])  # the chord's end at a corner
     if len(lone) and not ka.any(axis=1).all():
         raise ShapeError("compatible meshing: a chord ends inside a triangle (inconsistent overlay)")
-    pieces.append(np.c_[lone, 3 * fl + k])
-    del corner
+    pieces.append(np.c_[lone, 3 * fl + np.argmax(ka, axis=1)])
     pieces = np.vstack(pieces)
 
     # faces of each triangle's subdivision (an outerplanar graph) by tracing
@@ -668,6 +772,20 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
 
     # target positions of the source's interior vertices: barycentric in the target triangle
     inner = np.flatnonzero(interior)
+    if len(inner):
+        zt_all[inner] = _locate(D, F2, zt_all, inner)
+
+    # glue the cut copies back and number: rings, source interior, intersections
+    vmap = np.r_[np.arange(N1), copies, N1 + np.arange(ncross)]
+    z = np.r_[z1, zs_x]
+    w = np.r_[zt_all[:N1], zt_x]
+    return z, w, vmap[faces]
+
+
+def _locate(D, F2, zt_all, inner):
+    """Target positions of disc vertices ``inner``: barycentric in the target triangle holding them."""
+    import shapely
+
     tri = shapely.polygons(np.stack([np.c_[D[F2[:, i]].real, D[F2[:, i]].imag] for i in (0, 1, 2, 0)], axis=1))
     pts = shapely.points(np.c_[D[inner].real, D[inner].imag])
     pi, ti = shapely.STRtree(tri).query(pts, predicate="intersects")
@@ -680,13 +798,9 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     sel = best[firsts]
     if len(sel) != len(inner):
         raise ShapeError("compatible meshing: an interior vertex fell outside the target triangulation")
-    zt_all[inner[pi[sel]]] = np.sum(lam[sel] * zt_all[F2[ti[sel]]], axis=1)
-
-    # glue the cut copies back and number: rings, source interior, intersections
-    vmap = np.r_[np.arange(N1), copies, N1 + np.arange(ncross)]
-    z = np.r_[z1, zs_x]
-    w = np.r_[zt_all[:N1], zt_x]
-    return z, w, vmap[faces]
+    out = np.empty(len(inner), dtype=complex)
+    out[pi[sel]] = np.sum(lam[sel] * zt_all[F2[ti[sel]]], axis=1)
+    return out
 
 
 def _nudge(D, F, vert, direction, tol):
@@ -712,14 +826,40 @@ def _valid(z, w, f, eps):
     return (_areas(z, f) > eps[0]) & (_areas(w, f) > eps[1])
 
 
-def _smooth(z, w, f, K, eps, rng):
-    """Move an independent set of interior vertices towards their neighbours' mean in both meshes
-    where no incident face of either mesh loses positive area and the star's smallest angle grows."""
+def _odt(z, f):
+    """(N,) area-weighted mean of the circumcentres of each vertex's triangles (optimal Delaunay
+    triangulation smoothing, Chen and Xu 2004)."""
+    u, v = z[f[:, 1]] - z[f[:, 0]], z[f[:, 2]] - z[f[:, 0]]
+    area = 0.5 * (np.conj(u) * v).imag
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cc = z[f[:, 0]] + (np.abs(u) ** 2 * v - np.abs(v) ** 2 * u) / (4j * area)
+    cc = np.where(np.isfinite(cc), cc, z[f].mean(axis=1))
+    idx = f.ravel()
+    wts = np.repeat(area, 3)
+    num = np.bincount(idx, weights=wts * np.repeat(cc.real, 3), minlength=len(z)) + 1j * np.bincount(
+        idx, weights=wts * np.repeat(cc.imag, 3), minlength=len(z))
+    den = np.bincount(idx, weights=wts, minlength=len(z))
+    return np.where(den > 0, num / np.where(den > 0, den, 1), z)
+
+
+def _smooth(z, w, f, K, eps, rng, joint):
+    """Move an independent set of interior vertices to better places.
+
+    Goals: the circumcentre mean of `_odt` (not with ``joint``), else the
+    neighbours' mean, at full, half and quarter step. A move is accepted
+    where no incident face loses positive area and the smallest angle around
+    the vertex grows. ``joint``: a vertex moves in both
+    meshes or in neither, judged on the smaller angle of the two (this keeps
+    a target that is an affine image of the source one); otherwise each mesh
+    on its own (the meshes share connectivity, not positions).
+
+    Returns
+    -------
+    z, w : (N,) complex, moved : int
+    """
     N = len(z)
     a, b, _, _, _ = _edge_table(f)
     deg = np.bincount(a, minlength=N).astype(float)
-    mz = np.bincount(a, weights=z[b].real, minlength=N) + 1j * np.bincount(a, weights=z[b].imag, minlength=N)
-    mw = np.bincount(a, weights=w[b].real, minlength=N) + 1j * np.bincount(a, weights=w[b].imag, minlength=N)
     prio = rng.random(N)
     prio[:K] = -1.0
     top = np.full(N, -1.0)
@@ -730,23 +870,40 @@ def _smooth(z, w, f, K, eps, rng):
     star = np.any(np.isin(f, move), axis=1)
     fs = f[star]
     owner = np.max(np.where(np.isin(fs, move), fs, -1), axis=1)
-    old = np.full(N, np.inf)
-    np.minimum.at(old, owner, _quality(z, w, fs))
-    accepted = np.zeros(N, dtype=bool)
-    for step in (1.0, 0.5, 0.25):
-        cand = move[~accepted[move]]
-        z2, w2 = z.copy(), w.copy()
-        z2[cand] += step * (mz[cand] / deg[cand] - z[cand])
-        w2[cand] += step * (mw[cand] / deg[cand] - w[cand])
+
+    def judge(p, e):
+        """(N,) valid star, (N,) smallest star angle."""
         ok = np.ones(N, dtype=bool)
-        good = _valid(z2, w2, fs, eps)
-        np.logical_and.at(ok, owner, good)
-        new = np.full(N, np.inf)
-        np.minimum.at(new, owner, _quality(z2, w2, fs))
-        take = cand[ok[cand] & (new[cand] > old[cand] + 1e-9)]
-        z[take], w[take] = z2[take], w2[take]
-        accepted[take] = True
-    return z, w, int(accepted.sum())
+        np.logical_and.at(ok, owner, _areas(p, fs) > e)
+        q = np.full(N, np.inf)
+        np.minimum.at(q, owner, _angles(p, fs).min(axis=1))
+        return ok, q
+
+    goals = [[(np.bincount(a, weights=p[b].real, minlength=N) + 1j * np.bincount(a, weights=p[b].imag, minlength=N))
+              / np.maximum(deg, 1) for p in (z, w)]]  # Laplacian: affine images stay affine images
+    if not joint:
+        goals.insert(0, [_odt(p, f) for p in (z, w)])
+    pos = [z.copy(), w.copy()]
+    old = [judge(p, e)[1] for p, e in zip(pos, eps)]
+    done = np.zeros((2, N), dtype=bool)
+    for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
+        trial, res = [], []
+        for i in (0, 1):
+            p2 = pos[i].copy()
+            cand = move[~done[i, move]]
+            p2[cand] += step * (goal[i][cand] - pos[i][cand])
+            trial.append(p2)
+            res.append(judge(p2, eps[i]))
+        if joint:
+            gain = np.minimum(res[0][1], res[1][1]) > np.minimum(old[0], old[1]) + 1e-9
+            ok = [res[0][0] & res[1][0] & gain] * 2
+        else:
+            ok = [res[i][0] & (res[i][1] > old[i] + 1e-9) for i in (0, 1)]
+        for i in (0, 1):
+            take = move[ok[i][move] & ~done[i, move]]
+            pos[i][take] = trial[i][take]
+            done[i, take] = True
+    return pos[0], pos[1], int(done.any(axis=0).sum())
 
 
 def _joint_flips(z, w, f, eps):
@@ -769,14 +926,115 @@ def _joint_flips(z, w, f, eps):
     return len(h)
 
 
-def _improve(z, w, f, K, rounds=30, seed=0):
-    """Joint edge flips and smoothing of interior vertices (Surazhsky and Gotsman 2004 style)."""
+def _collapse(z, w, f, K, eps, limit):
+    """Collapse the shortest edge of faces whose smallest angle (in either mesh) is below ``limit``.
+
+    An interior vertex x merges into its neighbour y when the link condition
+    holds (x and y share exactly the two neighbours across their edge), every
+    new face keeps a positive area in both meshes and the smallest angle
+    around x grows. Collapses in one call touch disjoint faces.
+
+    Returns
+    -------
+    (F', 3) faces (removed vertices are no longer referenced), number of collapses
+    """
+    N = len(z)
+    q = _quality(z, w, f)
+    bad = np.flatnonzero(q < limit)
+    if not len(bad):
+        return f, 0
+    p = f[bad]
+    nx = np.roll(p, -1, axis=1)
+    ls, lt = np.abs(z[nx] - z[p]), np.abs(w[nx] - w[p])
+    L = np.maximum(ls / ls.sum(axis=1, keepdims=True), lt / lt.sum(axis=1, keepdims=True))
+    k = np.argmin(L, axis=1)
+    r = np.arange(len(bad))
+    a, b = p[r, k], nx[r, k]
+    x = np.r_[a[a >= K], b[b >= K]]
+    y = np.r_[b[a >= K], a[b >= K]]
+    score = np.r_[q[bad][a >= K], q[bad][b >= K]]
+    if not len(x):
+        return f, 0
+    o = np.lexsort((score, x))
+    x, y, score = x[o], y[o], score[o]
+    keep = np.r_[True, x[1:] != x[:-1]]
+    x, y, score = x[keep], y[keep], score[keep]
+    nF = len(f)
+    vf = coo_matrix((np.ones(3 * nF), (f.ravel(), np.repeat(np.arange(nF), 3))), shape=(N, nF)).tocsr()
+    A = coo_matrix((np.ones(3 * nF), (f.ravel(), np.roll(f, -1, axis=1).ravel())), shape=(N, N)).tocsr()
+    A = ((A + A.T) > 0).astype(np.int64).tocsr()
+    link = np.asarray(A[x].multiply(A[y]).sum(axis=1)).ravel() == 2
+    cx, fx = vf[x].nonzero()  # faces around x
+    cy, fy = vf[y].nonzero()
+    rank = np.empty(len(x), dtype=np.int64)
+    rank[np.argsort(score, kind="stable")] = np.arange(len(x))
+    cc, ff = np.r_[cx, cy], np.r_[fx, fy]
+    claim = np.full(nF, len(x), dtype=np.int64)
+    np.minimum.at(claim, ff, rank[cc])
+    win = np.ones(len(x), dtype=bool)
+    np.logical_and.at(win, cc, claim[ff] == rank[cc])
+    old = np.full(len(x), np.inf)
+    np.minimum.at(old, cx, q[fx])
+    stay = ~np.any(f[fx] == y[cx][:, None], axis=1)
+    cs, fs = cx[stay], fx[stay]
+    nf = np.where(f[fs] == x[cs][:, None], y[cs][:, None], f[fs])
+    ok = np.ones(len(x), dtype=bool)
+    np.logical_and.at(ok, cs, _valid(z, w, nf, eps))
+    new = np.full(len(x), np.inf)
+    np.minimum.at(new, cs, _quality(z, w, nf))
+    take = win & link & ok & (new > old)
+    if not take.any():
+        return f, 0
+    vmap = np.arange(N)
+    vmap[x[take]] = y[take]
+    g = vmap[f]
+    g = g[(g[:, 0] != g[:, 1]) & (g[:, 1] != g[:, 2]) & (g[:, 2] != g[:, 0])]
+    return g, int(take.sum())
+
+
+def _joint_refine(z, w, f, size, rounds=30):
+    """Split faces larger than an equilateral triangle of side ``size`` (in the source; the target
+    size scaled by the area ratio) at their centroid in both meshes, then flip edges jointly."""
+    ratio = np.sqrt(abs(_areas(w, f).sum() / _areas(z, f).sum()))
+    big_s = 1.5 * np.sqrt(3) / 4 * size ** 2
+    big_t = big_s * ratio ** 2
+    eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
+    for _ in range(rounds):
+        bad = np.flatnonzero((_areas(z, f) > big_s) | (_areas(w, f) > big_t))
+        if not len(bad):
+            break
+        m = len(z) + np.arange(len(bad))
+        t = f[bad]
+        z = np.r_[z, z[t].mean(axis=1)]
+        w = np.r_[w, w[t].mean(axis=1)]
+        f = np.r_[np.delete(f, bad, axis=0), np.c_[t[:, 0], t[:, 1], m], np.c_[t[:, 1], t[:, 2], m],
+                  np.c_[t[:, 2], t[:, 0], m]]
+        for _ in range(10):
+            if not _joint_flips(z, w, f, eps):
+                break
+    return z, w, f
+
+
+def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
+    """Joint edge collapses, edge flips and smoothing of interior vertices in both meshes
+    (Surazhsky and Gotsman 2004 style); every step keeps both meshes valid.
+
+    Returns
+    -------
+    z, w : (N',) complex, f : (F', 3); vertices no face uses any more are dropped
+    (the first K, the rings, are kept in place).
+    """
     rng = np.random.default_rng(seed)
     eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
     f = f.copy()
     for _ in range(rounds):
+        f, collapsed = _collapse(z, w, f, K, eps, np.radians(limit))
         flips = _joint_flips(z, w, f, eps)
-        z, w, moved = _smooth(z, w, f, K, eps, rng)
-        if not flips and not moved:
+        z, w, moved = _smooth(z, w, f, K, eps, rng, joint)
+        if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):
             break
-    return z, w, f
+    used = np.zeros(len(z), dtype=bool)
+    used[f] = True
+    used[:K] = True
+    new_id = np.cumsum(used) - 1
+    return z[used], w[used], new_id[f]

@@ -1,14 +1,17 @@
-"""Meshes from outlines: a quality triangulation of the source polygon and a
-compatible target mesh from a harmonic map.
+"""Meshes from outlines: compatible source and target triangle meshes.
 
-The source polygon (rings with holes) is triangulated by Shewchuk's Triangle
-(the ``triangle`` package, the ``mesh`` extra; free for non-commercial use
-only) with no extra vertices on the outline (switch ``Y``), so the outline
-vertices are the mesh's boundary vertices and the target boundary is the
-target outline itself. The interior vertices of the target are the harmonic
-extension of that boundary: the cotangent Laplacian of the source mesh,
-``L_II z_I = -L_IB z_B``. It reproduces affine maps exactly, so a rigidly
-moved outline gives a rigidly moved mesh.
+By default (``mesher="shapely"``) the pair comes from `compatible_meshes`:
+each polygon triangulated on its own, both mapped onto a common disc and
+overlaid, so neither mesh has a flipped triangle, by construction; only
+permissively licensed code (shapely, numpy, scipy) is used.
+
+``mesher="triangle"`` keeps the earlier path: the source polygon (rings with
+holes) is triangulated by Shewchuk's Triangle (the ``triangle`` package, the
+``mesh`` extra; free for non-commercial use only) with no extra vertices on
+the outline (switch ``Y``), and the interior vertices of the target are the
+harmonic extension of the target outline: the cotangent Laplacian of the
+source mesh, ``L_II z_I = -L_IB z_B``. It reproduces affine maps exactly, but
+on a non-convex target it can flip triangles; a warning names them.
 """
 
 import numbers
@@ -23,6 +26,7 @@ from scipy.sparse.linalg import splu
 from ..errors import ParameterError, ShapeError, require
 from ..shape import Shape
 from .compatibility import as_shape, check_compatible
+from .compatible_mesh import compatible_meshes
 
 __all__ = ["mesh_pair", "MeshPair"]
 
@@ -36,7 +40,8 @@ class MeshPair(NamedTuple):
         Triangle meshes with the same faces; vertices 0..n-1 are the outline
         vertices, in order, ``paths`` the input rings, ``y_down`` the source's.
     flipped : (k,) int array
-        Triangles of the target whose orientation differs from the source's.
+        Triangles of the target whose orientation differs from the source's
+        (always empty with the default mesher).
     """
 
     source: Shape
@@ -44,49 +49,92 @@ class MeshPair(NamedTuple):
     flipped: np.ndarray
 
 
-def mesh_pair(source, target, max_area=None, min_angle=30.0):
-    """Triangulate the source outline and map the mesh onto the target outline.
+def mesh_pair(source, target, max_area=None, min_angle=30.0, mesher="shapely", mesh_size=None):
+    """Compatible triangle meshes of a compatible outline pair.
 
     Parameters
     ----------
     source, target : Shape
         A compatible pair of polygon shapes: closed rings only (outer
         boundaries and holes, by the even-odd rule), e.g. from `resample`.
+        With the default mesher: one polygon, ring 0 the outer boundary and
+        the other rings its holes.
     max_area : float, optional
-        Largest triangle area. Default: none; triangles then grow from the
-        outline's edge length near the outline to larger ones inside.
+        Largest triangle area. With the default mesher it sets the mesh size
+        (the side of an equilateral triangle of area ``max_area``) unless
+        ``mesh_size`` is given. Default: none; the outline's mean edge length
+        (default mesher) or triangles that grow inwards (Triangle).
     min_angle : float
-        Smallest triangle angle in degrees (at most 34; Triangle's quality
-        bound). Near short outline edges meeting at sharp corners it may not
-        be reached, since no vertex is added on the outline.
+        Smallest triangle angle in degrees for ``mesher="triangle"`` (at most
+        34; Triangle's quality bound). Near short outline edges meeting at
+        sharp corners it may not be reached, since no vertex is added on the
+        outline. The default mesher reports its smallest angles instead
+        (`compatible_meshes`).
+    mesher : {'shapely', 'triangle'}
+        ``'shapely'``: `compatible_meshes`, no flipped triangle in either
+        mesh. ``'triangle'``: Triangle plus a harmonic map (needs
+        ``isotween[mesh]``; non-commercial licence).
+    mesh_size : float, optional
+        Target edge length of the default mesher.
 
     Returns
     -------
     MeshPair
-        ``(source, target, flipped)``; a warning names the flipped target
-        triangles if there are any.
+        ``(source, target, flipped)``; with ``mesher="triangle"`` a warning
+        names the flipped target triangles if there are any.
 
     Raises
     ------
     ShapeError
-        Open paths, an outline that touches or crosses itself (the mesher
-        would add or merge outline vertices), or no enclosed area.
+        Open paths, an outline that touches or crosses itself (the message
+        names ring and vertex), a hole outside the outer ring, or no enclosed
+        area.
     IncompatibleShapesError
-        The outlines do not share vertex count and connectivity.
+        The outlines do not share vertex count and connectivity, or the
+        correspondence mirrors a ring.
+    ParameterError
+        ``max_area``, ``mesh_size``, ``min_angle`` or ``mesher`` out of range.
     MissingDependencyError
-        ``triangle`` is not installed (``pip install 'isotween[mesh]'``).
+        shapely (default) or triangle (``mesher="triangle"``) is missing.
     """
+    if mesher not in ("shapely", "triangle"):
+        raise ParameterError(f"mesher must be 'shapely' or 'triangle', got {mesher!r}")
+    if max_area is not None and not (isinstance(max_area, numbers.Real) and np.isfinite(max_area) and max_area > 0):
+        raise ParameterError(f"max_area must be a positive number, got {max_area!r}")
+    if not (isinstance(min_angle, numbers.Real) and 0 <= min_angle <= 34):
+        raise ParameterError(f"min_angle must lie between 0 and 34 degrees, got {min_angle!r}")
+    if mesher == "triangle":
+        return _mesh_pair_triangle(source, target, max_area, min_angle)
+    source, target = as_shape(source, "source"), as_shape(target, "target")
+    check_compatible(source, target)
+    _outline(source)
+    _check_distinct(source)
+    if mesh_size is None and max_area is not None:
+        mesh_size = float(np.sqrt(4 * max_area / np.sqrt(3)))
+    area = [abs(np.sum((np.conj(source.z[p]) * np.roll(source.z[p], -1)).imag)) for p, _ in source.paths]
+    paths = [source.paths[i][0] for i in np.argsort(-np.array(area), kind="stable")]  # the outer ring first
+    ring_ids = np.concatenate(paths)
+    result = compatible_meshes([source.vertices[p] for p in paths], [target.vertices[p] for p in paths],
+                               mesh_size=mesh_size)
+    # back to the input's vertex numbering: ring vertex i of the result is vertex ring_ids[i]
+    n, N = source.n_vertices, result.source.n_vertices
+    new_id = np.r_[ring_ids, np.arange(n, N)]
+    faces = new_id[result.source.faces]
+    vs, vt = np.empty((N, 2)), np.empty((N, 2))
+    vs[new_id], vt[new_id] = result.source.vertices, result.target.vertices
+    src = Shape(vs, faces=faces, paths=source.paths, y_down=source.y_down)
+    return MeshPair(src, src.with_vertices(vt), np.zeros(0, dtype=np.int64))
+
+
+def _mesh_pair_triangle(source, target, max_area, min_angle):
+    """The Triangle mesher and harmonic target map (``mesher="triangle"``)."""
     triangle = require("triangle", "mesh")
     source, target = as_shape(source, "source"), as_shape(target, "target")
     check_compatible(source, target)
     segments = _outline(source)
     switches = "pY"
     if max_area is not None:
-        if not (isinstance(max_area, numbers.Real) and np.isfinite(max_area) and max_area > 0):
-            raise ParameterError(f"max_area must be a positive number, got {max_area!r}")
         switches += "a" + np.format_float_positional(max_area, trim="-")  # no exponent: 'e' is a switch
-    if not (isinstance(min_angle, numbers.Real) and 0 <= min_angle <= 34):
-        raise ParameterError(f"min_angle must lie between 0 and 34 degrees, got {min_angle!r}")
     switches += "q" + np.format_float_positional(min_angle, trim="-")
     n = source.n_vertices
     _check_distinct(source)
@@ -108,7 +156,7 @@ def mesh_pair(source, target, max_area=None, min_angle=30.0):
         warnings.warn(
             f"the target mesh has {flipped.size} flipped triangle(s) of {len(faces)} "
             f"(first: triangle {flipped[0]}); AIAP interpolation tolerates a few",
-            stacklevel=2,
+            stacklevel=3,
         )
     return MeshPair(src, tgt, flipped)
 
