@@ -1,6 +1,5 @@
 """`interpolate`: the public entry point of AIAP interpolation of two shapes."""
 
-import functools
 import numbers
 import time
 
@@ -15,6 +14,7 @@ from .optimisation.global_solver import LINEAR_SOLVERS, global_solve
 from .optimisation.local_solver import ASSEMBLY, local_solve
 from .optimisation.schemes import SCHEMES
 from .sequence import Sequence
+from .times import frame_times
 
 __all__ = ["interpolate", "SOLVERS"]
 
@@ -68,7 +68,7 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
     keep_heap()
     start = time.perf_counter()
     source, target = as_shape(source, "source"), as_shape(target, "target")
-    t = _frame_times(frames, times)
+    t = frame_times(frames, times)
     _check_choice("solver", solver, SOLVERS)
     _check_choice("init", init, INITIALISERS)
     _check_choice("scheme", scheme, SCHEMES)
@@ -124,27 +124,9 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
     )
 
 
-def _frame_times(frames, times):
-    if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
-        raise ParameterError(f"frames must be an integer >= 2 (both inputs included), got {frames!r}")
-    if times is None:
-        return _uniform_times(int(frames)).copy()
-    t = np.asarray(times, dtype=float)
-    if t.shape != (frames,):
-        raise ParameterError(f"times must have one value per frame ({frames}), got shape {t.shape}")
-    if not np.all(np.isfinite(t)) or t[0] != 0.0 or t[-1] != 1.0 or np.any(np.diff(t) <= 0):
-        raise ParameterError("times must increase strictly from 0 to 1")
-    return t
-
-
 def _complex(v):
     """(n,) complex view of (n, 2) float vertices (read only here)."""
     return np.ascontiguousarray(v, dtype=np.float64).view(complex)[:, 0]
-
-
-@functools.lru_cache(maxsize=64)
-def _uniform_times(frames):
-    return np.linspace(0.0, 1.0, frames)
 
 
 def _check_choice(name, value, choices):

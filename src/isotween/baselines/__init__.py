@@ -25,8 +25,8 @@ import numpy as np
 
 from ..correspondence.compatibility import as_shape, check_compatible
 from ..errors import MethodError
-from ..interpolate import _frame_times
 from ..sequence import Sequence
+from ..times import frame_times
 from . import arap, arap_baxter, intrinsic, linear, shapespace
 
 __all__ = ["METHODS", "run"]
@@ -76,7 +76,7 @@ def run(method, source, target, n_frames, times=None, **options):
     start = time.perf_counter()
     source, target = as_shape(source, "source"), as_shape(target, "target")
     check_compatible(source, target)
-    t = _frame_times(n_frames, times)
+    t = frame_times(n_frames, times)
     module = _MODULES[method]
     frames, info = module.interpolate(source, target, t, **_accepted(module, options))
     total = time.perf_counter() - start
