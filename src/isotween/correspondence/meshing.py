@@ -90,10 +90,11 @@ def mesh_pair(source, target, max_area=None, min_angle=30.0):
     switches += "q" + np.format_float_positional(min_angle, trim="-")
     n = source.n_vertices
     _check_distinct(source)
-    plain = triangle.triangulate({"vertices": source.vertices, "segments": segments}, "p")
+    points = np.array(source.vertices)  # triangle needs writeable buffers; shape arrays are read-only
+    plain = triangle.triangulate({"vertices": points, "segments": segments}, "p")
     _check_outline(source, segments, plain)
     holes = _hole_points(source, segments, plain)
-    data = {"vertices": source.vertices, "segments": segments}
+    data = {"vertices": points, "segments": segments}
     if len(holes):
         data["holes"] = holes
     mesh = triangle.triangulate(data, switches)
