@@ -194,6 +194,48 @@ class Shape:
         return cls(vertices, faces=faces, uv=uv)
 
     @classmethod
+    def coerce(cls, obj: Shape | ArrayLike, name: str = "shape") -> Shape:
+        """``obj`` itself if it is a Shape, else the polygon whose vertices it lists.
+
+        This is how every function that takes a Shape also takes a plain
+        ``(n, 2)`` polygon array.
+
+        Parameters
+        ----------
+        obj : Shape or (n, 2) array_like of float
+        name : str
+            What to call ``obj`` in the error message.
+
+        Returns
+        -------
+        Shape
+
+        Raises
+        ------
+        ShapeError
+            ``obj`` is neither a Shape nor an (n, 2) array of at least 3 finite points.
+
+        Examples
+        --------
+        >>> from isotween import Shape
+        >>> Shape.coerce([[0, 0], [1, 0], [0, 1]]).n_edges
+        3
+        """
+        if isinstance(obj, cls):
+            return obj
+        try:
+            arr = np.asarray(obj, dtype=np.float64)
+        except (TypeError, ValueError):
+            arr = None
+        if arr is None or arr.ndim != 2 or arr.shape[1] != 2:
+            got = type(obj).__name__ if arr is None else f"an array of shape {arr.shape}"
+            raise ShapeError(f"{name} must be an isotween.Shape or an (n, 2) polygon array, got {got}")
+        try:
+            return cls.from_polygon(arr)
+        except ShapeError as exc:
+            raise ShapeError(f"{name}: {exc}") from exc
+
+    @classmethod
     def from_paths(cls, rings: Sequence[ArrayLike], closed: bool | Sequence[bool] = True, *,
                    y_down: bool = False, regions: list[list[int]] | None = None,
                    paint: list | None = None) -> Shape:

@@ -9,10 +9,10 @@ __all__ = ["check_compatible", "as_shape"]
 
 
 def as_shape(obj, name="shape"):
-    """Accept a `Shape` or an (n, 2) vertex array (isolated points)."""
+    """Accept a `Shape`, or an (n, 2) array_like polygon (`Shape.from_polygon`)."""
     if isinstance(obj, Shape):
         return obj
-    raise ShapeError(f"{name} must be an isotween.Shape, got {type(obj).__name__}")
+    return Shape.coerce(obj, name)
 
 
 def check_compatible(*shapes, names=None, edge_vectors=None, diagonal=None):
