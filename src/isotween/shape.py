@@ -581,8 +581,13 @@ class Shape:
         >>> Shape.from_polyline([[1, 1], [3, 1]]).scale(2, origin=[1, 1]).vertices.tolist()
         [[1.0, 1.0], [5.0, 1.0]]
         """
-        f = np.broadcast_to(np.asarray(factor, dtype=np.float64), (2,)) if np.ndim(factor) <= 1 else None
-        if f is None or not np.all(np.isfinite(f)):
+        try:
+            f = np.asarray(factor, dtype=np.float64)
+        except (TypeError, ValueError):
+            f = None
+        if f is not None and f.ndim == 0:
+            f = np.full(2, float(f))
+        if f is None or f.shape != (2,) or not np.all(np.isfinite(f)):
             raise ParameterError(f"factor must be a finite number or a pair of them, got {factor!r}")
         return self._about(np.diag(f), origin)
 
