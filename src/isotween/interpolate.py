@@ -5,10 +5,10 @@ import time
 
 import numpy as np
 
-from ._heap import keep_heap
+from ._heap import keep_heap_if_asked
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError, ParameterError
-from .initialisation import INITIALISERS, edge_vector_init, initial_edges
+from .initialisation import INITIALISERS, edge_vector_init, linear_init
 from .optimisation.assembly import FrameAssembler, centroid_path
 from .optimisation.global_solver import LINEAR_SOLVERS, global_solve
 from .optimisation.local_solver import ASSEMBLY, local_solve
@@ -65,7 +65,7 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
     Sequence
         ``frames`` is a (frames, n, 2) float64 array.
     """
-    keep_heap()
+    keep_heap_if_asked()
     start = time.perf_counter()
     source, target = as_shape(source, "source"), as_shape(target, "target")
     t = frame_times(frames, times)
@@ -98,7 +98,7 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
         out, info = np.array([z0, z1]).T, {"energy": [], "iterations": 0, "converged": True}
     else:
         t0 = time.perf_counter()
-        edges = edge_vector_init(source, e0, e1, t) if init == "edge" else initial_edges(init, source, z0, z1, t)
+        edges = edge_vector_init(source, e0, e1, t) if init == "edge" else linear_init(source, z0, z1, t)
         timings["init"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         z = np.empty((len(z0), len(t)), dtype=complex)

@@ -5,7 +5,7 @@ import time
 
 import numpy as np
 
-from ._heap import keep_heap
+from ._heap import keep_heap_if_asked
 from .correspondence.compatibility import as_shape, check_compatible
 from .easing import frame_times
 from .errors import ParameterError
@@ -51,7 +51,7 @@ def interpolate_keyframes(keyframes, times=None, frames=None, easing="linear", i
     Sequence
         ``info['keyframe_indices']`` gives the frame index of every keyframe.
     """
-    keep_heap()
+    keep_heap_if_asked()
     start = time.perf_counter()
     if len(keyframes) < 2:
         raise ParameterError(f"need at least two keyframes, got {len(keyframes)}")

@@ -11,7 +11,7 @@ from .errors import ParameterError
 from .optimisation.schemes import SCHEMES
 from .optimisation.schemes import isometric_energy as _energy
 
-__all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped_faces",
+__all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped", "flipped_faces",
            "symmetry_error", "report", "loop_areas"]
 
 
@@ -76,15 +76,25 @@ def area_deviation(seq, reduce="max"):
     return _reduce(np.abs(A - blend) / scale, np.max, reduce)
 
 
+def flipped(seq):
+    """(F, faces) bool: the one definition of a flipped face.
+
+    A face is flipped in a frame when its signed area has the other sign than
+    in the source (frame 0); a face of zero area in the source never counts.
+    """
+    A = seq.shape.face_areas(seq.frames)
+    if not A.size:
+        return np.zeros((len(seq.frames), 0), bool)
+    return (np.sign(A) != np.sign(A[:1])) & (A[:1] != 0)
+
+
 def flipped_faces(seq, reduce="sum"):
-    """Faces whose signed area has the other sign than in the source.
+    """Faces whose signed area has the other sign than in the source (`flipped`).
 
     reduce : 'sum' (over the intermediate frames), 'max' (the largest count in
     one frame) or None (per-frame counts, (F,) int).
     """
-    A = seq.shape.face_areas(seq.frames)
-    flips = (np.sign(A) != np.sign(A[0])[None]) & (A[0] != 0)[None] if A.size else np.zeros((len(seq), 0), bool)
-    counts = flips.sum(axis=1)
+    counts = flipped(seq).sum(axis=1)
     if reduce is None:
         return counts
     inner = counts[1:-1]

@@ -4,6 +4,7 @@ import sys
 
 import click
 
+from .._heap import keep_heap
 from ..errors import IsotweenError
 
 
@@ -22,6 +23,7 @@ class _Group(click.Group):
 @click.version_option(package_name="isotween")
 def main():
     """As-isometric-as-possible interpolation of planar shapes."""
+    keep_heap()  # a command is its own process: the process-wide malloc tuning is safe here
 
 
 # each command lives in its own module and registers itself on `main`
