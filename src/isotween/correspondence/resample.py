@@ -234,15 +234,7 @@ def _counts(points, src, tgt):
 
 def _shape(rings, closed, y_down):
     """One outline Shape of complex rings, paths in order."""
-    sizes = np.array([len(z) for z in rings])
-    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    paths, edges = [], []
-    for s, k, c in zip(starts, sizes, closed):
-        idx = np.arange(s, s + k)
-        paths.append((idx, c))
-        edges.append(np.column_stack([idx, np.roll(idx, -1)] if c else [idx[:-1], idx[1:]]))
-    z = np.concatenate(rings)
-    return Shape(np.column_stack([z.real, z.imag]), np.vstack(edges), paths=paths, y_down=y_down)
+    return Shape.from_paths(rings, list(closed), y_down=y_down)
 
 
 # ---------------------------------------------------------------------- matching
