@@ -53,7 +53,7 @@ def compare(source, target, methods=METHODS, frames=9, report_dir=None, columns=
         One row per method with the keys of :data:`COLUMNS`: ``status`` is
         'ok', or 'skipped' when the method cannot take these shapes (``note``
         then says why and the numbers are NaN). ``edge_length_deviation`` and
-        ``area_deviation`` are maxima (SPEC.md), ``flipped_faces`` is summed
+        ``area_deviation`` are maxima (docs/how-it-works.md), ``flipped_faces`` is summed
         over the intermediate frames, ``seconds`` is the method's own time.
 
     Raises

@@ -1,4 +1,4 @@
-"""Distortion metrics of a shape sequence (definitions in SPEC.md).
+"""Distortion metrics of a shape sequence (definitions: docs/how-it-works.md, Metric definitions).
 
 Every function takes a :class:`~isotween.Sequence`. ``reduce`` picks the
 summary: 'max' or 'mean' over all frames and elements, or None for per-frame

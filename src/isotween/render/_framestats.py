@@ -9,7 +9,7 @@ __all__ = ["frame_stats"]
 
 
 def frame_stats(seq):
-    """Distortion of every frame of a sequence (SPEC.md definitions).
+    """Distortion of every frame of a sequence (docs/how-it-works.md, Metric definitions).
 
     Parameters
     ----------
