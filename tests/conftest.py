@@ -33,9 +33,9 @@ def two_components():
 
 
 def rigid_frames(shape, times, turns=0.3, shift=(2.0, -1.0)):
-    """(F, n, 2) frames of ``shape`` turning about its centroid at constant speed
-    (``turns`` full turns over [0, 1]) while the centroid moves linearly by ``shift``.
+    """(F, n, 2) frames of ``shape`` turning rigidly about its centroid at constant speed.
 
+    ``turns`` full turns over [0, 1] while the centroid moves linearly by ``shift``.
     Every connected component turns about the centroid of the whole shape; for
     one component this is the motion AIAP reproduces exactly.
     """

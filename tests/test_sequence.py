@@ -142,7 +142,7 @@ def test_plot_draws_the_chosen_frames(curl):
     ax = curl.plot(frames=[0, 3, -1])
     lines = ax.get_lines()
     assert len(lines) == 3
-    for line, k in zip(lines, (0, 3, 6)):
+    for line, k in zip(lines, (0, 3, 6), strict=True):
         xy = line.get_xydata()
         xy = xy[np.isfinite(xy).all(axis=1)]
         assert np.allclose(np.unique(xy, axis=0), np.unique(curl.frames[k], axis=0))

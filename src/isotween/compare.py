@@ -7,9 +7,12 @@ scale), ``metrics.png`` (distortion per frame, one line per method),
 ``table.md`` and ``table.csv``.
 """
 
+from __future__ import annotations
+
 import csv
 import io
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -20,6 +23,13 @@ from .errors import MethodError, ParameterError, require
 from .interpolate import interpolate
 from .io._files import atomic_dir
 
+if TYPE_CHECKING:
+    from collections.abc import Iterable
+    from os import PathLike
+    from typing import Any
+
+    from .shape import ShapeLike
+
 __all__ = ["compare", "METHODS", "COLUMNS"]
 
 METHODS = ("aiap",) + BASELINES
@@ -28,7 +38,9 @@ COLUMNS = ("method", "status", "edge_length_deviation", "area_deviation", "flipp
            "isometric_energy", "iterations", "seconds", "note")
 
 
-def compare(source, target, methods=METHODS, frames=9, report_dir=None, columns=7, **options):
+def compare(source: ShapeLike, target: ShapeLike, methods: Iterable[str] = METHODS, frames: int = 9,
+            report_dir: str | PathLike | None = None, columns: int = 7,
+            **options: Any) -> list[dict]:
     """Interpolate with several methods and measure each with the same metrics.
 
     Parameters

@@ -1,6 +1,9 @@
 """Sequence editing (Sec. 5.2): change some frames, keep the motion style."""
 
+from __future__ import annotations
+
 import numbers
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -10,10 +13,17 @@ from .initialisation import edge_rotations
 from .optimisation.assembly import FrameAssembler
 from .sequence import Sequence
 
+if TYPE_CHECKING:
+    from collections.abc import Mapping
+
+    from .sequence import Sequence
+    from .shape import Shape
+
 __all__ = ["edit"]
 
 
-def edit(sequence, frame=None, shape=None, edits=None, keep_ends=True):
+def edit(sequence: Sequence, frame: int | None = None, shape: Shape | None = None,
+         edits: Mapping[int, Shape] | None = None, keep_ends: bool = True) -> Sequence:
     """Edit frames of a sequence and carry the change through its motion.
 
     Each edited frame k gives every edge a similarity S~_ij(t_k) with

@@ -1,7 +1,10 @@
 """`interpolate`: the public entry point of AIAP interpolation of two shapes."""
 
+from __future__ import annotations
+
 import numbers
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -16,14 +19,23 @@ from .optimisation.schemes import SCHEMES
 from .sequence import Sequence
 from .times import frame_times
 
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from numpy.typing import ArrayLike
+
+    from .shape import ShapeLike
+
 __all__ = ["interpolate", "SOLVERS"]
 
 SOLVERS = ("local", "global")
 
 
-def interpolate(source, target, frames=9, solver="local", init="edge", scheme="midpoint",
-                tol=5e-4, max_iter=100, callback=None, method="aiap", times=None,
-                assembly="shared", linear_solver="cg"):
+def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: str = "local",
+                init: str = "edge", scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
+                callback: Callable[[int, float, float], object] | None = None, method: str = "aiap",
+                times: ArrayLike | None = None, assembly: str = "shared",
+                linear_solver: str = "cg") -> Sequence:
     """Interpolate two compatible shapes as-isometrically-as-possible.
 
     Parameters

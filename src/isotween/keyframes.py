@@ -1,7 +1,10 @@
 """AIAP interpolation through several keyframes at once."""
 
+from __future__ import annotations
+
 import numbers
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -15,12 +18,23 @@ from .optimisation.local_solver import ASSEMBLY, local_solve
 from .optimisation.schemes import SCHEMES
 from .sequence import Sequence
 
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from collections.abc import Sequence as Seq
+
+    from numpy.typing import ArrayLike
+
+    from .shape import ShapeLike
+
 __all__ = ["interpolate_keyframes"]
 
 
-def interpolate_keyframes(keyframes, times=None, frames=None, easing="linear", init="edge",
-                          scheme="midpoint", tol=5e-4, max_iter=100, smooth=1.0,
-                          assembly="shared", callback=None):
+def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = None,
+                          frames: int | None = None,
+                          easing: str | Callable[[np.ndarray], np.ndarray] = "linear", init: str = "edge",
+                          scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
+                          smooth: float = 1.0, assembly: str = "shared",
+                          callback: Callable[..., object] | None = None) -> Sequence:
     """One AIAP sequence through every keyframe.
 
     All in-between frames are solved together by the local solver with the

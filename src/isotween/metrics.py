@@ -5,17 +5,24 @@ summary: 'max' or 'mean' over all frames and elements, or None for per-frame
 values (an (F,) array).
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, overload
+
 import numpy as np
 
 from .errors import ParameterError
 from .optimisation.schemes import SCHEMES
 from .optimisation.schemes import isometric_energy as _energy
 
+if TYPE_CHECKING:
+    from .sequence import Sequence
+
 __all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped", "flipped_faces",
            "symmetry_error", "report", "loop_areas"]
 
 
-def isometric_energy(seq, scheme=None):
+def isometric_energy(seq: Sequence, scheme: str | None = None) -> float:
     """Eq. (6) with the sequence's scheme (or ``scheme``), over sum |e(0)|^2.
 
     For the paper scheme the forward and reverse samplings are averaged.
@@ -42,14 +49,18 @@ def _blend(first, last, t):
     return (1 - t) * first[None] + t * last[None]
 
 
-def edge_length_deviation(seq, reduce="max"):
+@overload
+def edge_length_deviation(seq: Sequence, reduce: str = "max") -> float: ...
+@overload
+def edge_length_deviation(seq: Sequence, reduce: None) -> np.ndarray: ...
+def edge_length_deviation(seq: Sequence, reduce: str | None = "max") -> float | np.ndarray:
     """| |e(t_k)| / ((1 - t_k)|e(0)| + t_k|e(1)|) - 1 | over edges and frames."""
     L = np.abs(seq.edge_vectors())
     dev = np.abs(L / _blend(L[0], L[-1], seq.times) - 1.0)
     return _reduce(dev, np.max, reduce)
 
 
-def loop_areas(seq):
+def loop_areas(seq: Sequence) -> np.ndarray:
     """(F, k) signed areas of the sequence's faces, or of its closed paths."""
     shape = seq.shape
     if shape.faces is not None and len(shape.faces):
@@ -67,7 +78,11 @@ def loop_areas(seq):
     return out
 
 
-def area_deviation(seq, reduce="max"):
+@overload
+def area_deviation(seq: Sequence, reduce: str = "max") -> float: ...
+@overload
+def area_deviation(seq: Sequence, reduce: None) -> np.ndarray: ...
+def area_deviation(seq: Sequence, reduce: str | None = "max") -> float | np.ndarray:
     """Relative deviation of every face's (or closed loop's) signed area from
     the linear blend of its two end areas."""
     A = loop_areas(seq)
@@ -76,7 +91,7 @@ def area_deviation(seq, reduce="max"):
     return _reduce(np.abs(A - blend) / scale, np.max, reduce)
 
 
-def flipped(seq):
+def flipped(seq: Sequence) -> np.ndarray:
     """(F, faces) bool: the one definition of a flipped face.
 
     A face is flipped in a frame when its signed area has the other sign than
@@ -88,7 +103,11 @@ def flipped(seq):
     return (np.sign(A) != np.sign(A[:1])) & (A[:1] != 0)
 
 
-def flipped_faces(seq, reduce="sum"):
+@overload
+def flipped_faces(seq: Sequence, reduce: str = "sum") -> int: ...
+@overload
+def flipped_faces(seq: Sequence, reduce: None) -> np.ndarray: ...
+def flipped_faces(seq: Sequence, reduce: str | None = "sum") -> int | np.ndarray:
     """Faces whose signed area has the other sign than in the source (`flipped`).
 
     reduce : 'sum' (over the intermediate frames), 'max' (the largest count in
@@ -105,7 +124,7 @@ def flipped_faces(seq, reduce="sum"):
     raise ParameterError(f"unknown reduce {reduce!r}; choose 'sum', 'max' or None")
 
 
-def symmetry_error(seq, backward=None):
+def symmetry_error(seq: Sequence, backward: Sequence | None = None) -> float:
     """Max distance between frame k of A->B and frame m-k of B->A over the
     bounding-box diagonal. ``backward`` is recomputed with the same options
     when not given."""
@@ -125,7 +144,7 @@ def symmetry_error(seq, backward=None):
     return float(np.max(np.linalg.norm(seq.frames - backward.frames[::-1], axis=-1)) / diag)
 
 
-def report(seq, symmetry=False):
+def report(seq: Sequence, symmetry: bool = False) -> dict:
     """Every metric of ``seq`` as a dict of floats (symmetry error on request:
     it costs a second interpolation)."""
     out = {

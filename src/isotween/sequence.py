@@ -7,7 +7,7 @@ import numbers
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -82,6 +82,10 @@ class Sequence:
     def __len__(self) -> int:
         return len(self.frames)
 
+    @overload
+    def __getitem__(self, k: int) -> Shape: ...
+    @overload
+    def __getitem__(self, k: slice | ArrayLike) -> Sequence: ...
     def __getitem__(self, k: int | slice | ArrayLike) -> Shape | Sequence:
         """Frame ``k`` as a Shape, or the Sequence of the frames a slice or index array keeps."""
         if isinstance(k, numbers.Integral) and not isinstance(k, bool):

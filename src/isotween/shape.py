@@ -7,7 +7,7 @@ import html
 import numbers
 import warnings
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -16,7 +16,10 @@ from scipy.sparse.csgraph import connected_components
 
 from .errors import ParameterError, ShapeError
 
-__all__ = ["Shape"]
+if TYPE_CHECKING:
+    from .topology import Topology
+
+__all__ = ["Shape", "ShapeLike"]
 
 
 def _as_index_array(values, width, what):
@@ -277,11 +280,14 @@ class Shape:
         (10, 9, [True, True, False])
         """
         rings = list(rings)
-        flags = [bool(closed)] * len(rings) if np.ndim(closed) == 0 else [bool(c) for c in closed]
+        if isinstance(closed, (bool, np.bool_)):
+            flags = [bool(closed)] * len(rings)
+        else:
+            flags = [bool(c) for c in closed]
         if len(flags) != len(rings):
             raise ShapeError(f"closed has {len(flags)} values for {len(rings)} rings")
         points = []
-        for r, (ring, c) in enumerate(zip(rings, flags)):
+        for r, (ring, c) in enumerate(zip(rings, flags, strict=True)):
             ring = np.asarray(ring)
             if np.iscomplexobj(ring) and ring.ndim == 1:
                 ring = np.column_stack([ring.real, ring.imag])
@@ -304,40 +310,43 @@ class Shape:
         keep = np.ones(len(idx), dtype=bool)
         keep[ends[~is_closed]] = False  # a chain's last point starts no edge
         edges = np.column_stack([idx, nxt])[keep]
-        paths = [(idx[s : s + k], c) for s, k, c in zip(starts, sizes, flags)]
+        paths = [(idx[s : s + k], c) for s, k, c in zip(starts, sizes, flags, strict=True)]
         return cls(np.vstack(points), edges, paths=paths, y_down=y_down, regions=regions, paint=paint)
 
     # ------------------------------------------------------------------ properties
     @property
-    def n_vertices(self):
+    def n_vertices(self) -> int:
+        """Number of vertices."""
         return len(self.vertices)
 
     @property
-    def n_edges(self):
+    def n_edges(self) -> int:
+        """Number of edges."""
         return len(self.edges)
 
     @property
-    def n_faces(self):
+    def n_faces(self) -> int:
+        """Number of triangles (0 without faces)."""
         return 0 if self.faces is None else len(self.faces)
 
     @functools.cached_property
-    def topology(self):
+    def topology(self) -> Topology:
         """Connectivity data shared by shapes with these edges (:class:`Topology`)."""
         from .topology import Topology
 
         return Topology(self.edges, self.n_vertices, self.components, self.n_components)
 
     @property
-    def z(self):
+    def z(self) -> NDArray[np.complex128]:
         """(n,) complex: the vertices as complex numbers x + iy."""
         return self.vertices[:, 0] + 1j * self.vertices[:, 1]
 
-    def edge_vectors(self, z=None):
+    def edge_vectors(self, z: NDArray[np.complex128] | None = None) -> NDArray[np.complex128]:
         """(E,) complex: ``p_j - p_i`` for every edge (i, j) (of ``z`` if given)."""
         z = self.z if z is None else z
         return z[..., self.edges[:, 1]] - z[..., self.edges[:, 0]]
 
-    def bbox_diagonal(self):
+    def bbox_diagonal(self) -> float:
         """Length of the bounding-box diagonal (float)."""
         if not len(self.vertices):
             return 0.0
@@ -378,7 +387,7 @@ class Shape:
         s.vertices = v
         return s
 
-    def face_areas(self, vertices=None):
+    def face_areas(self, vertices: ArrayLike | None = None) -> NDArray[np.float64]:
         """(F,) signed triangle areas (positive = counter-clockwise)."""
         v = self.vertices if vertices is None else np.asarray(vertices)
         if self.faces is None:
@@ -604,11 +613,15 @@ class Shape:
         """SVG drawing of the shape (Jupyter shows it inline)."""
         return shape_svg(self)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return (
             f"Shape({self.n_vertices} vertices, {self.n_edges} edges, {self.n_faces} faces, "
             f"{self.n_components} component(s))"
         )
+
+
+#: What every function that takes a shape accepts: a Shape or an (n, 2) polygon array.
+ShapeLike: TypeAlias = "Shape | ArrayLike"
 
 
 def _check_regions_paint(paths, regions, paint):

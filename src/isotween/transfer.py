@@ -1,5 +1,9 @@
 """Shape transfer (Sec. 5.1): make a target imitate a source's AIAP motion."""
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .correspondence.compatibility import as_shape, check_compatible
@@ -8,10 +12,15 @@ from .optimisation.assembly import FrameAssembler
 from .sequence import Sequence
 from .velocity import relative_velocity_field
 
+if TYPE_CHECKING:
+    from typing import Any
+
+    from .shape import Shape, ShapeLike
+
 __all__ = ["transfer", "component_similarities"]
 
 
-def component_similarities(source, target):
+def component_similarities(source: Shape, target: Shape) -> tuple[np.ndarray, np.ndarray]:
     """Least-squares similarity a z + b from each component of source to target.
 
     Returns
@@ -28,7 +37,8 @@ def component_similarities(source, target):
     return a, ct - a * cs
 
 
-def transfer(source_start, source_end, target_start, frames=9, **options):
+def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: ShapeLike, frames: int = 9,
+             **options: Any) -> Sequence:
     """Transfer the AIAP motion from source_start -> source_end onto target_start.
 
     1. AIAP-interpolate the source pair (Algorithm 2, ``options`` as in

@@ -1,5 +1,7 @@
 """Relative velocity fields (Sec. 3) of a shape sequence."""
 
+from __future__ import annotations
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,13 +37,13 @@ class RelativeVelocityField:
     velocities: np.ndarray
     angular_speeds: np.ndarray
 
-    def isometric_residual(self):
+    def isometric_residual(self) -> np.ndarray:
         """(E, m) complex: e' - c R(pi/2) e, the non-isometric part (Eq. 2-3)."""
         e0, e1 = self.edges[:, :-1], self.edges[:, 1:]
         return self.velocities - 1j * self.angular_speeds * 0.5 * (e0 + e1)
 
 
-def relative_velocity_field(seq, scheme="midpoint"):
+def relative_velocity_field(seq: Sequence, scheme: str = "midpoint") -> RelativeVelocityField:
     """The :class:`RelativeVelocityField` of a :class:`Sequence`."""
     if not isinstance(seq, Sequence):
         raise TypeError("relative_velocity_field takes an isotween.Sequence")

@@ -1,21 +1,32 @@
 """Checks that two shapes can be interpolated: same vertices, same connectivity."""
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..errors import IncompatibleShapesError, ShapeError
 from ..shape import Shape
 
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+    from typing import Any
+
+    from ..shape import ShapeLike
+
 __all__ = ["check_compatible", "as_shape"]
 
 
-def as_shape(obj, name="shape"):
+def as_shape(obj: ShapeLike, name: str = "shape") -> Shape:
     """Accept a `Shape`, or an (n, 2) array_like polygon (`Shape.from_polygon`)."""
     if isinstance(obj, Shape):
         return obj
     return Shape.coerce(obj, name)
 
 
-def check_compatible(*shapes, names=None, edge_vectors=None, diagonal=None):
+def check_compatible(*shapes: Shape, names: Sequence[str] | None = None,
+                     edge_vectors: Sequence[Any] | None = None, diagonal: float | None = None) -> None:
     """Raise `IncompatibleShapesError` unless all shapes share connectivity.
 
     Checks the vertex count, the edge list (same pairs, same order), the faces,

@@ -11,9 +11,11 @@ extension of that boundary: the cotangent Laplacian of the source mesh,
 moved outline gives a rigidly moved mesh.
 """
 
+from __future__ import annotations
+
 import numbers
 import warnings
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -23,6 +25,9 @@ from scipy.sparse.linalg import splu
 from ..errors import ParameterError, ShapeError, require
 from ..shape import Shape
 from .compatibility import as_shape, check_compatible
+
+if TYPE_CHECKING:
+    from ..shape import ShapeLike
 
 __all__ = ["mesh_pair", "MeshPair"]
 
@@ -44,7 +49,8 @@ class MeshPair(NamedTuple):
     flipped: np.ndarray
 
 
-def mesh_pair(source, target, max_area=None, min_angle=30.0):
+def mesh_pair(source: ShapeLike, target: ShapeLike, max_area: float | None = None,
+              min_angle: float = 30.0) -> MeshPair:
     """Triangulate the source outline and map the mesh onto the target outline.
 
     Parameters

@@ -16,17 +16,24 @@ over the target vertices within one grid step of it, so a target that is a
 re-started copy of the source matches exactly.
 """
 
+from __future__ import annotations
+
 import numbers
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import IncompatibleShapesError, ParameterError, ShapeError
 from ..shape import Shape
 
+if TYPE_CHECKING:
+    from typing import Any
+
 __all__ = ["resample"]
 
 
-def resample(source_rings, target_rings, points=None, closed=None, corners=None, rotation=False):
+def resample(source_rings: Any, target_rings: Any, points: int | None = None, closed: Any = None,
+             corners: float | None = None, rotation: bool = False) -> tuple[Shape, Shape]:
     """Resample two sets of rings to a compatible pair of outline shapes.
 
     Parameters

@@ -1,11 +1,19 @@
 """`write_output`: the one place that turns a sequence into the file(s) a user asked for."""
 
+from __future__ import annotations
+
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import FileFormatError, ParameterError, require
 from ._files import atomic_path
 from .frames import FRAME_FORMATS, write_frames
 from .sequence_file import save_sequence
+
+if TYPE_CHECKING:
+    from os import PathLike
+
+    from ..sequence import Sequence
 
 __all__ = ["write_output", "output_kind", "OUTPUT_KINDS"]
 
@@ -21,7 +29,7 @@ OUTPUT_KINDS = {
 }
 
 
-def output_kind(out, format=None):
+def output_kind(out: str | PathLike, format: str | None = None) -> str:
     """What `write_output` would write to ``out``, checked before any work is done.
 
     Parameters
@@ -73,7 +81,8 @@ def output_kind(out, format=None):
     return kind
 
 
-def write_output(seq, out, format=None, texture=None, quiet=False):
+def write_output(seq: Sequence, out: str | PathLike, format: str | None = None,
+                 texture: str | PathLike | None = None, quiet: bool = False) -> list[Path]:
     """Write a sequence as the kind of output ``out`` names.
 
     ``.npz`` / ``.json``: sequence file (`save_sequence`); ``.gif``, ``.mp4``,

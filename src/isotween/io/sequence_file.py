@@ -1,8 +1,11 @@
 """Whole sequences in one file (.npz, .json) or as a folder of frame files."""
 
+from __future__ import annotations
+
 import json
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -12,6 +15,9 @@ from ._files import check_readable, write_text
 from ._json import JsonDocument, dumps_rows
 from .json_shape import fields_text, shape_fields, shape_from_fields
 from .npz import connectivity_arrays, connectivity_from, open_npz, save_arrays
+
+if TYPE_CHECKING:
+    from os import PathLike
 
 __all__ = ["save_sequence", "load_sequence", "is_sequence_file"]
 
@@ -49,7 +55,7 @@ def _meta(seq):
     }
 
 
-def save_sequence(seq, path):
+def save_sequence(seq: Sequence, path: str | PathLike) -> None:
     """Write a sequence to ``.npz`` or ``.json`` (layout in docs/formats.md).
 
     Stores the frames, the shared connectivity (edges, faces, uv, paths), the
@@ -96,7 +102,7 @@ def save_sequence(seq, path):
     write_text(path, "{\n" + ",\n".join(parts) + "\n}\n")
 
 
-def is_sequence_file(path):
+def is_sequence_file(path: str | PathLike) -> bool:
     """Whether ``path`` holds a sequence: a folder, or an .npz/.json with frames."""
     path = Path(path)
     if path.is_dir():
@@ -110,7 +116,7 @@ def is_sequence_file(path):
     return False
 
 
-def load_sequence(path):
+def load_sequence(path: str | PathLike) -> Sequence:
     """Read a sequence written by `save_sequence`, or a folder of frame files.
 
     A folder is read as one frame per shape file (.obj, .off, .svg, .json,

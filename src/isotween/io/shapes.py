@@ -1,6 +1,9 @@
 """`load` and `save` of one shape, dispatching on the file extension."""
 
+from __future__ import annotations
+
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import FileFormatError
 from ..shape import Shape
@@ -9,6 +12,10 @@ from .npz import read_npz, write_npz
 from .obj import read_obj, write_obj
 from .off import read_off, write_off
 from .svg import read_svg, write_svg
+
+if TYPE_CHECKING:
+    from os import PathLike
+    from typing import Any
 
 __all__ = ["load", "save", "SHAPE_FORMATS"]
 
@@ -30,7 +37,7 @@ def _codec(path, verb):
     return SHAPE_FORMATS[ext]
 
 
-def load(path, **options):
+def load(path: str | PathLike, **options: Any) -> Shape:
     """Read a shape from ``.obj``, ``.off``, ``.svg``, ``.json`` or ``.npz``.
 
     Parameters
@@ -53,7 +60,7 @@ def load(path, **options):
     return reader(path, **options)
 
 
-def save(shape, path):
+def save(shape: Shape, path: str | PathLike) -> None:
     """Write a shape; the extension picks the format (see `load`).
 
     The file is written atomically; an unwritable path raises `FileFormatError`.
