@@ -67,8 +67,8 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
         Increasing frame times from 0 to 1 (default: uniform).
     assembly : {'shared', 'per-frame'}
         Local solver only: one factorisation of Eq. (10) with frozen weights
-        2 / (|e(0)| + |e(1)|) for every frame (fast), or the paper's weights
-        1 / |e(t_k)| refactorised per frame and iteration (reference).
+        ``2 / (|e(0)| + |e(1)|)`` for every frame (fast), or the paper's weights
+        ``1 / |e(t_k)|`` refactorised per frame and iteration (reference).
     linear_solver : {'cg', 'direct'}
         Global solver only: preconditioned conjugate gradients or sparse LU.
 

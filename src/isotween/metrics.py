@@ -23,7 +23,7 @@ __all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipp
 
 
 def isometric_energy(seq: Sequence, scheme: str | None = None) -> float:
-    """Eq. (6) with the sequence's scheme (or ``scheme``), over sum |e(0)|^2.
+    """Eq. (6) with the sequence's scheme (or ``scheme``), over ``sum |e(0)|^2``.
 
     For the paper scheme the forward and reverse samplings are averaged.
     """
@@ -54,7 +54,7 @@ def edge_length_deviation(seq: Sequence, reduce: str = "max") -> float: ...
 @overload
 def edge_length_deviation(seq: Sequence, reduce: None) -> np.ndarray: ...
 def edge_length_deviation(seq: Sequence, reduce: str | None = "max") -> float | np.ndarray:
-    """| |e(t_k)| / ((1 - t_k)|e(0)| + t_k|e(1)|) - 1 | over edges and frames."""
+    """``| |e(t_k)| / ((1 - t_k)|e(0)| + t_k|e(1)|) - 1 |`` over edges and frames."""
     L = np.abs(seq.edge_vectors())
     dev = np.abs(L / _blend(L[0], L[-1], seq.times) - 1.0)
     return _reduce(dev, np.max, reduce)
