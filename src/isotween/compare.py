@@ -72,6 +72,16 @@ def compare(source: ShapeLike, target: ShapeLike, methods: Iterable[str] = METHO
     ------
     ParameterError
         An unknown or repeated method name.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    >>> rows = isotween.compare(bar, bar.rotate(2.0), methods=["aiap", "linear"], frames=5)
+    >>> [(row["method"], row["status"]) for row in rows]
+    [('aiap', 'ok'), ('linear', 'ok')]
+    >>> rows[0]["edge_length_deviation"] < rows[1]["edge_length_deviation"]
+    True
     """
     methods = list(methods)
     unknown = [m for m in methods if m not in METHODS]

@@ -34,6 +34,12 @@ def frame_times(frames: int, easing: str | Callable[[np.ndarray], np.ndarray] = 
     Returns
     -------
     (frames,) float array, strictly increasing from 0 to 1.
+
+    Examples
+    --------
+    >>> from isotween.easing import frame_times
+    >>> frame_times(5, "ease-in").tolist()
+    [0.0, 0.0625, 0.25, 0.5625, 1.0]
     """
     curve = EASINGS.get(easing) if isinstance(easing, str) else easing
     if curve is None or not callable(curve):

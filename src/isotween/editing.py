@@ -52,6 +52,17 @@ def edit(sequence: Sequence, frame: int | None = None, shape: Shape | None = Non
     -------
     Sequence
         Same length and connectivity; the edited frames are matched exactly.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(1.0), frames=5)
+    >>> bent = seq[2].with_vertices(seq[2].vertices + [[0, 0], [0, 0], [0, 0.3]])
+    >>> edited = isotween.edit(seq, frame=2, shape=bent)
+    >>> edited[2].equals(bent, atol=1e-9), edited[0].equals(seq[0], atol=1e-12)
+    (True, True)
     """
     edits = dict(edits or {})
     if frame is not None or shape is not None:

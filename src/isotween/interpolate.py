@@ -76,6 +76,17 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
     -------
     Sequence
         ``frames`` is a (frames, n, 2) float64 array.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0], [3, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(np.pi / 2).translate([1, 1]), frames=5)
+    >>> seq.frames.shape, seq.converged
+    ((5, 4, 2), True)
+    >>> bool(isotween.metrics.edge_length_deviation(seq) < 1e-9)  # a rigid motion stays rigid
+    True
     """
     keep_heap_if_asked()
     start = time.perf_counter()

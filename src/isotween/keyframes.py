@@ -64,6 +64,18 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
     -------
     Sequence
         ``info['keyframe_indices']`` gives the frame index of every keyframe.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    >>> keys = [bar, bar.rotate(0.5), bar.rotate(0.5).translate([1, 0])]
+    >>> seq = isotween.interpolate_keyframes(keys, frames=9)
+    >>> len(seq), [float(t) for t in seq.times[[0, 4, 8]]]
+    (9, [0.0, 0.5, 1.0])
+    >>> all(seq[k].equals(key, atol=1e-12) for k, key in zip((0, 4, 8), keys))
+    True
     """
     keep_heap_if_asked()
     start = time.perf_counter()

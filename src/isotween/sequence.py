@@ -163,7 +163,15 @@ class Sequence:
         return self.frames[..., 0] + 1j * self.frames[..., 1]
 
     def edge_vectors(self) -> NDArray[np.complex128]:
-        """(F, E) complex edge vectors of every frame."""
+        """(F, E) complex edge vectors of every frame.
+
+        Examples
+        --------
+        >>> import isotween
+        >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+        >>> isotween.interpolate(bar, bar.translate([0, 1]), frames=3).edge_vectors().tolist()
+        [[(1+0j)], [(1+0j)], [(1+0j)]]
+        """
         return self.shape.edge_vectors(self.z)
 
     # ------------------------------------------------------------------ in-between times

@@ -72,6 +72,16 @@ class Shape:
         Connected-component label of every vertex (isolated vertices are their own
         component).
     n_components : int
+
+    Examples
+    --------
+    >>> from isotween import Shape
+    >>> square = Shape([[0, 0], [1, 0], [1, 1], [0, 1]], edges=[[0, 1], [1, 2], [2, 3], [3, 0]])
+    >>> square
+    Shape(4 vertices, 4 edges, 0 faces, 1 component(s))
+    >>> mesh = Shape([[0, 0], [1, 0], [1, 1], [0, 1]], faces=[[0, 1, 2], [0, 2, 3]])
+    >>> mesh.edges.tolist()
+    [[0, 1], [1, 2], [2, 0], [2, 3], [3, 0]]
     """
 
     def __init__(self, vertices, edges=None, faces=None, uv=None, paths=None, duplicates="error",
@@ -342,12 +352,35 @@ class Shape:
         return self.vertices[:, 0] + 1j * self.vertices[:, 1]
 
     def edge_vectors(self, z: NDArray[np.complex128] | None = None) -> NDArray[np.complex128]:
-        """(E,) complex: ``p_j - p_i`` for every edge (i, j) (of ``z`` if given)."""
+        """(E,) complex: ``p_j - p_i`` for every edge (i, j) (of ``z`` if given).
+
+        Parameters
+        ----------
+        z : (..., n) complex array, optional
+            Vertex positions (any leading frame axes); default :attr:`z`.
+
+        Returns
+        -------
+        (..., E) complex array
+
+        Examples
+        --------
+        >>> from isotween import Shape
+        >>> Shape.from_polyline([[0, 0], [1, 0], [1, 2]]).edge_vectors().tolist()
+        [(1+0j), 2j]
+        """
         z = self.z if z is None else z
         return z[..., self.edges[:, 1]] - z[..., self.edges[:, 0]]
 
     def bbox_diagonal(self) -> float:
-        """Length of the bounding-box diagonal (float)."""
+        """Length of the bounding-box diagonal (float).
+
+        Examples
+        --------
+        >>> from isotween import Shape
+        >>> Shape.from_polyline([[0, 0], [3, 4]]).bbox_diagonal()
+        5.0
+        """
         if not len(self.vertices):
             return 0.0
         d = self.vertices.max(axis=0) - self.vertices.min(axis=0)
@@ -388,7 +421,25 @@ class Shape:
         return s
 
     def face_areas(self, vertices: ArrayLike | None = None) -> NDArray[np.float64]:
-        """(F,) signed triangle areas (positive = counter-clockwise)."""
+        """(F,) signed triangle areas (positive = counter-clockwise).
+
+        Parameters
+        ----------
+        vertices : (..., n, 2) array_like of float, optional
+            Positions to measure at (any leading frame axes); default the shape's.
+
+        Returns
+        -------
+        (..., F) float array
+            Empty along the last axis for a shape without faces.
+
+        Examples
+        --------
+        >>> from isotween import Shape
+        >>> mesh = Shape.from_mesh([[0, 0], [2, 0], [0, 1]], [[0, 1, 2]])
+        >>> mesh.face_areas().tolist(), mesh.face_areas(mesh.scale([1, -1]).vertices).tolist()
+        ([1.0], [-1.0])
+        """
         v = self.vertices if vertices is None else np.asarray(vertices)
         if self.faces is None:
             return np.zeros(v.shape[:-2] + (0,))

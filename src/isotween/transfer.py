@@ -26,6 +26,16 @@ def component_similarities(source: Shape, target: Shape) -> tuple[np.ndarray, np
     Returns
     -------
     a, b : (C,) complex
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> from isotween.transfer import component_similarities
+    >>> tri = isotween.Shape.from_polygon([[0, 0], [1, 0], [0, 1]])
+    >>> a, b = component_similarities(tri, tri.scale(2.0).translate([1, 0]))
+    >>> np.round(a, 12).tolist(), np.round(b, 12).tolist()
+    ([(2+0j)], [(1+0j)])
     """
     avg = source.topology.avg
     cs, ct = avg @ source.z, avg @ target.z
@@ -67,6 +77,16 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     -------
     Sequence
         The target's frames; ``info['source']`` holds the source sequence.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    >>> seq = isotween.transfer(bar, bar.rotate(1.0), bar.scale(2.0), frames=5)
+    >>> source = isotween.interpolate(bar, bar.rotate(1.0), frames=5)
+    >>> bool(np.allclose(seq.frames, 2.0 * source.frames))  # a similar copy moves alike
+    True
     """
     shapes = [as_shape(s, n) for s, n in ((source_start, "source_start"),
                                           (source_end, "source_end"),

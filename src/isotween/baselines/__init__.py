@@ -70,6 +70,16 @@ def run(method, source, target, n_frames, times=None, **options):
     MethodError
         Unknown method, or a shape the method cannot take (the message says
         which input it needs).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> from isotween.baselines import run
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> seq = run("linear", bar, bar.translate([2, 0]), 3)
+    >>> seq.method, seq.frames[1].tolist()
+    ('linear', [[1.0, 0.0], [2.0, 0.0]])
     """
     if method not in _MODULES:
         raise MethodError(f"unknown method {method!r}; choose one of aiap, {', '.join(METHODS)}")

@@ -19,7 +19,14 @@ __all__ = ["check_compatible", "as_shape"]
 
 
 def as_shape(obj: ShapeLike, name: str = "shape") -> Shape:
-    """Accept a `Shape`, or an (n, 2) array_like polygon (`Shape.from_polygon`)."""
+    """Accept a `Shape`, or an (n, 2) array_like polygon (`Shape.from_polygon`).
+
+    Examples
+    --------
+    >>> from isotween.correspondence.compatibility import as_shape
+    >>> as_shape([[0, 0], [1, 0], [0, 1]]).n_edges
+    3
+    """
     if isinstance(obj, Shape):
         return obj
     return Shape.coerce(obj, name)
@@ -45,6 +52,16 @@ def check_compatible(*shapes: Shape, names: Sequence[str] | None = None,
         An upper bound of every shape's bounding-box diagonal (e.g. that of
         all shapes together): the diagonals are then computed only when an
         edge is short enough to need them.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> tri = isotween.Shape.from_polygon([[0, 0], [1, 0], [0, 1]])
+    >>> isotween.check_compatible(tri, tri.rotate(1.0))  # passes silently
+    >>> isotween.check_compatible(tri, isotween.Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]]))
+    Traceback (most recent call last):
+        ...
+    isotween.errors.IncompatibleShapesError: source has 3 vertices but target has 4; ...
     """
     if names is None:
         names = ["source", "target"] + [f"shape {i}" for i in range(2, len(shapes))]

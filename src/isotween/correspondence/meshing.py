@@ -81,6 +81,14 @@ def mesh_pair(source: ShapeLike, target: ShapeLike, max_area: float | None = Non
         The outlines do not share vertex count and connectivity.
     MissingDependencyError
         ``triangle`` is not installed (``pip install 'isotween[mesh]'``).
+
+    Examples
+    --------
+    >>> import isotween
+    >>> square = isotween.Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]])
+    >>> source, target, flipped = isotween.mesh_pair(square, square.rotate(0.3), max_area=0.05)
+    >>> source.n_faces == target.n_faces > 2, flipped.size
+    (True, 0)
     """
     triangle = require("triangle", "mesh")
     source, target = as_shape(source, "source"), as_shape(target, "target")

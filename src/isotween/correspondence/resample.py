@@ -32,7 +32,7 @@ if TYPE_CHECKING:
 __all__ = ["resample"]
 
 
-def resample(source_rings: Any, target_rings: Any, points: int | None = None, closed: Any = None,
+def resample(source_rings: Any, target_rings: Any, points: int | list[int] | None = None, closed: Any = None,
              corners: float | None = None, rotation: bool = False) -> tuple[Shape, Shape]:
     """Resample two sets of rings to a compatible pair of outline shapes.
 
@@ -76,6 +76,17 @@ def resample(source_rings: Any, target_rings: Any, points: int | None = None, cl
         Different ring counts, or a ring closed in one shape and open in the other.
     ParameterError
         ``points`` too small for the rings, or another bad option.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> square = [[0, 0], [1, 0], [1, 1], [0, 1]]
+    >>> theta = np.linspace(0, 2 * np.pi, 30, endpoint=False)
+    >>> circle = np.c_[np.cos(theta), np.sin(theta)]
+    >>> source, target = isotween.resample(square, circle, points=40)
+    >>> source.n_vertices, target.n_vertices, bool(np.array_equal(source.edges, target.edges))
+    (40, 40, True)
     """
     src = _rings(source_rings, closed, "source")
     tgt = _rings(target_rings, closed, "target")

@@ -49,6 +49,12 @@ def output_kind(out: str | PathLike, format: str | None = None) -> str:
         does not exist.
     ParameterError
         Unknown ``format``, or ``format`` with a file name.
+
+    Examples
+    --------
+    >>> from isotween.io.output import output_kind
+    >>> output_kind("walk.gif"), output_kind("walk.npz"), output_kind("walk.png")
+    ('gif', 'sequence', 'strip')
     """
     out = Path(out)
     ext = out.suffix.lower()
@@ -109,6 +115,17 @@ def write_output(seq: Sequence, out: str | PathLike, format: str | None = None,
     -----
     Every file is written through a temporary file and renamed into place,
     so an error leaves no partial output.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(1.0), frames=3)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     files = isotween.write_output(seq, os.path.join(d, "frames"), format="obj", quiet=True)
+    ...     sorted(os.path.basename(f) for f in files)
+    ['frame_0000.obj', 'frame_0001.obj', 'frame_0002.obj']
     """
     kind = output_kind(out, format)
     out = Path(out)

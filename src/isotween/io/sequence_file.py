@@ -61,6 +61,18 @@ def save_sequence(seq: Sequence, path: str | PathLike) -> None:
     Stores the frames, the shared connectivity (edges, faces, uv, paths), the
     source vertices when they differ from frame 0, times, energy history,
     iterations, converged, method, scheme, timings and info. Atomic.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(1.0), frames=4)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     isotween.save_sequence(seq, os.path.join(d, "seq.json"))
+    ...     back = isotween.load_sequence(os.path.join(d, "seq.json"))
+    >>> back.equals(seq)
+    True
     """
     ext = Path(path).suffix.lower()
     if ext not in (".npz", ".json"):
@@ -103,7 +115,20 @@ def save_sequence(seq: Sequence, path: str | PathLike) -> None:
 
 
 def is_sequence_file(path: str | PathLike) -> bool:
-    """Whether ``path`` holds a sequence: a folder, or an .npz/.json with frames."""
+    """Whether ``path`` holds a sequence: a folder, or an .npz/.json with frames.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> from isotween.io.sequence_file import is_sequence_file
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     isotween.save(bar, os.path.join(d, "bar.npz"))
+    ...     isotween.save_sequence(isotween.interpolate(bar, bar.rotate(1.0), frames=3), os.path.join(d, "seq.npz"))
+    ...     is_sequence_file(os.path.join(d, "bar.npz")), is_sequence_file(os.path.join(d, "seq.npz"))
+    (False, True)
+    """
     path = Path(path)
     if path.is_dir():
         return True
@@ -133,6 +158,18 @@ def load_sequence(path: str | PathLike) -> Sequence:
         Naming the file and what is missing or malformed.
     IncompatibleShapesError
         When the frames of a folder differ in connectivity (naming the file).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(1.0), frames=4)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     isotween.save_sequence(seq, os.path.join(d, "seq.npz"))
+    ...     back = isotween.load_sequence(os.path.join(d, "seq.npz"))
+    >>> len(back), back.method, back.equals(seq)
+    (4, 'aiap', True)
     """
     path = Path(path)
     if path.is_dir():

@@ -55,6 +55,17 @@ def load(path: str | PathLike, **options: Any) -> Shape:
     FileFormatError
         Missing file, unknown extension, or malformed content (naming the
         file and the line or element).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> tri = isotween.Shape.from_polygon([[0, 0], [1, 0], [0, 1]])
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     isotween.save(tri, os.path.join(d, "tri.obj"))
+    ...     back = isotween.load(os.path.join(d, "tri.obj"))
+    >>> bool((back.vertices == tri.vertices).all()), back.n_edges
+    (True, 3)
     """
     reader = _codec(path, "read")[0]
     return reader(path, **options)
@@ -64,6 +75,17 @@ def save(shape: Shape, path: str | PathLike) -> None:
     """Write a shape; the extension picks the format (see `load`).
 
     The file is written atomically; an unwritable path raises `FileFormatError`.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> tri = isotween.Shape.from_polygon([[0, 0], [1, 0], [0, 1]])
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     isotween.save(tri, os.path.join(d, "tri.json"))
+    ...     back = isotween.load(os.path.join(d, "tri.json"))
+    >>> back.equals(tri)
+    True
     """
     if not isinstance(shape, Shape):
         raise FileFormatError(f"{path}: save expects an isotween.Shape, got {type(shape).__name__}")
