@@ -80,6 +80,13 @@ def test_equality_is_explicit_and_never_raises(curl):
     assert len({curl, twin}) == 2  # hashed by identity, consistently with ==
 
 
+def test_copies_and_pickles_after_at(curl):
+    import pickle
+
+    curl.at(0.3)
+    assert pickle.loads(pickle.dumps(curl)).equals(curl) and copy.deepcopy(curl).equals(curl)
+
+
 def test_at_is_exact_at_the_frames(curl):
     for k, t in enumerate(curl.times):
         assert np.array_equal(curl.at(t).vertices, curl.frames[k])

@@ -5,6 +5,7 @@ from __future__ import annotations
 import html
 import numbers
 import os
+import weakref
 from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any, overload
@@ -16,6 +17,10 @@ from .errors import ParameterError
 from .shape import Shape
 
 __all__ = ["Sequence"]
+
+#: Sequence -> (shape, weights, FrameAssembler) of its last at() call (kept out of the
+#: instance, so that sequences still copy and pickle)
+_ASSEMBLERS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 @dataclass(eq=False, repr=False)
@@ -289,7 +294,10 @@ class Sequence:
         centroids = (1.0 - s) * c[:, k] + s * c[:, k + 1]
         first, last = np.abs(e[:, 0]), np.abs(e[:, -1])
         weights = 2.0 / np.maximum(first + last, np.finfo(float).tiny)
-        out = FrameAssembler(self.shape, weights).positions(edges, centroids)  # Eq. (10), (n, T)
+        cached = _ASSEMBLERS.get(self)  # one factorisation for repeated calls
+        if cached is None or cached[0] is not self.shape or not np.array_equal(cached[1], weights):
+            cached = _ASSEMBLERS[self] = (self.shape, weights, FrameAssembler(self.shape, weights))
+        out = cached[2].positions(edges, centroids)  # Eq. (10), (n, T)
         for at_frame, frame in ((s == 0.0, k), (s == 1.0, k + 1)):  # the frames themselves, bit for bit
             out[:, at_frame] = z[frame[at_frame]].T
         return np.stack([out.real.T, out.imag.T], axis=-1)
