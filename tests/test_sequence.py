@@ -78,6 +78,7 @@ def test_equality_is_explicit_and_never_raises(curl):
     other_times.times[3] += 1e-3
     assert not curl.equals(other_times)
     assert len({curl, twin}) == 2  # hashed by identity, consistently with ==
+    assert (curl == curl.frames) is False and (curl.frames == curl) is False  # never elementwise
 
 
 def test_copies_and_pickles_after_at(curl):

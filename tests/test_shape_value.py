@@ -48,6 +48,8 @@ def test_equality_by_value_with_a_consistent_hash():
     painted = Shape(a.vertices, a.edges, paths=a.paths, regions=[[0]], paint=[Paint(fill=(1, 0, 0))])
     assert painted != Shape(a.vertices, a.edges, paths=a.paths, regions=[[0]], paint=[Paint(fill=(0, 0, 1))])
     assert (a == "a") is False and a != None  # noqa: E711
+    assert (a == a.vertices) is False and (a.vertices == a) is False  # never elementwise
+    assert np.asarray(a).shape == (3, 2) and np.array_equal(np.asarray(a), a.vertices)
 
 
 def test_equals_with_tolerance():

@@ -110,6 +110,9 @@ class Sequence:
     def __iter__(self) -> Iterator[Shape]:
         return (self.shape.with_vertices(f) for f in self.frames)
 
+    #: numpy defers to Sequence in binary operations, so ``array == seq`` is False, not elementwise
+    __array_ufunc__ = None
+
     def __array__(self, dtype: Any = None, copy: bool | None = None) -> NDArray:
         """The (F, n, 2) frames, so that ``np.asarray(seq)`` gives the positions."""
         if copy is False and dtype is not None and np.dtype(dtype) != self.frames.dtype:

@@ -528,6 +528,9 @@ class Shape:
                                                digest(self.uv), self._key()))
         return h
 
+    #: numpy defers to Shape in binary operations, so ``array == shape`` is False, not elementwise
+    __array_ufunc__ = None
+
     def __array__(self, dtype: Any = None, copy: bool | None = None) -> NDArray:
         """The (n, 2) vertices, so that ``np.asarray(shape)`` gives the positions."""
         if copy is False and dtype is not None and np.dtype(dtype) != self.vertices.dtype:
