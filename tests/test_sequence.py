@@ -11,7 +11,7 @@ import pytest
 
 matplotlib.use("Agg")
 
-from isotween import Sequence, Shape, interpolate, load_sequence  # noqa: E402
+from isotween import Sequence, Shape, interpolate, load_sequence, metrics  # noqa: E402
 from isotween.errors import FileFormatError, ParameterError  # noqa: E402
 from shapes import chain, ellipse  # noqa: E402
 
@@ -46,6 +46,15 @@ def test_slices_keep_y_down():
     s = Shape(s.vertices, s.edges, paths=s.paths, y_down=True)
     seq = interpolate(s, s.rotate(0.5), frames=4)
     assert seq.y_down and seq[1:3].y_down and seq[1].y_down
+
+
+def test_metrics_of_a_slice_blend_between_its_own_ends(curl):
+    part = curl[2:6]
+    span = (part.times - part.times[0]) / (part.times[-1] - part.times[0])
+    same = Sequence(part.frames, part.shape, times=span)
+    for metric in (metrics.edge_length_deviation, metrics.area_deviation):
+        assert np.array_equal(metric(part, reduce=None), metric(same, reduce=None))
+    assert metrics.edge_length_deviation(part, reduce=None)[[0, -1]].tolist() == [0.0, 0.0]
 
 
 def test_integer_indices_iteration_and_array(curl):

@@ -55,7 +55,11 @@ def _reduce(values, per_frame, reduce):
 
 
 def _blend(first, last, t):
-    t = t[:, None]
+    """Linear blend of the end values at times ``t``, over the sequence's own time span.
+
+    A slice of a sequence thus blends between its own first and last frames.
+    """
+    t = ((t - t[0]) / (t[-1] - t[0]))[:, None] if len(t) > 1 else np.zeros((len(t), 1))
     return (1 - t) * first[None] + t * last[None]
 
 
