@@ -128,9 +128,8 @@ class Sequence:
     def equals(self, other: object, atol: float = 0.0) -> bool:
         """Whether ``other`` is a Sequence with the same frames and times, up to ``atol``.
 
-        The shapes' connectivity must match exactly (:meth:`Shape.equals`
-        without tolerance on anything but vertices), frames and times within
-        ``atol`` in every coordinate. Metadata (energy, timings, ...) is not
+        The shapes' connectivity (edges, faces, paths, paint, ``y_down``) must
+        match exactly, frames and times within ``atol`` in every coordinate. Metadata (energy, timings, ...) is not
         compared. Never raises: anything that is not a Sequence is unequal.
 
         Parameters
@@ -156,7 +155,8 @@ class Sequence:
             return True
         if not isinstance(other, Sequence):
             return False
-        if self.frames.shape != other.frames.shape or self.times.shape != other.times.shape:
+        if (self.frames.shape != other.frames.shape or self.times.shape != other.times.shape
+                or self.shape.vertices.shape != other.shape.vertices.shape):
             return False
         if not self.shape.with_vertices(other.shape.vertices).equals(other.shape):
             return False  # connectivity, paths, paint differ
