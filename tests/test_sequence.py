@@ -97,9 +97,19 @@ def test_copies_and_pickles_after_at(curl):
     assert pickle.loads(pickle.dumps(curl)).equals(curl) and copy.deepcopy(curl).equals(curl)
 
 
-def test_at_is_exact_at_the_frames(curl):
+def test_at_is_exact_at_the_frames(curl, two_components):
     for k, t in enumerate(curl.times):
         assert np.array_equal(curl.at(t).vertices, curl.frames[k])
+    soup = interpolate(two_components, two_components.rotate(2.0).translate([1, 3]), frames=6)
+    for k, t in enumerate(soup.times):
+        assert np.array_equal(soup.at(t).vertices, soup.frames[k])
+    # each component's centroid moves linearly between the frames
+    t = 0.5 * (soup.times[2] + soup.times[3])
+    c = soup.shape.components
+    mid = soup.at(t).vertices
+    for label in range(soup.shape.n_components):
+        ends = soup.frames[2:4, c == label].mean(axis=1)
+        assert np.allclose(mid[c == label].mean(axis=0), ends.mean(axis=0), atol=1e-12)
 
 
 def test_at_is_continuous_between_frames(curl):

@@ -52,8 +52,8 @@ def test_equality_by_value_with_a_consistent_hash():
     assert np.asarray(a).shape == (3, 2) and np.array_equal(np.asarray(a), a.vertices)
 
 
-def test_equals_with_tolerance():
-    s = ellipse()
+def test_equals_with_tolerance(ellipse_shape):
+    s = ellipse_shape
     near = s.translate([3e-9, -3e-9])
     assert not s.equals(near) and s.equals(near, atol=1e-8) and not s.equals(near, atol=1e-9)
     assert not s.equals(s.vertices) and not s.equals(None)
