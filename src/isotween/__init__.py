@@ -2,10 +2,10 @@
 
 Pipeline: correspondence (compatibility, resampling, meshing) -> initialisation
 (edge-vector or linear) -> optimisation (local or global solver, time scheme) ->
-outputs (metrics, files, rendering).
+outputs (metrics, files, rendering); docs/architecture.md maps it onto the modules.
 """
 
-from . import easing, io, metrics
+from . import easing, io, metrics, times
 from .compare import compare
 from .correspondence import check_compatible, correspond, mesh_pair, resample
 from .editing import edit
@@ -14,15 +14,15 @@ from .interpolate import interpolate
 from .io import load, load_sequence, save, save_sequence, write_output
 from .keyframes import interpolate_keyframes
 from .sequence import Sequence
-from .shape import Shape
+from .shape import Shape, ShapeLike
 from .transfer import transfer
 from .velocity import RelativeVelocityField, relative_velocity_field
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "check_compatible", "compare", "correspond",
-    "easing",
-    "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "mesh_pair", "metrics",
-    "relative_velocity_field", "resample", "save", "save_sequence", "transfer", "write_output",
+    "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "ShapeLike", "check_compatible", "compare", "correspond",
+    "easing", "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "mesh_pair",
+    "metrics", "relative_velocity_field", "resample", "save", "save_sequence", "times", "transfer",
+    "write_output",
 ]

@@ -7,9 +7,12 @@ scale), ``metrics.png`` (distortion per frame, one line per method),
 ``table.md`` and ``table.csv``.
 """
 
+from __future__ import annotations
+
 import csv
 import io
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -20,6 +23,13 @@ from .errors import MethodError, ParameterError, require
 from .interpolate import interpolate
 from .io._files import atomic_dir
 
+if TYPE_CHECKING:
+    from collections.abc import Iterable
+    from os import PathLike
+    from typing import Any
+
+    from .shape import ShapeLike
+
 __all__ = ["compare", "METHODS", "COLUMNS"]
 
 METHODS = ("aiap",) + BASELINES
@@ -28,7 +38,9 @@ COLUMNS = ("method", "status", "edge_length_deviation", "area_deviation", "flipp
            "isometric_energy", "iterations", "seconds", "note")
 
 
-def compare(source, target, methods=METHODS, frames=9, report_dir=None, columns=7, **options):
+def compare(source: ShapeLike, target: ShapeLike, methods: Iterable[str] = METHODS, frames: int = 9,
+            report_dir: str | PathLike | None = None, columns: int = 7,
+            **options: Any) -> list[dict]:
     """Interpolate with several methods and measure each with the same metrics.
 
     Parameters
@@ -53,13 +65,23 @@ def compare(source, target, methods=METHODS, frames=9, report_dir=None, columns=
         One row per method with the keys of :data:`COLUMNS`: ``status`` is
         'ok', or 'skipped' when the method cannot take these shapes (``note``
         then says why and the numbers are NaN). ``edge_length_deviation`` and
-        ``area_deviation`` are maxima (SPEC.md), ``flipped_faces`` is summed
+        ``area_deviation`` are maxima (docs/how-it-works.md), ``flipped_faces`` is summed
         over the intermediate frames, ``seconds`` is the method's own time.
 
     Raises
     ------
     ParameterError
         An unknown or repeated method name.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    >>> rows = isotween.compare(bar, bar.rotate(2.0), methods=["aiap", "linear"], frames=5)
+    >>> [(row["method"], row["status"]) for row in rows]
+    [('aiap', 'ok'), ('linear', 'ok')]
+    >>> rows[0]["edge_length_deviation"] < rows[1]["edge_length_deviation"]
+    True
     """
     methods = list(methods)
     unknown = [m for m in methods if m not in METHODS]

@@ -1,8 +1,15 @@
 """Easing of the time parameter: where the frames of a sequence fall in [0, 1]."""
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .errors import ParameterError
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
 
 __all__ = ["EASINGS", "frame_times"]
 
@@ -14,7 +21,7 @@ EASINGS = {
 }
 
 
-def frame_times(frames, easing="linear"):
+def frame_times(frames: int, easing: str | Callable[[np.ndarray], np.ndarray] = "linear") -> np.ndarray:
     """Times t_k = u(k / (frames - 1)) of every frame.
 
     Parameters
@@ -27,6 +34,12 @@ def frame_times(frames, easing="linear"):
     Returns
     -------
     (frames,) float array, strictly increasing from 0 to 1.
+
+    Examples
+    --------
+    >>> from isotween.easing import frame_times
+    >>> frame_times(5, "ease-in").tolist()
+    [0.0, 0.0625, 0.25, 0.5625, 1.0]
     """
     curve = EASINGS.get(easing) if isinstance(easing, str) else easing
     if curve is None or not callable(curve):

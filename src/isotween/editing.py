@@ -1,6 +1,9 @@
 """Sequence editing (Sec. 5.2): change some frames, keep the motion style."""
 
+from __future__ import annotations
+
 import numbers
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -10,10 +13,17 @@ from .initialisation import edge_rotations
 from .optimisation.assembly import FrameAssembler
 from .sequence import Sequence
 
+if TYPE_CHECKING:
+    from collections.abc import Mapping
+
+    from .sequence import Sequence
+    from .shape import Shape
+
 __all__ = ["edit"]
 
 
-def edit(sequence, frame=None, shape=None, edits=None, keep_ends=True):
+def edit(sequence: Sequence, frame: int | None = None, shape: Shape | None = None,
+         edits: Mapping[int, Shape] | None = None, keep_ends: bool = True) -> Sequence:
     """Edit frames of a sequence and carry the change through its motion.
 
     Each edited frame k gives every edge a similarity S~_ij(t_k) with
@@ -42,6 +52,17 @@ def edit(sequence, frame=None, shape=None, edits=None, keep_ends=True):
     -------
     Sequence
         Same length and connectivity; the edited frames are matched exactly.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(1.0), frames=5)
+    >>> bent = seq[2].with_vertices(seq[2].vertices + [[0, 0], [0, 0], [0, 0.3]])
+    >>> edited = isotween.edit(seq, frame=2, shape=bent)
+    >>> edited[2].equals(bent, atol=1e-9), edited[0].equals(seq[0], atol=1e-12)
+    (True, True)
     """
     edits = dict(edits or {})
     if frame is not None or shape is not None:

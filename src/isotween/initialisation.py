@@ -2,10 +2,9 @@
 
 import numpy as np
 
-from .errors import ParameterError
 from .optimisation import accelerated
 
-__all__ = ["INITIALISERS", "edge_rotations", "edge_vector_init", "linear_init", "initial_edges"]
+__all__ = ["INITIALISERS", "edge_rotations", "edge_vector_init", "linear_init"]
 
 INITIALISERS = ("edge", "linear")
 
@@ -77,12 +76,3 @@ def linear_init(shape, z0, z1, t):
     """Edge vectors of the linear blend of vertex positions: (E, F) complex."""
     t = np.asarray(t)[None, :]
     return shape.edge_vectors(z0)[:, None] * (1 - t) + shape.edge_vectors(z1)[:, None] * t
-
-
-def initial_edges(init, shape, z0, z1, t):
-    """Dispatch on ``init`` ('edge' or 'linear'); returns (E, F) complex."""
-    if init == "edge":
-        return edge_vector_init(shape, shape.edge_vectors(z0), shape.edge_vectors(z1), t)
-    if init == "linear":
-        return linear_init(shape, z0, z1, t)
-    raise ParameterError(f"unknown init {init!r}; choose one of {', '.join(INITIALISERS)}")

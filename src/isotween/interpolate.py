@@ -1,29 +1,41 @@
 """`interpolate`: the public entry point of AIAP interpolation of two shapes."""
 
-import functools
+from __future__ import annotations
+
 import numbers
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._heap import keep_heap
+from ._heap import keep_heap_if_asked
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError, ParameterError
-from .initialisation import INITIALISERS, edge_vector_init, initial_edges
+from .initialisation import INITIALISERS, edge_vector_init, linear_init
 from .optimisation.assembly import FrameAssembler, centroid_path
 from .optimisation.global_solver import LINEAR_SOLVERS, global_solve
 from .optimisation.local_solver import ASSEMBLY, local_solve
 from .optimisation.schemes import SCHEMES
 from .sequence import Sequence
+from .times import frame_times
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from numpy.typing import ArrayLike
+
+    from .shape import ShapeLike
 
 __all__ = ["interpolate", "SOLVERS"]
 
 SOLVERS = ("local", "global")
 
 
-def interpolate(source, target, frames=9, solver="local", init="edge", scheme="midpoint",
-                tol=5e-4, max_iter=100, callback=None, method="aiap", times=None,
-                assembly="shared", linear_solver="cg"):
+def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: str = "local",
+                init: str = "edge", scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
+                callback: Callable[[int, float, float], object] | None = None, method: str = "aiap",
+                times: ArrayLike | None = None, assembly: str = "shared",
+                linear_solver: str = "cg") -> Sequence:
     """Interpolate two compatible shapes as-isometrically-as-possible.
 
     Parameters
@@ -55,8 +67,8 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
         Increasing frame times from 0 to 1 (default: uniform).
     assembly : {'shared', 'per-frame'}
         Local solver only: one factorisation of Eq. (10) with frozen weights
-        2 / (|e(0)| + |e(1)|) for every frame (fast), or the paper's weights
-        1 / |e(t_k)| refactorised per frame and iteration (reference).
+        ``2 / (|e(0)| + |e(1)|)`` for every frame (fast), or the paper's weights
+        ``1 / |e(t_k)|`` refactorised per frame and iteration (reference).
     linear_solver : {'cg', 'direct'}
         Global solver only: preconditioned conjugate gradients or sparse LU.
 
@@ -64,11 +76,22 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
     -------
     Sequence
         ``frames`` is a (frames, n, 2) float64 array.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0], [3, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(np.pi / 2).translate([1, 1]), frames=5)
+    >>> seq.frames.shape, seq.converged
+    ((5, 4, 2), True)
+    >>> bool(isotween.metrics.edge_length_deviation(seq) < 1e-9)  # a rigid motion stays rigid
+    True
     """
-    keep_heap()
+    keep_heap_if_asked()
     start = time.perf_counter()
     source, target = as_shape(source, "source"), as_shape(target, "target")
-    t = _frame_times(frames, times)
+    t = frame_times(frames, times)
     _check_choice("solver", solver, SOLVERS)
     _check_choice("init", init, INITIALISERS)
     _check_choice("scheme", scheme, SCHEMES)
@@ -98,7 +121,7 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
         out, info = np.array([z0, z1]).T, {"energy": [], "iterations": 0, "converged": True}
     else:
         t0 = time.perf_counter()
-        edges = edge_vector_init(source, e0, e1, t) if init == "edge" else initial_edges(init, source, z0, z1, t)
+        edges = edge_vector_init(source, e0, e1, t) if init == "edge" else linear_init(source, z0, z1, t)
         timings["init"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         z = np.empty((len(z0), len(t)), dtype=complex)
@@ -124,27 +147,9 @@ def interpolate(source, target, frames=9, solver="local", init="edge", scheme="m
     )
 
 
-def _frame_times(frames, times):
-    if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
-        raise ParameterError(f"frames must be an integer >= 2 (both inputs included), got {frames!r}")
-    if times is None:
-        return _uniform_times(int(frames)).copy()
-    t = np.asarray(times, dtype=float)
-    if t.shape != (frames,):
-        raise ParameterError(f"times must have one value per frame ({frames}), got shape {t.shape}")
-    if not np.all(np.isfinite(t)) or t[0] != 0.0 or t[-1] != 1.0 or np.any(np.diff(t) <= 0):
-        raise ParameterError("times must increase strictly from 0 to 1")
-    return t
-
-
 def _complex(v):
     """(n,) complex view of (n, 2) float vertices (read only here)."""
     return np.ascontiguousarray(v, dtype=np.float64).view(complex)[:, 0]
-
-
-@functools.lru_cache(maxsize=64)
-def _uniform_times(frames):
-    return np.linspace(0.0, 1.0, frames)
 
 
 def _check_choice(name, value, choices):

@@ -1,11 +1,14 @@
 """AIAP interpolation through several keyframes at once."""
 
+from __future__ import annotations
+
 import numbers
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._heap import keep_heap
+from ._heap import keep_heap_if_asked
 from .correspondence.compatibility import as_shape, check_compatible
 from .easing import frame_times
 from .errors import ParameterError
@@ -15,12 +18,23 @@ from .optimisation.local_solver import ASSEMBLY, local_solve
 from .optimisation.schemes import SCHEMES
 from .sequence import Sequence
 
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from collections.abc import Sequence as Seq
+
+    from numpy.typing import ArrayLike
+
+    from .shape import ShapeLike
+
 __all__ = ["interpolate_keyframes"]
 
 
-def interpolate_keyframes(keyframes, times=None, frames=None, easing="linear", init="edge",
-                          scheme="midpoint", tol=5e-4, max_iter=100, smooth=1.0,
-                          assembly="shared", callback=None):
+def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = None,
+                          frames: int | None = None,
+                          easing: str | Callable[[np.ndarray], np.ndarray] = "linear", init: str = "edge",
+                          scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
+                          smooth: float = 1.0, assembly: str = "shared",
+                          callback: Callable[..., object] | None = None) -> Sequence:
     """One AIAP sequence through every keyframe.
 
     All in-between frames are solved together by the local solver with the
@@ -50,8 +64,20 @@ def interpolate_keyframes(keyframes, times=None, frames=None, easing="linear", i
     -------
     Sequence
         ``info['keyframe_indices']`` gives the frame index of every keyframe.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    >>> keys = [bar, bar.rotate(0.5), bar.rotate(0.5).translate([1, 0])]
+    >>> seq = isotween.interpolate_keyframes(keys, frames=9)
+    >>> len(seq), [float(t) for t in seq.times[[0, 4, 8]]]
+    (9, [0.0, 0.5, 1.0])
+    >>> all(seq[k].equals(key, atol=1e-12) for k, key in zip((0, 4, 8), keys))
+    True
     """
-    keep_heap()
+    keep_heap_if_asked()
     start = time.perf_counter()
     if len(keyframes) < 2:
         raise ParameterError(f"need at least two keyframes, got {len(keyframes)}")

@@ -1,9 +1,13 @@
-"""Distortion metrics of a shape sequence (definitions in SPEC.md).
+"""Distortion metrics of a shape sequence (definitions: docs/how-it-works.md, Metric definitions).
 
 Every function takes a :class:`~isotween.Sequence`. ``reduce`` picks the
 summary: 'max' or 'mean' over all frames and elements, or None for per-frame
 values (an (F,) array).
 """
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, overload
 
 import numpy as np
 
@@ -11,14 +15,27 @@ from .errors import ParameterError
 from .optimisation.schemes import SCHEMES
 from .optimisation.schemes import isometric_energy as _energy
 
-__all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped_faces",
+if TYPE_CHECKING:
+    from .sequence import Sequence
+
+__all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped", "flipped_faces",
            "symmetry_error", "report", "loop_areas", "outline_crossings"]
 
 
-def isometric_energy(seq, scheme=None):
-    """Eq. (6) with the sequence's scheme (or ``scheme``), over sum |e(0)|^2.
+def isometric_energy(seq: Sequence, scheme: str | None = None) -> float:
+    """Eq. (6) with the sequence's scheme (or ``scheme``), over ``sum |e(0)|^2``.
 
     For the paper scheme the forward and reverse samplings are averaged.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> from isotween import metrics
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> bool(metrics.isometric_energy(isotween.interpolate(bar, bar.rotate(1.0), frames=5)) < 1e-12)
+    True
+    >>> round(metrics.isometric_energy(isotween.interpolate(bar, bar.scale(2.0), frames=3)), 9)
+    1.0
     """
     scheme = scheme or (seq.scheme if seq.scheme in SCHEMES else "midpoint")
     return _energy(seq.edge_vectors().T, np.diff(seq.times), scheme)
@@ -38,19 +55,46 @@ def _reduce(values, per_frame, reduce):
 
 
 def _blend(first, last, t):
-    t = t[:, None]
+    """Linear blend of the end values at times ``t``, over the sequence's own time span.
+
+    A slice of a sequence thus blends between its own first and last frames.
+    """
+    t = ((t - t[0]) / (t[-1] - t[0]))[:, None] if len(t) > 1 else np.zeros((len(t), 1))
     return (1 - t) * first[None] + t * last[None]
 
 
-def edge_length_deviation(seq, reduce="max"):
-    """| |e(t_k)| / ((1 - t_k)|e(0)| + t_k|e(1)|) - 1 | over edges and frames."""
+@overload
+def edge_length_deviation(seq: Sequence, reduce: str = "max") -> float: ...
+@overload
+def edge_length_deviation(seq: Sequence, reduce: None) -> np.ndarray: ...
+def edge_length_deviation(seq: Sequence, reduce: str | None = "max") -> float | np.ndarray:
+    """``| |e(t_k)| / ((1 - t_k)|e(0)| + t_k|e(1)|) - 1 |`` over edges and frames.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> from isotween import metrics
+    >>> bar = isotween.Shape.from_polyline([[-1, 0], [1, 0]])
+    >>> squash = isotween.Sequence([[[-1, 0], [1, 0]], [[-0.25, 0], [0.25, 0]], [[-1, 0], [1, 0]]], bar)
+    >>> metrics.edge_length_deviation(squash), metrics.edge_length_deviation(squash, reduce=None).tolist()
+    (0.75, [0.0, 0.75, 0.0])
+    """
     L = np.abs(seq.edge_vectors())
     dev = np.abs(L / _blend(L[0], L[-1], seq.times) - 1.0)
     return _reduce(dev, np.max, reduce)
 
 
-def loop_areas(seq):
-    """(F, k) signed areas of the sequence's faces, or of its closed paths."""
+def loop_areas(seq: Sequence) -> np.ndarray:
+    """(F, k) signed areas of the sequence's faces, or of its closed paths.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> from isotween import metrics
+    >>> square = isotween.Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]])
+    >>> metrics.loop_areas(isotween.Sequence([square.vertices, square.scale(2).vertices], square)).tolist()
+    [[1.0], [4.0]]
+    """
     shape = seq.shape
     if shape.faces is not None and len(shape.faces):
         return shape.face_areas(seq.frames)
@@ -67,24 +111,70 @@ def loop_areas(seq):
     return out
 
 
-def area_deviation(seq, reduce="max"):
+@overload
+def area_deviation(seq: Sequence, reduce: str = "max") -> float: ...
+@overload
+def area_deviation(seq: Sequence, reduce: None) -> np.ndarray: ...
+def area_deviation(seq: Sequence, reduce: str | None = "max") -> float | np.ndarray:
     """Relative deviation of every face's (or closed loop's) signed area from
-    the linear blend of its two end areas."""
+    the linear blend of its two end areas.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> from isotween import metrics
+    >>> square = isotween.Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]])
+    >>> frames = [square.vertices, square.scale([1, 0.5]).vertices, square.vertices]
+    >>> metrics.area_deviation(isotween.Sequence(frames, square))
+    0.5
+    """
     A = loop_areas(seq)
     blend = _blend(A[0], A[-1], seq.times) if A.shape[1] else A
     scale = np.maximum(np.abs(blend), 1e-300)
     return _reduce(np.abs(A - blend) / scale, np.max, reduce)
 
 
-def flipped_faces(seq, reduce="sum"):
-    """Faces whose signed area has the other sign than in the source.
+def flipped(seq: Sequence) -> np.ndarray:
+    """(F, faces) bool: the one definition of a flipped face.
+
+    A face is flipped in a frame when its signed area has the other sign than
+    in the source (frame 0); a face of zero area in the source never counts.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> from isotween import metrics
+    >>> tri = isotween.Shape.from_mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]])
+    >>> frames = [tri.vertices, tri.scale([1, -1]).vertices, tri.vertices]
+    >>> metrics.flipped(isotween.Sequence(frames, tri)).tolist()
+    [[False], [True], [False]]
+    """
+    A = seq.shape.face_areas(seq.frames)
+    if not A.size:
+        return np.zeros((len(seq.frames), 0), bool)
+    return (np.sign(A) != np.sign(A[:1])) & (A[:1] != 0)
+
+
+@overload
+def flipped_faces(seq: Sequence, reduce: str = "sum") -> int: ...
+@overload
+def flipped_faces(seq: Sequence, reduce: None) -> np.ndarray: ...
+def flipped_faces(seq: Sequence, reduce: str | None = "sum") -> int | np.ndarray:
+    """Faces whose signed area has the other sign than in the source (`flipped`).
 
     reduce : 'sum' (over the intermediate frames), 'max' (the largest count in
     one frame) or None (per-frame counts, (F,) int).
+
+    Examples
+    --------
+    >>> import isotween
+    >>> from isotween import metrics
+    >>> tri = isotween.Shape.from_mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]])
+    >>> frames = [tri.vertices, tri.scale([1, -1]).vertices, tri.vertices]
+    >>> metrics.flipped_faces(isotween.Sequence(frames, tri))
+    1
     """
-    A = seq.shape.face_areas(seq.frames)
-    flips = (np.sign(A) != np.sign(A[0])[None]) & (A[0] != 0)[None] if A.size else np.zeros((len(seq), 0), bool)
-    counts = flips.sum(axis=1)
+    counts = flipped(seq).sum(axis=1)
     if reduce is None:
         return counts
     inner = counts[1:-1]
@@ -154,10 +244,19 @@ def outline_crossings(seq):
     return np.array([_crossing_pairs(z, edges) for z in seq.z], dtype=np.int64)
 
 
-def symmetry_error(seq, backward=None):
+def symmetry_error(seq: Sequence, backward: Sequence | None = None) -> float:
     """Max distance between frame k of A->B and frame m-k of B->A over the
     bounding-box diagonal. ``backward`` is recomputed with the same options
-    when not given."""
+    when not given.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> from isotween import metrics
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    >>> bool(metrics.symmetry_error(isotween.interpolate(bar, bar.rotate(2.0), frames=5)) < 1e-6)
+    True
+    """
     if backward is None:
         from .interpolate import interpolate
 
@@ -174,9 +273,19 @@ def symmetry_error(seq, backward=None):
     return float(np.max(np.linalg.norm(seq.frames - backward.frames[::-1], axis=-1)) / diag)
 
 
-def report(seq, symmetry=False):
+def report(seq: Sequence, symmetry: bool = False) -> dict:
     """Every metric of ``seq`` as a dict of floats (symmetry error on request:
-    it costs a second interpolation)."""
+    it costs a second interpolation).
+
+    Examples
+    --------
+    >>> import isotween
+    >>> from isotween import metrics
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    >>> r = metrics.report(isotween.interpolate(bar, bar.rotate(2.0), frames=5))
+    >>> r["flipped_faces"], r["edge_length_deviation"] < 1e-9
+    (0, True)
+    """
     out = {
         "isometric_energy": isometric_energy(seq),
         "edge_length_deviation": edge_length_deviation(seq, "max"),

@@ -46,7 +46,7 @@ class Paint:
     """
 
     fill: tuple = DEFAULT_FILL
-    stroke: tuple = None
+    stroke: tuple | None = None
     stroke_width: float = 1.0
     opacity: float = 1.0
 

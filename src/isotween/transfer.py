@@ -1,5 +1,9 @@
 """Shape transfer (Sec. 5.1): make a target imitate a source's AIAP motion."""
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .correspondence.compatibility import as_shape, check_compatible
@@ -8,15 +12,30 @@ from .optimisation.assembly import FrameAssembler
 from .sequence import Sequence
 from .velocity import relative_velocity_field
 
+if TYPE_CHECKING:
+    from typing import Any
+
+    from .shape import Shape, ShapeLike
+
 __all__ = ["transfer", "component_similarities"]
 
 
-def component_similarities(source, target):
+def component_similarities(source: Shape, target: Shape) -> tuple[np.ndarray, np.ndarray]:
     """Least-squares similarity a z + b from each component of source to target.
 
     Returns
     -------
     a, b : (C,) complex
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> from isotween.transfer import component_similarities
+    >>> tri = isotween.Shape.from_polygon([[0, 0], [1, 0], [0, 1]])
+    >>> a, b = component_similarities(tri, tri.scale(2.0).translate([1, 0]))
+    >>> np.round(a, 12).tolist(), np.round(b, 12).tolist()
+    ([(2+0j)], [(1+0j)])
     """
     avg = source.topology.avg
     cs, ct = avg @ source.z, avg @ target.z
@@ -28,7 +47,8 @@ def component_similarities(source, target):
     return a, ct - a * cs
 
 
-def transfer(source_start, source_end, target_start, frames=9, **options):
+def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: ShapeLike, frames: int = 9,
+             **options: Any) -> Sequence:
     """Transfer the AIAP motion from source_start -> source_end onto target_start.
 
     1. AIAP-interpolate the source pair (Algorithm 2, ``options`` as in
@@ -57,6 +77,16 @@ def transfer(source_start, source_end, target_start, frames=9, **options):
     -------
     Sequence
         The target's frames; ``info['source']`` holds the source sequence.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    >>> seq = isotween.transfer(bar, bar.rotate(1.0), bar.scale(2.0), frames=5)
+    >>> source = isotween.interpolate(bar, bar.rotate(1.0), frames=5)
+    >>> bool(np.allclose(seq.frames, 2.0 * source.frames))  # a similar copy moves alike
+    True
     """
     shapes = [as_shape(s, n) for s, n in ((source_start, "source_start"),
                                           (source_end, "source_end"),

@@ -25,8 +25,8 @@ import numpy as np
 
 from ..correspondence.compatibility import as_shape, check_compatible
 from ..errors import MethodError
-from ..interpolate import _frame_times
 from ..sequence import Sequence
+from ..times import frame_times
 from . import arap, arap_baxter, intrinsic, linear, shapespace
 
 __all__ = ["METHODS", "run"]
@@ -70,13 +70,23 @@ def run(method, source, target, n_frames, times=None, **options):
     MethodError
         Unknown method, or a shape the method cannot take (the message says
         which input it needs).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> from isotween.baselines import run
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> seq = run("linear", bar, bar.translate([2, 0]), 3)
+    >>> seq.method, seq.frames[1].tolist()
+    ('linear', [[1.0, 0.0], [2.0, 0.0]])
     """
     if method not in _MODULES:
         raise MethodError(f"unknown method {method!r}; choose one of aiap, {', '.join(METHODS)}")
     start = time.perf_counter()
     source, target = as_shape(source, "source"), as_shape(target, "target")
     check_compatible(source, target)
-    t = _frame_times(n_frames, times)
+    t = frame_times(n_frames, times)
     module = _MODULES[method]
     frames, info = module.interpolate(source, target, t, **_accepted(module, options))
     total = time.perf_counter() - start

@@ -4,6 +4,8 @@ import sys
 
 import click
 
+from .. import __version__
+from .._heap import keep_heap
 from ..errors import IsotweenError
 
 
@@ -19,9 +21,10 @@ class _Group(click.Group):
 
 
 @click.group(cls=_Group)
-@click.version_option(package_name="isotween")
+@click.version_option(version=__version__, prog_name="isotween")
 def main():
     """As-isometric-as-possible interpolation of planar shapes."""
+    keep_heap()  # a command is its own process: the process-wide malloc tuning is safe here
 
 
 # each command lives in its own module and registers itself on `main`

@@ -1,21 +1,39 @@
 """Checks that two shapes can be interpolated: same vertices, same connectivity."""
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..errors import IncompatibleShapesError, ShapeError
 from ..shape import Shape
 
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+    from typing import Any
+
+    from ..shape import ShapeLike
+
 __all__ = ["check_compatible", "as_shape"]
 
 
-def as_shape(obj, name="shape"):
-    """Accept a `Shape` or an (n, 2) vertex array (isolated points)."""
+def as_shape(obj: ShapeLike, name: str = "shape") -> Shape:
+    """Accept a `Shape`, or an (n, 2) array_like polygon (`Shape.from_polygon`).
+
+    Examples
+    --------
+    >>> from isotween.correspondence.compatibility import as_shape
+    >>> as_shape([[0, 0], [1, 0], [0, 1]]).n_edges
+    3
+    """
     if isinstance(obj, Shape):
         return obj
-    raise ShapeError(f"{name} must be an isotween.Shape, got {type(obj).__name__}")
+    return Shape.coerce(obj, name)
 
 
-def check_compatible(*shapes, names=None, edge_vectors=None, diagonal=None):
+def check_compatible(*shapes: Shape, names: Sequence[str] | None = None,
+                     edge_vectors: Sequence[Any] | None = None, diagonal: float | None = None) -> None:
     """Raise `IncompatibleShapesError` unless all shapes share connectivity.
 
     Checks the vertex count, the edge list (same pairs, same order), the faces,
@@ -34,6 +52,16 @@ def check_compatible(*shapes, names=None, edge_vectors=None, diagonal=None):
         An upper bound of every shape's bounding-box diagonal (e.g. that of
         all shapes together): the diagonals are then computed only when an
         edge is short enough to need them.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> tri = isotween.Shape.from_polygon([[0, 0], [1, 0], [0, 1]])
+    >>> isotween.check_compatible(tri, tri.rotate(1.0))  # passes silently
+    >>> isotween.check_compatible(tri, isotween.Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]]))
+    Traceback (most recent call last):
+        ...
+    isotween.errors.IncompatibleShapesError: source has 3 vertices but target has 4; ...
     """
     if names is None:
         names = ["source", "target"] + [f"shape {i}" for i in range(2, len(shapes))]

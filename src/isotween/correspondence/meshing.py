@@ -14,9 +14,11 @@ source mesh, ``L_II z_I = -L_IB z_B``. It reproduces affine maps exactly, but
 on a non-convex target it can flip triangles; a warning names them.
 """
 
+from __future__ import annotations
+
 import numbers
 import warnings
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -27,6 +29,9 @@ from ..errors import ParameterError, ShapeError, require
 from ..shape import Shape
 from .compatibility import as_shape, check_compatible
 from .compatible_mesh import compatible_meshes
+
+if TYPE_CHECKING:
+    from ..shape import ShapeLike
 
 __all__ = ["mesh_pair", "MeshPair"]
 
@@ -49,7 +54,9 @@ class MeshPair(NamedTuple):
     flipped: np.ndarray
 
 
-def mesh_pair(source, target, max_area=None, min_angle=30.0, mesher="shapely", mesh_size=None):
+def mesh_pair(source: ShapeLike, target: ShapeLike, max_area: float | None = None,
+              min_angle: float = 30.0, mesher: str = "shapely",
+              mesh_size: float | None = None) -> MeshPair:
     """Compatible triangle meshes of a compatible outline pair.
 
     Parameters
@@ -96,6 +103,14 @@ def mesh_pair(source, target, max_area=None, min_angle=30.0, mesher="shapely", m
         ``max_area``, ``mesh_size``, ``min_angle`` or ``mesher`` out of range.
     MissingDependencyError
         shapely (default) or triangle (``mesher="triangle"``) is missing.
+
+    Examples
+    --------
+    >>> import isotween
+    >>> square = isotween.Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]])
+    >>> source, target, flipped = isotween.mesh_pair(square, square.rotate(0.3), max_area=0.05)
+    >>> source.n_faces == target.n_faces > 2, flipped.size
+    (True, 0)
     """
     if mesher not in ("shapely", "triangle"):
         raise ParameterError(f"mesher must be 'shapely' or 'triangle', got {mesher!r}")
@@ -138,10 +153,11 @@ def _mesh_pair_triangle(source, target, max_area, min_angle):
     switches += "q" + np.format_float_positional(min_angle, trim="-")
     n = source.n_vertices
     _check_distinct(source)
-    plain = triangle.triangulate({"vertices": source.vertices, "segments": segments}, "p")
+    points = np.array(source.vertices)  # triangle needs writeable buffers; shape arrays are read-only
+    plain = triangle.triangulate({"vertices": points, "segments": segments}, "p")
     _check_outline(source, segments, plain)
     holes = _hole_points(source, segments, plain)
-    data = {"vertices": source.vertices, "segments": segments}
+    data = {"vertices": points, "segments": segments}
     if len(holes):
         data["holes"] = holes
     mesh = triangle.triangulate(data, switches)

@@ -16,17 +16,24 @@ over the target vertices within one grid step of it, so a target that is a
 re-started copy of the source matches exactly.
 """
 
+from __future__ import annotations
+
 import numbers
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import IncompatibleShapesError, ParameterError, ShapeError
 from ..shape import Shape
 
+if TYPE_CHECKING:
+    from typing import Any
+
 __all__ = ["resample"]
 
 
-def resample(source_rings, target_rings, points=None, closed=None, corners=None, rotation=False):
+def resample(source_rings: Any, target_rings: Any, points: int | list[int] | None = None, closed: Any = None,
+             corners: float | None = None, rotation: bool = False) -> tuple[Shape, Shape]:
     """Resample two sets of rings to a compatible pair of outline shapes.
 
     Parameters
@@ -69,6 +76,17 @@ def resample(source_rings, target_rings, points=None, closed=None, corners=None,
         Different ring counts, or a ring closed in one shape and open in the other.
     ParameterError
         ``points`` too small for the rings, or another bad option.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import isotween
+    >>> square = [[0, 0], [1, 0], [1, 1], [0, 1]]
+    >>> theta = np.linspace(0, 2 * np.pi, 30, endpoint=False)
+    >>> circle = np.c_[np.cos(theta), np.sin(theta)]
+    >>> source, target = isotween.resample(square, circle, points=40)
+    >>> source.n_vertices, target.n_vertices, bool(np.array_equal(source.edges, target.edges))
+    (40, 40, True)
     """
     src = _rings(source_rings, closed, "source")
     tgt = _rings(target_rings, closed, "target")
@@ -234,15 +252,7 @@ def _counts(points, src, *others):
 
 def _shape(rings, closed, y_down):
     """One outline Shape of complex rings, paths in order."""
-    sizes = np.array([len(z) for z in rings])
-    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    paths, edges = [], []
-    for s, k, c in zip(starts, sizes, closed):
-        idx = np.arange(s, s + k)
-        paths.append((idx, c))
-        edges.append(np.column_stack([idx, np.roll(idx, -1)] if c else [idx[:-1], idx[1:]]))
-    z = np.concatenate(rings)
-    return Shape(np.column_stack([z.real, z.imag]), np.vstack(edges), paths=paths, y_down=y_down)
+    return Shape.from_paths(rings, list(closed), y_down=y_down)
 
 
 # ---------------------------------------------------------------------- matching

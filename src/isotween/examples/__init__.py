@@ -31,12 +31,26 @@ def _entry(name):
 
 
 def names():
-    """Names of the built-in examples, the default demo first (list of str)."""
+    """Names of the built-in examples, the default demo first (list of str).
+
+    Examples
+    --------
+    >>> from isotween.examples import names
+    >>> names()[0], "bar" in names()
+    ('worm', True)
+    """
     return list(_index())
 
 
 def describe(name):
-    """One line saying what the example shows (str)."""
+    """One line saying what the example shows (str).
+
+    Examples
+    --------
+    >>> from isotween.examples import describe
+    >>> isinstance(describe("bar"), str)
+    True
+    """
     return _entry(name)["description"]
 
 
@@ -60,6 +74,15 @@ def load_example(name):
     options : dict
         Keyword arguments of `isotween.interpolate` (``frames``, ...) and,
         for textured examples, ``texture``: the path of the image (str).
+
+    Examples
+    --------
+    >>> import isotween
+    >>> from isotween.examples import load_example
+    >>> source, target, options = load_example("bar")
+    >>> isotween.check_compatible(source, target)  # ready for interpolate
+    >>> source.n_vertices == target.n_vertices
+    True
     """
     from ..correspondence import correspond, resample
     from ..io import load

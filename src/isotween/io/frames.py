@@ -46,6 +46,18 @@ def write_frames(seq, directory, format="obj", texture=None, progress=False):
     Older ``frame_NNNN.<format>`` files in ``directory`` that the new
     sequence does not overwrite are removed, so that the folder reads back
     (`load_sequence`) as exactly this sequence.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> from isotween.io import write_frames
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(1.0), frames=3)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     files = write_frames(seq, os.path.join(d, "frames"), format="json")
+    ...     isotween.load_sequence(os.path.join(d, "frames")).equals(seq, atol=1e-12)
+    True
     """
     fmt = str(format).lower().lstrip(".")
     if fmt not in FRAME_FORMATS:

@@ -1,11 +1,19 @@
 """`write_output`: the one place that turns a sequence into the file(s) a user asked for."""
 
+from __future__ import annotations
+
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import FileFormatError, ParameterError, require
 from ._files import atomic_path
 from .frames import FRAME_FORMATS, write_frames
 from .sequence_file import save_sequence
+
+if TYPE_CHECKING:
+    from os import PathLike
+
+    from ..sequence import Sequence
 
 __all__ = ["write_output", "output_kind", "OUTPUT_KINDS"]
 
@@ -21,7 +29,7 @@ OUTPUT_KINDS = {
 }
 
 
-def output_kind(out, format=None):
+def output_kind(out: str | PathLike, format: str | None = None) -> str:
     """What `write_output` would write to ``out``, checked before any work is done.
 
     Parameters
@@ -41,6 +49,12 @@ def output_kind(out, format=None):
         does not exist.
     ParameterError
         Unknown ``format``, or ``format`` with a file name.
+
+    Examples
+    --------
+    >>> from isotween.io.output import output_kind
+    >>> output_kind("walk.gif"), output_kind("walk.npz"), output_kind("walk.png")
+    ('gif', 'sequence', 'strip')
     """
     out = Path(out)
     ext = out.suffix.lower()
@@ -73,7 +87,8 @@ def output_kind(out, format=None):
     return kind
 
 
-def write_output(seq, out, format=None, texture=None, quiet=False):
+def write_output(seq: Sequence, out: str | PathLike, format: str | None = None,
+                 texture: str | PathLike | None = None, quiet: bool = False) -> list[Path]:
     """Write a sequence as the kind of output ``out`` names.
 
     ``.npz`` / ``.json``: sequence file (`save_sequence`); ``.gif``, ``.mp4``,
@@ -100,6 +115,17 @@ def write_output(seq, out, format=None, texture=None, quiet=False):
     -----
     Every file is written through a temporary file and renamed into place,
     so an error leaves no partial output.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(1.0), frames=3)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     files = isotween.write_output(seq, os.path.join(d, "frames"), format="obj", quiet=True)
+    ...     sorted(os.path.basename(f) for f in files)
+    ['frame_0000.obj', 'frame_0001.obj', 'frame_0002.obj']
     """
     kind = output_kind(out, format)
     out = Path(out)

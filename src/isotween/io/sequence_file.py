@@ -1,8 +1,11 @@
 """Whole sequences in one file (.npz, .json) or as a folder of frame files."""
 
+from __future__ import annotations
+
 import json
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -12,6 +15,9 @@ from ._files import check_readable, write_text
 from ._json import JsonDocument, dumps_rows
 from .json_shape import fields_text, shape_fields, shape_from_fields
 from .npz import connectivity_arrays, connectivity_from, open_npz, save_arrays
+
+if TYPE_CHECKING:
+    from os import PathLike
 
 __all__ = ["save_sequence", "load_sequence", "is_sequence_file"]
 
@@ -49,12 +55,24 @@ def _meta(seq):
     }
 
 
-def save_sequence(seq, path):
+def save_sequence(seq: Sequence, path: str | PathLike) -> None:
     """Write a sequence to ``.npz`` or ``.json`` (layout in docs/formats.md).
 
     Stores the frames, the shared connectivity (edges, faces, uv, paths), the
     source vertices when they differ from frame 0, times, energy history,
     iterations, converged, method, scheme, timings and info. Atomic.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(1.0), frames=4)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     isotween.save_sequence(seq, os.path.join(d, "seq.json"))
+    ...     back = isotween.load_sequence(os.path.join(d, "seq.json"))
+    >>> back.equals(seq)
+    True
     """
     ext = Path(path).suffix.lower()
     if ext not in (".npz", ".json"):
@@ -96,8 +114,21 @@ def save_sequence(seq, path):
     write_text(path, "{\n" + ",\n".join(parts) + "\n}\n")
 
 
-def is_sequence_file(path):
-    """Whether ``path`` holds a sequence: a folder, or an .npz/.json with frames."""
+def is_sequence_file(path: str | PathLike) -> bool:
+    """Whether ``path`` holds a sequence: a folder, or an .npz/.json with frames.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> from isotween.io.sequence_file import is_sequence_file
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     isotween.save(bar, os.path.join(d, "bar.npz"))
+    ...     isotween.save_sequence(isotween.interpolate(bar, bar.rotate(1.0), frames=3), os.path.join(d, "seq.npz"))
+    ...     is_sequence_file(os.path.join(d, "bar.npz")), is_sequence_file(os.path.join(d, "seq.npz"))
+    (False, True)
+    """
     path = Path(path)
     if path.is_dir():
         return True
@@ -110,7 +141,7 @@ def is_sequence_file(path):
     return False
 
 
-def load_sequence(path):
+def load_sequence(path: str | PathLike) -> Sequence:
     """Read a sequence written by `save_sequence`, or a folder of frame files.
 
     A folder is read as one frame per shape file (.obj, .off, .svg, .json,
@@ -127,6 +158,18 @@ def load_sequence(path):
         Naming the file and what is missing or malformed.
     IncompatibleShapesError
         When the frames of a folder differ in connectivity (naming the file).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(1.0), frames=4)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     isotween.save_sequence(seq, os.path.join(d, "seq.npz"))
+    ...     back = isotween.load_sequence(os.path.join(d, "seq.npz"))
+    >>> len(back), back.method, back.equals(seq)
+    (4, 'aiap', True)
     """
     path = Path(path)
     if path.is_dir():

@@ -236,16 +236,9 @@ def _ring_length(points):
 
 def _shape_of_rings(path, rings, regions=None, paints=None):
     """One Shape from (points, closed) subpaths, in order."""
-    sizes = np.array([len(p) for p, _ in rings])
-    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    paths, edges = [], []
-    for (points, closed), s, k in zip(rings, starts, sizes):
-        idx = np.arange(s, s + k)
-        paths.append((idx, closed))
-        edges.append(np.column_stack([idx, np.roll(idx, -1)] if closed else [idx[:-1], idx[1:]]))
     try:
-        return Shape(np.vstack([p for p, _ in rings]), np.vstack(edges), paths=paths, y_down=True,
-                     regions=regions, paint=paints)
+        return Shape.from_paths([p for p, _ in rings], [c for _, c in rings], y_down=True,
+                                regions=regions, paint=paints)
     except ShapeError as exc:
         raise FileFormatError(f"{path}: {exc}") from exc
 

@@ -5,7 +5,7 @@
 is a weighted Laplace equation. Its solution is unique up to one translation per
 connected component: we pin one anchor vertex per component during the solve,
 then move each component so that its centroid follows the linear blend of the
-two inputs' centroids (SPEC.md, defect 5). The Laplacian is factorised once and
+two inputs' centroids (docs/how-it-works.md). The Laplacian is factorised once and
 reused for every frame and every iteration (all frames are right-hand sides of
 one solve).
 """

@@ -37,7 +37,7 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
     edges : (E, m+1) complex
         Initial edge vectors (Eq. 13 or linear); fixed frames' must be exact.
     centroids : (C, m+1) complex
-        Centroid of every component in every frame (SPEC.md, defect 5).
+        Centroid of every component in every frame (docs/how-it-works.md, centroid translation).
     scheme : {'midpoint', 'paper'}
     tol : float
         Absolute tolerance of Eq. (11) (tau times the bounding-box diagonal).

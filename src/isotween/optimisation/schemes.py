@@ -12,7 +12,7 @@ Schemes
 -------
 'midpoint'
     (1 - i omega/2) e_{k+1} - (1 + i omega/2) e_k, omega fitted at the midpoint
-    (e_k + e_{k+1}) / 2 (SPEC.md). Time-symmetric; exact for constant-speed turning.
+    (e_k + e_{k+1}) / 2 (docs/how-it-works.md). Time-symmetric; exact for constant-speed turning.
 'paper'
     Forward differences e_{k+1} - (1 + i omega_k) e_k with omega fitted at e_k,
     plus the reverse sampling of Sec. 3.2, e_k - (1 + i omega'_{k+1}) e_{k+1},
@@ -89,7 +89,7 @@ def energy_terms(e, h, scheme):
 
 
 def isometric_energy(e, h, scheme):
-    """Dimensionless isometric energy (SPEC.md): Eq. (6) over sum |e(0)|^2.
+    """Dimensionless isometric energy (docs/how-it-works.md): Eq. (6) over sum |e(0)|^2.
 
     Parameters
     ----------

@@ -9,7 +9,7 @@ __all__ = ["frame_stats"]
 
 
 def frame_stats(seq):
-    """Distortion of every frame of a sequence (SPEC.md definitions).
+    """Distortion of every frame of a sequence (docs/how-it-works.md, Metric definitions).
 
     Parameters
     ----------
@@ -24,8 +24,7 @@ def frame_stats(seq):
         from the source; ``flipped`` (F, faces) bool: which ones.
     """
     sequence_frames(seq)  # named errors for malformed frames
-    areas = seq.shape.face_areas(seq.frames)  # (F, faces)
-    flipped = (np.sign(areas) != np.sign(areas[:1])) & (areas[:1] != 0)
+    flipped = metrics.flipped(seq)  # (F, faces)
     return {
         "edge_length_deviation": np.asarray(metrics.edge_length_deviation(seq, reduce=None), dtype=np.float64),
         "area_deviation": np.asarray(metrics.area_deviation(seq, reduce=None), dtype=np.float64),

@@ -16,7 +16,7 @@ from ._frames import sequence_frames
 from ._view import bbox_of
 from .texture import load_texture, texture_uv
 
-__all__ = ["write_html"]
+__all__ = ["write_html", "page_html"]
 
 
 def _decimals(frames):
@@ -108,11 +108,29 @@ def write_html(seq, path, texture=None, title=None, fps=12):
     fps : float
         Playback rate at speed 1x.
     """
+    page = page_html(seq, texture=texture, title=title, fps=fps)
+    with atomic_path(path) as tmp:
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(page)
+
+
+def page_html(seq, texture=None, title=None, fps=12):
+    """The viewer page of `write_html` as a string (also shown inline by ``Sequence._repr_html_``).
+
+    Parameters
+    ----------
+    seq : Sequence
+    texture : path or (H, W, 3|4) array, optional
+    title : str, optional
+    fps : float
+
+    Returns
+    -------
+    str
+        A complete, self-contained HTML document.
+    """
     data = page_data(seq, texture=texture, title=title, fps=fps)
     payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
     template = resources.files(__package__).joinpath("page.html").read_text(encoding="utf-8")
     values = {"TITLE": html.escape(data["title"]), "DATA": payload}
-    page = re.sub(r"@@(TITLE|DATA)@@", lambda m: values[m.group(1)], template)
-    with atomic_path(path) as tmp:
-        with open(tmp, "w", encoding="utf-8") as fh:
-            fh.write(page)
+    return re.sub(r"@@(TITLE|DATA)@@", lambda m: values[m.group(1)], template)
