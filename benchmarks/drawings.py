@@ -1,0 +1,280 @@
+"""Any two drawings: isotween and flubber on the same pairs of filled icons and glyphs.
+
+Usage: python benchmarks/drawings.py [--icons 500] [--glyphs 200] [--frames 9] [--workers 2]
+
+Every pair (the classic morphs, random pairs within Bootstrap Icons' filled set and
+within Font Awesome's solid set, random pairs of DejaVu glyphs; benchmarks/corpus.py)
+goes through
+
+- isotween with no options: ``load`` both SVG files, ``correspond`` (solid meshes
+  of the filled regions), ``interpolate``; in one worker process per pair, timed
+  from reading the files to the last frame;
+- flubber 0.4 (Node.js, benchmarks/flubber_run.js) on the same rings (the SVG
+  subpaths as isotween reads them), each subpath a ring, with maxSegmentLength set
+  to 1 % of the drawing's bounding-box diagonal.
+
+Per pair it records: success (frames made for the whole drawing, every ring of both
+ends included), flipped triangles in the generated meshes and in the in-between
+frames, outline crossings in every in-between frame (two edges of one filled region,
+outer ring or hole, that cross), and the edge-length deviation of the outline edges
+(SPEC.md's definition: the largest | |e(t)| / ((1-t)|e(0)| + t|e(1)|) - 1 |).
+"""
+
+import argparse
+import json
+import multiprocessing as mp
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).parent
+sys.path.insert(0, str(HERE))
+import corpus  # noqa: E402
+from _results import table, write_section  # noqa: E402
+
+TIMEOUT = 120  # seconds per pair before it counts as a failure
+
+
+# ---------------------------------------------------------------- measures
+def crossings(points, edges, group):
+    """Pairs of edges of one group that cross properly (sharing no vertex).
+
+    points : (n, 2); edges : (E, 2) int; group : (E,) int. Returns int.
+    """
+    p, q = points[edges[:, 0]], points[edges[:, 1]]
+    lo, hi = np.minimum(p, q), np.maximum(p, q)
+    i, j = np.triu_indices(len(edges), 1)
+    keep = (group[i] == group[j]) & np.all(lo[i] <= hi[j], axis=1) & np.all(lo[j] <= hi[i], axis=1)
+    i, j = i[keep], j[keep]
+    share = (edges[i, 0] == edges[j, 0]) | (edges[i, 0] == edges[j, 1]) | \
+            (edges[i, 1] == edges[j, 0]) | (edges[i, 1] == edges[j, 1])
+    i, j = i[~share], j[~share]
+
+    def orient(a, b, c):
+        return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+    d1, d2 = orient(p[i], q[i], p[j]), orient(p[i], q[i], q[j])
+    d3, d4 = orient(p[j], q[j], p[i]), orient(p[j], q[j], q[i])
+    return int(np.count_nonzero((d1 * d2 < 0) & (d3 * d4 < 0)))
+
+
+def edge_deviation(frames, edges, times):
+    """Largest relative deviation of an edge's length from the blend of its end lengths."""
+    L = np.linalg.norm(frames[:, edges[:, 1]] - frames[:, edges[:, 0]], axis=-1)
+    blend = (1 - times[:, None]) * L[0] + times[:, None] * L[-1]
+    return float(np.max(np.abs(L / np.maximum(blend, 1e-300) - 1)))
+
+
+def ring_edges(rings):
+    """Edges (E, 2) and ring index (E,) of closed rings stored one after another."""
+    sizes = np.array([len(r) for r in rings])
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    edges = np.vstack([np.c_[s + np.arange(k), s + (np.arange(k) + 1) % k] for s, k in zip(starts, sizes)])
+    return edges, np.repeat(np.arange(len(rings)), sizes)
+
+
+def ring_groups(shape):
+    """Region index of every path of a shape read from SVG (each path alone without regions)."""
+    group = np.arange(len(shape.paths))
+    for r, members in enumerate(getattr(shape, "regions", None) or []):
+        group[members] = len(shape.paths) + r
+    return group
+
+
+# ---------------------------------------------------------------- isotween
+def _alarm(signum, frame):
+    raise TimeoutError(f"no result within {TIMEOUT} s")
+
+
+def run_isotween(job):
+    """One pair through isotween with no options (in a worker process)."""
+    import isotween
+
+    k, a_file, b_file, n_frames = job
+    signal.signal(signal.SIGALRM, _alarm)
+    signal.alarm(TIMEOUT)
+    out = {"id": k}
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            t0 = time.perf_counter()
+            a, b = isotween.io.load(a_file), isotween.io.load(b_file)
+            src, tgt, report = isotween.correspond(a, b)
+            seq = isotween.interpolate(src, tgt, frames=n_frames)
+            out["seconds"] = time.perf_counter() - t0
+        out["ok"] = True
+        out["report"] = report.summary()
+        out["vertices"] = src.n_vertices
+        out["faces"] = src.n_faces
+        # meshes: every face of the source with one orientation, the target's the same
+        if src.n_faces:
+            s = np.sign(src.face_areas())
+            t = np.sign(tgt.face_areas())
+            major = 1.0 if np.count_nonzero(s > 0) >= np.count_nonzero(s < 0) else -1.0
+            out["mesh_flips"] = int(np.count_nonzero(s != major) + np.count_nonzero(t != major))
+        else:
+            out["mesh_flips"] = 0
+        out["frame_flips"] = [int(c) for c in isotween.metrics.flipped_faces(seq, None)[1:-1]]
+        closed = [p for p, c in src.paths if c]
+        group = ring_groups(src)[[i for i, (_, c) in enumerate(src.paths) if c]]
+        edges = np.vstack([np.c_[p, np.roll(p, -1)] for p in closed])
+        eg = np.repeat(group, [len(p) for p in closed])
+        out["crossings"] = [crossings(f, edges, eg) for f in seq.frames[1:-1]]
+        out["edge_deviation"] = edge_deviation(seq.frames, edges, seq.times)
+    except Exception as exc:  # noqa: BLE001 - every failure is a measured outcome
+        out["ok"] = False
+        out["error"] = f"{type(exc).__name__}: {exc}"
+    finally:
+        signal.alarm(0)
+    return out
+
+
+# ---------------------------------------------------------------- flubber
+def flubber_inputs(jobs):
+    """Rings of both drawings of every pair (as isotween reads them) for flubber."""
+    import isotween
+
+    items, groups = [], {}
+    for k, a_file, b_file, _ in jobs:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                a, b = isotween.io.load(a_file), isotween.io.load(b_file)
+        except Exception:  # noqa: BLE001 - a drawing isotween cannot read is skipped for both
+            continue
+        ra = [a.vertices[p].tolist() for p, _ in a.paths]
+        rb = [b.vertices[p].tolist() for p, _ in b.paths]
+        diag = max(a.bbox_diagonal(), b.bbox_diagonal())
+        items.append({"id": k, "a": ra, "b": rb, "seg": 0.01 * diag})
+        groups[k] = (ring_groups(a), ring_groups(b))
+    return items, groups
+
+
+def run_flubber(jobs, n_frames):
+    """flubber's outcome for every pair (one Node.js process)."""
+    items, groups = flubber_inputs(jobs)
+    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as fh:
+        json.dump(items, fh)
+    try:
+        proc = subprocess.run(["node", str(HERE / "flubber_run.js"), fh.name, str(n_frames)],
+                              capture_output=True, text=True, check=True)
+    finally:
+        os.unlink(fh.name)
+    times = np.linspace(0, 1, n_frames)
+    out = {}
+    for line in proc.stdout.splitlines():
+        r = json.loads(line)
+        res = {"id": r["id"], "ok": r["ok"], "mode": r["mode"], "seconds": r["seconds"]}
+        if not r["ok"]:
+            res["error"] = r["error"]
+        else:
+            rings = r["frames"][0]
+            edges, ring = ring_edges(rings)
+            ga, gb = groups[r["id"]]
+            if r["mode"] == "interpolateAll":
+                group = ga[ring]  # ring k morphs source ring k: keep its region
+            else:
+                group = ring  # separate / combine: every piece is its own region
+            frames = np.array([np.vstack(f) for f in r["frames"]], dtype=float)
+            res["crossings"] = [crossings(f, edges, group) for f in frames[1:-1]]
+            res["frame_flips"] = [0] * (n_frames - 2)
+            res["edge_deviation"] = edge_deviation(frames, edges, times)
+        out[r["id"]] = res
+    return out
+
+
+# ---------------------------------------------------------------- summary
+def summarise(results, ids):
+    """One table row: pairs, morphed, clean, frames with crossings, edge deviation, times."""
+    rs = [results.get(k, {"ok": False}) for k in ids]
+    ok = [r for r in rs if r["ok"]]
+    clean = [r for r in ok if not any(r["crossings"]) and not any(r["frame_flips"])]
+    bad_frames = sum(int(np.count_nonzero(np.array(r["crossings"]) > 0)) for r in ok)
+    dev = [r["edge_deviation"] for r in ok]
+    secs = [r["seconds"] for r in ok]
+    pct = (lambda a, b: f"{100 * a / b:.1f} %" if b else "-")
+    return [
+        len(rs), f"{len(ok)} ({pct(len(ok), len(rs))})", f"{len(clean)} ({pct(len(clean), len(rs))})",
+        bad_frames,
+        f"{np.median(dev):.3f}" if dev else "-",
+        f"{1e3 * np.median(secs):.0f} / {1e3 * np.percentile(secs, 95):.0f}" if secs else "-",
+    ]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--icons", type=int, default=500)
+    parser.add_argument("--glyphs", type=int, default=200)
+    parser.add_argument("--frames", type=int, default=9)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--no-write", action="store_true", help="print only; leave RESULTS.md alone")
+    args = parser.parse_args()
+
+    pairs = corpus.pairs(args.icons, args.glyphs)
+    jobs = [(k, str(a), str(b), args.frames) for k, (_, a, b) in enumerate(pairs)]
+    t0 = time.perf_counter()
+    with mp.get_context("fork").Pool(args.workers, maxtasksperchild=50) as pool:
+        ours = {r["id"]: r for r in pool.imap_unordered(run_isotween, jobs, chunksize=1)}
+    wall = time.perf_counter() - t0
+    theirs = run_flubber(jobs, args.frames)
+
+    header = ["tool", "set", "pairs", "morphed", "no crossing, no flip", "frames with crossings",
+              "median edge-length dev.", "time median / p95 (ms)"]
+    rows = []
+    kinds = {"all": [k for k in range(len(pairs))]}
+    for kind in ("classic", "icon", "glyph"):
+        kinds[kind] = [k for k, p in enumerate(pairs) if p[0] == kind]
+    for kind, ids in kinds.items():
+        rows.append(["isotween", kind, *summarise(ours, ids)])
+        rows.append(["flubber 0.4", kind, *summarise(theirs, ids)])
+    mesh_flips = sum(r.get("mesh_flips", 0) for r in ours.values() if r["ok"])
+    meshes = sum(1 for r in ours.values() if r["ok"] and r.get("faces"))
+    failures = {}
+    for r in ours.values():
+        if not r["ok"]:
+            key = r["error"].split(":")[0]
+            failures.setdefault(key, []).append(r)
+    flub_fail = {}
+    for r in theirs.values():
+        if not r["ok"]:
+            key = "several rings into a different number" if r["error"].startswith("no flubber call") else r["error"]
+            flub_fail[key] = flub_fail.get(key, 0) + 1
+
+    body = [
+        f"{len(pairs)} pairs ({len(kinds['classic'])} classic morphs, {len(kinds['icon'])} random icon "
+        f"pairs, {len(kinds['glyph'])} random glyph pairs; seed 20261123), {args.frames} frames each, "
+        f"no options. isotween: {args.workers} worker processes, {wall:.0f} s wall in all; times are "
+        "per pair in process (reading both files, correspondence, meshing, interpolation). flubber: "
+        "its own call per ring count, time of its interpolators only.",
+        "",
+        table(header, rows),
+        "",
+        f"Meshes: {meshes} pairs meshed, {mesh_flips} flipped triangles in all generated meshes.",
+    ]
+    if failures:
+        body += ["", "isotween failures:", ""]
+        for key, rs in sorted(failures.items(), key=lambda kv: -len(kv[1])):
+            first = rs[0]
+            body.append(f"- {len(rs)} x {first['error'][:160]} (pair {first['id']}: "
+                        f"{Path(pairs[first['id']][1]).name} -> {Path(pairs[first['id']][2]).name})")
+    if flub_fail:
+        body += ["", "flubber failures: " + ", ".join(f"{v} x {k}" for k, v in flub_fail.items())]
+    text = "\n".join(body)
+    print(text)
+    details = HERE / ".corpus" / "drawings.json"
+    details.write_text(json.dumps({"pairs": [[p[0], str(p[1]), str(p[2])] for p in pairs],
+                                   "isotween": ours, "flubber": theirs}))
+    print(f"per-pair details: {details}")
+    if not args.no_write:
+        write_section("Any two drawings", text, "python benchmarks/drawings.py")
+
+
+if __name__ == "__main__":
+    main()
