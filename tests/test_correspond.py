@@ -255,3 +255,32 @@ def test_cli_correspondence_options_and_errors(tmp_path):
         result = cli("interpolate", a, b, *args, "-o", tmp_path / "bad.npz")
         assert result.exit_code == 2 and needle in result.stderr, result.output
         assert len(result.stderr.strip().splitlines()) == 1 and not (tmp_path / "bad.npz").exists()
+
+
+# ---------------------------------------------------------------- crossings metric
+def test_outline_crossings_counts_known_crossings():
+    star = np.exp(2j * np.pi * np.arange(5) * 2 / 5)  # pentagram {5/2}: every edge crosses two others
+    pentagram = Shape.from_polygon(np.c_[star.real, star.imag])
+    bowtie = Shape.from_polygon([[0, 0], [2, 2], [2, 0], [0, 2]])  # one crossing pair
+    square = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    overlap = Shape.from_polygon([square, square + 1])  # two separate squares crossing twice
+    for shape, total, own in ((pentagram, 5, 5), (bowtie, 1, 1), (overlap, 2, 0)):
+        seq = isotween.Sequence(np.stack([shape.vertices, 2 * shape.vertices + 1]), shape)
+        np.testing.assert_array_equal(outline_crossings(seq), [total, total])  # similarity: same count
+        np.testing.assert_array_equal(outline_crossings(seq, scope="region"), [own, own])
+    # a random polygon: the same count as checking every pair of edges
+    rng = np.random.default_rng(0)
+    z = rng.normal(size=40) + 1j * rng.normal(size=40)
+    shape = Shape.from_polygon(np.c_[z.real, z.imag])
+    e = shape.edges
+    a, b = z[e[:, 0]], z[e[:, 1]]
+
+    def orient(p, q, r):
+        return ((q - p).conj() * (r - p)).imag
+
+    i, j = np.triu_indices(len(e), 1)
+    apart = np.all(e[i][:, :, None] != e[j][:, None, :], axis=(1, 2))
+    cross = (orient(a[i], b[i], a[j]) * orient(a[i], b[i], b[j]) < 0) & (
+        orient(a[j], b[j], a[i]) * orient(a[j], b[j], b[i]) < 0)
+    seq = isotween.Sequence(shape.vertices[None], shape)
+    assert outline_crossings(seq)[0] == np.count_nonzero(cross & apart) > 0
