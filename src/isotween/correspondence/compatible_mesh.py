@@ -817,9 +817,24 @@ def _nudge(D, F, vert, direction, tol):
 
 
 # ---------------------------------------------------------------- joint quality improvement
+def _sine(z, f):
+    """(F,) sine of the smallest corner angle, 2 A l_min / (l_1 l_2 l_3); negative when inverted.
+
+    (The smallest angle is at most 60 degrees and the sine of an obtuse angle
+    is the sine of the sum of the other two, so the smallest sine is the
+    sine of the smallest angle.)
+    """
+    p = z[f]
+    sides = np.abs(p[:, [1, 2, 0]] - p)
+    prod = sides.prod(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = 2 * _areas(z, f) * sides.min(axis=1) / prod
+    return np.where(prod > 0, q, 0.0)
+
+
 def _quality(z, w, f):
-    """(F,) smallest corner angle of every face over both meshes, radians."""
-    return np.minimum(_angles(z, f).min(axis=1), _angles(w, f).min(axis=1))
+    """(F,) sine of the smallest corner angle of every face over both meshes."""
+    return np.minimum(_sine(z, f), _sine(w, f))
 
 
 def _valid(z, w, f, eps):
@@ -876,7 +891,7 @@ def _smooth(z, w, f, K, eps, rng, joint):
         ok = np.ones(N, dtype=bool)
         np.logical_and.at(ok, owner, _areas(p, fs) > e)
         q = np.full(N, np.inf)
-        np.minimum.at(q, owner, _angles(p, fs).min(axis=1))
+        np.minimum.at(q, owner, _sine(p, fs))
         return ok, q
 
     goals = [[(np.bincount(a, weights=p[b].real, minlength=N) + 1j * np.bincount(a, weights=p[b].imag, minlength=N))
@@ -906,15 +921,17 @@ def _smooth(z, w, f, K, eps, rng, joint):
     return pos[0], pos[1], int(done.any(axis=0).sum())
 
 
-def _joint_flips(z, w, f, eps):
-    """Flip edges whose flip raises the smallest angle of their two faces in both meshes together;
-    f is changed in place. Returns the number of flips."""
+def _joint_flips(z, w, f, eps, limit=0.5):
+    """Flip edges whose flip raises the smallest angle of their two faces in both meshes together,
+    where that angle's sine is below ``limit``; f is changed in place. Returns the number of flips."""
     a, b, c, key, twin = _edge_table(f)
+    qf = _quality(z, w, f)
     h = np.flatnonzero(twin > np.arange(len(a)))
+    q_old = np.minimum(qf[h // 3], qf[twin[h] // 3])
+    h, q_old = h[q_old < limit], q_old[q_old < limit]
     d = c[twin[h]]
     new1, new2 = np.c_[a[h], d, c[h]], np.c_[d, b[h], c[h]]
     ok = _valid(z, w, new1, eps) & _valid(z, w, new2, eps)
-    q_old = np.minimum(_quality(z, w, f[h // 3]), _quality(z, w, f[twin[h] // 3]))
     q_new = np.minimum(_quality(z, w, new1), _quality(z, w, new2))
     gain = q_new - q_old
     sel = ok & (gain > 1e-6)
@@ -927,7 +944,7 @@ def _joint_flips(z, w, f, eps):
 
 
 def _collapse(z, w, f, K, eps, limit):
-    """Collapse the shortest edge of faces whose smallest angle (in either mesh) is below ``limit``.
+    """Collapse the shortest edge of faces whose smallest angle (in either mesh) has a sine below ``limit``.
 
     An interior vertex x merges into its neighbour y when the link condition
     holds (x and y share exactly the two neighbours across their edge), every
@@ -1009,7 +1026,7 @@ def _joint_refine(z, w, f, size, rounds=30):
         w = np.r_[w, w[t].mean(axis=1)]
         f = np.r_[np.delete(f, bad, axis=0), np.c_[t[:, 0], t[:, 1], m], np.c_[t[:, 1], t[:, 2], m],
                   np.c_[t[:, 2], t[:, 0], m]]
-        for _ in range(10):
+        for _ in range(3):
             if not _joint_flips(z, w, f, eps):
                 break
     return z, w, f
@@ -1028,7 +1045,7 @@ def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
     eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
     f = f.copy()
     for _ in range(rounds):
-        f, collapsed = _collapse(z, w, f, K, eps, np.radians(limit))
+        f, collapsed = _collapse(z, w, f, K, eps, np.sin(np.radians(limit)))
         flips = _joint_flips(z, w, f, eps)
         z, w, moved = _smooth(z, w, f, K, eps, rng, joint)
         if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):
