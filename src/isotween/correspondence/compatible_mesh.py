@@ -583,7 +583,8 @@ def _open_cuts(f, cuts, first_copy):
     """Faces (F, 3) with the first cut (u, v) of every hole opened.
 
     The boundary cycle runs ``.., p, u, v, (hole).., v', u', q, ..`` with the
-    copies ``u' = first_copy + 2 h`` and ``v' = first_copy + 2 h + 1``: faces
+    copies ``u' = first_copy + 2 i`` and ``v' = first_copy + 2 i + 1`` for
+    the i-th entry of ``cuts`` (see `_cuts`): faces
     around u between the cut and q take u', faces around v between the cut
     and the hole vertex before v take v'.
     """
@@ -702,13 +703,13 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     e, c = e[hit], c[hit]
     ou = _orient(D[ca[c]], D[cb[c]], D[lo[e]])
     ov = _orient(D[ca[c]], D[cb[c]], D[hi[e]])
-    te = ou / (ou - ov)  # along lo -> hi
+    te = np.abs(ou) / (np.abs(ou) + np.abs(ov))  # along lo -> hi; the sides are known exactly
     ncross = len(e)
     Nd = len(orig)
     xid = Nd + np.arange(ncross)
     Dx = D[lo[e]] + te * (D[hi[e]] - D[lo[e]])
     dc = D[cb[c]] - D[ca[c]]
-    tc = (np.conj(dc) * (Dx - D[ca[c]])).real / np.abs(dc) ** 2
+    tc = np.clip((np.conj(dc) * (Dx - D[ca[c]])).real / np.abs(dc) ** 2, 0.0, 1.0)
     zs_x = zs_all[lo[e]] + te * (zs_all[hi[e]] - zs_all[lo[e]])
     zt_x = zt_all[ca[c]] + tc * (zt_all[cb[c]] - zt_all[ca[c]])
 
