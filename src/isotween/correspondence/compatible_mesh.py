@@ -148,11 +148,11 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
             f"{np.sqrt(area / (np.sqrt(3) / 4 * MAX_FACES)):.3g}")
     cuts = _cuts(zs, zt, rings)
     cut_edges = np.array([c for _, *pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2)
-    f_src = _triangulate(zs, rings, cut_edges, "source")
+    fixed_keys = _keys(cut_edges)
+    f_src = _triangulate(zs, rings, cut_edges, fixed_keys, "source")
     # the target keeps every source diagonal that is a diagonal of the target too: fewer crossings
     shared = _shared_diagonals(f_src, zt, _polygon(zt, rings), cut_edges)
-    f_tgt = _triangulate(zt, rings, np.r_[cut_edges, shared], "target")
-    fixed_keys = _keys(cut_edges)
+    f_tgt = _triangulate(zt, rings, np.r_[cut_edges, shared], _keys(np.r_[cut_edges, shared]), "target")
     z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size))
 
     # first try: the source mesh mapped by mean-value weights (reproduces affine maps)
@@ -313,10 +313,16 @@ def _inside(z, poly, pairs):
     seg = shapely.linestrings(np.stack([np.c_[z[pairs[:, 0]].real, z[pairs[:, 0]].imag],
                                         np.c_[z[pairs[:, 1]].real, z[pairs[:, 1]].imag]], axis=1))
     # DE-9IM: the segment's interior meets the polygon's interior, neither its boundary nor outside
-    return shapely.relate_pattern(poly, seg, "1**F**F**")
+    ok = shapely.relate_pattern(poly, seg, "1**F**F**")
+    # and passes no ring vertex closer than a rounding-proof margin (no sliver against the outline)
+    pts = shapely.points(np.c_[z.real, z.imag])
+    pi, si = shapely.STRtree(seg).query(pts, predicate="dwithin", distance=1e-9 * np.sqrt(_scale2(z)))
+    near = (pi != pairs[si, 0]) & (pi != pairs[si, 1])
+    ok[si[near]] = False
+    return ok
 
 
-def _triangulate(z, rings, constraints, name):
+def _triangulate(z, rings, constraints, fixed_keys, name):
     """Constrained Delaunay triangles (F, 3) of the polygon, ccw, with every constraint as an edge.
 
     Parameters
@@ -328,6 +334,9 @@ def _triangulate(z, rings, constraints, name):
         Segments between ring vertices that lie inside the polygon and do
         not cross each other (cuts and diagonals); the polygon is split along
         them and every piece triangulated on its own.
+    fixed_keys : (m,) int64
+        `_keys` of the constraints: Lawson flips (which remove the slivers
+        that nearly collinear ring vertices can leave) keep them.
     """
     import shapely
     from shapely.ops import split
@@ -352,8 +361,17 @@ def _triangulate(z, rings, constraints, name):
     a = _areas(z, f)
     f[a < 0] = f[a < 0][:, ::-1]
     area = abs(_signed_area(z[rings[0]])) - sum(abs(_signed_area(z[r])) for r in rings[1:])
-    if not np.isclose(np.abs(a).sum(), area, rtol=1e-9, atol=0) or np.any(a == 0):
+    if not np.isclose(np.abs(a).sum(), area, rtol=1e-9, atol=0):
         raise ShapeError(f"the {name} outline is too close to degenerate to triangulate")
+    f = _lawson(z, f, fixed_keys, tiny=1e-13 * _scale2(z))
+    thin = np.flatnonzero(_areas(z, f) <= 1e-13 * _scale2(z))
+    if thin.size:
+        ring_of = np.concatenate([np.full(len(r), i) for i, r in enumerate(rings)])
+        local = np.concatenate([np.arange(len(r)) for r in rings])
+        v = np.sort(f[thin[0]])
+        raise ShapeError(
+            f"the {name} outline is too close to degenerate to triangulate: vertices "
+            + ", ".join(f"{local[x]} of ring {ring_of[x]}" for x in v) + " are (nearly) collinear")
     return f
 
 
@@ -500,14 +518,23 @@ def _flip(f, h, twin, a, b, c):
     f[f2] = np.c_[d, b[h], c[h]]
 
 
-def _lawson(z, f, fixed_keys, rounds=200):
-    """Flip non-Delaunay edges (not fixed ones) until none is left; f is changed in place."""
+def _lawson(z, f, fixed_keys, rounds=200, tiny=0.0):
+    """Flip non-Delaunay edges (not fixed ones) until none is left; f is changed in place.
+
+    The longest edge of a face with an area at most ``tiny`` (a sliver of
+    nearly collinear vertices) is flipped too where both new faces are
+    positive.
+    """
     for _ in range(rounds):
         a, b, c, key, twin = _edge_table(f)
         h = np.flatnonzero((twin > np.arange(len(a))) & ~np.isin(key, fixed_keys))
         d = c[twin[h]]
         s = _incircle(z[a[h]], z[b[h]], z[c[h]], z[d])
         scale = np.abs(z[a[h]] - z[b[h]]) ** 4
+        if tiny > 0:
+            area = _areas(z, f)
+            sliver = (area[h // 3] <= tiny) | (area[twin[h] // 3] <= tiny)
+            s = np.where(sliver, np.inf, s)
         h, s = h[s > 1e-12 * scale], s[s > 1e-12 * scale]
         if not len(h):
             return f
