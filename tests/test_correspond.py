@@ -10,7 +10,7 @@ import pytest
 import isotween
 from isotween import Shape
 from isotween.correspondence import check_compatible, correspond
-from isotween.correspondence.regions import TINY, items_of, ring_area
+from isotween.correspondence.regions import TINY, _centroid, items_of, ring_area
 from isotween.errors import IncompatibleShapesError, ParameterError, ShapeError
 from isotween.metrics import flipped_faces, outline_crossings
 
@@ -117,9 +117,22 @@ def test_i_into_l_pairs_the_stems_and_shrinks_the_dot():
 
 
 def test_b_into_d_closes_one_hole():
-    a, b, report = correspond(glyph("B"), glyph("D"), outline=True, points=200)
+    B, D = glyph("B"), glyph("D")
+    a, b, report = correspond(B, D)
     assert report.regions["paired"] == 1 and report.holes == {"paired": 1, "grown": 0, "shrunk": 1}
-    seq, _, crossings = morph(a, b)
+    assert a.n_faces > 0 and report.flipped == 0
+    seq, flips, crossings = morph(a, b)
+    assert not flips.any() and not crossings.any()
+    # D's hole pairs with the B hole nearer to it; the other one closes to a small copy of itself
+    d_hole = _centroid(items_of(D, "D")[0].rings[1], True)
+    b_holes = [_centroid(h, True) for h in items_of(B, "B")[0].rings[1:]]
+    near, far = sorted(b_holes, key=lambda c: abs(c - d_hole))
+    sizes = {k: np.ptp(ring(b, k).real) for k in a.regions[0][1:]}
+    paired, closed = max(sizes, key=sizes.get), min(sizes, key=sizes.get)
+    tol = 0.01 * np.ptp(B.vertices[:, 1])  # resampled rings: centroids move a little
+    assert abs(_centroid(ring(a, paired), True) - near) < tol and abs(_centroid(ring(b, paired), True) - d_hole) < tol
+    assert abs(_centroid(ring(a, closed), True) - far) < tol and is_small_copy(ring(b, closed), ring(a, closed))
+    seq, _, crossings = morph(*correspond(B, D, outline=True, points=200)[:2])
     assert not crossings.any()
 
 
@@ -255,3 +268,32 @@ def test_cli_correspondence_options_and_errors(tmp_path):
         result = cli("interpolate", a, b, *args, "-o", tmp_path / "bad.npz")
         assert result.exit_code == 2 and needle in result.stderr, result.output
         assert len(result.stderr.strip().splitlines()) == 1 and not (tmp_path / "bad.npz").exists()
+
+
+# ---------------------------------------------------------------- crossings metric
+def test_outline_crossings_counts_known_crossings():
+    star = np.exp(2j * np.pi * np.arange(5) * 2 / 5)  # pentagram {5/2}: every edge crosses two others
+    pentagram = Shape.from_polygon(np.c_[star.real, star.imag])
+    bowtie = Shape.from_polygon([[0, 0], [2, 2], [2, 0], [0, 2]])  # one crossing pair
+    square = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    overlap = Shape.from_polygon([square, square + 1])  # two separate squares crossing twice
+    for shape, total, own in ((pentagram, 5, 5), (bowtie, 1, 1), (overlap, 2, 0)):
+        seq = isotween.Sequence(np.stack([shape.vertices, 2 * shape.vertices + 1]), shape)
+        np.testing.assert_array_equal(outline_crossings(seq), [total, total])  # similarity: same count
+        np.testing.assert_array_equal(outline_crossings(seq, scope="region"), [own, own])
+    # a random polygon: the same count as checking every pair of edges
+    rng = np.random.default_rng(0)
+    z = rng.normal(size=40) + 1j * rng.normal(size=40)
+    shape = Shape.from_polygon(np.c_[z.real, z.imag])
+    e = shape.edges
+    a, b = z[e[:, 0]], z[e[:, 1]]
+
+    def orient(p, q, r):
+        return ((q - p).conj() * (r - p)).imag
+
+    i, j = np.triu_indices(len(e), 1)
+    apart = np.all(e[i][:, :, None] != e[j][:, None, :], axis=(1, 2))
+    cross = (orient(a[i], b[i], a[j]) * orient(a[i], b[i], b[j]) < 0) & (
+        orient(a[j], b[j], a[i]) * orient(a[j], b[j], b[i]) < 0)
+    seq = isotween.Sequence(shape.vertices[None], shape)
+    assert outline_crossings(seq)[0] == np.count_nonzero(cross & apart) > 0

@@ -123,7 +123,7 @@ SVG = """<?xml version="1.0"?>
   </g>
   <circle cx="5" cy="-3" r="2"/>
   <polyline points="0,0 1,1 2,0" fill="none" stroke="black"/>
-  <line x1="0" y1="5" x2="3" y2="9"/>
+  <line x1="0" y1="5" x2="3" y2="9" stroke="black"/>
   <path d="M 0 10 C 1 11 2 11 3 10" style="fill:none;stroke:black"/>
 </svg>
 """

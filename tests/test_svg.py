@@ -117,3 +117,10 @@ def test_regions_and_paint_read_back_identically(tmp_path):
         assert p.stroke_width == q.stroke_width and p.opacity == q.opacity
         if p.fill is not None:
             np.testing.assert_allclose(p.fill, q.fill, atol=1 / 255)
+
+
+def test_elements_that_draw_nothing_are_left_out(tmp_path):
+    s = read(tmp_path, '<path d="M0 0h24v24H0z" fill="none"/><line x1="0" y1="0" x2="5" y2="5"/>'
+                       '<path d="M4 4h8v8h-8z"/>')
+    assert len(s.paths) == 1 and s.regions == [[0]]
+    np.testing.assert_allclose(s.vertices, [[4, 4], [12, 4], [12, 12], [4, 12]])

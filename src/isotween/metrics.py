@@ -197,7 +197,7 @@ def _boundary_edges(shape):
     return shape.edges
 
 
-def _crossing_pairs(z, edges):
+def _crossing_pairs(z, edges, group=None):
     """Number of pairs of ``edges`` that cross properly at positions ``z`` (n,) complex.
 
     Candidate pairs come from a sweep over x (intervals sorted by their left
@@ -221,6 +221,8 @@ def _crossing_pairs(z, edges):
     ylo_j, yhi_j = np.minimum(a.imag[j], b.imag[j]), np.maximum(a.imag[j], b.imag[j])
     ei, ej = edges[i], edges[j]
     keep = (ylo_i <= yhi_j) & (ylo_j <= yhi_i) & np.all(ei[:, :, None] != ej[:, None, :], axis=(1, 2))
+    if group is not None:
+        keep &= group[i] == group[j]
     i, j = i[keep], j[keep]
 
     def orient(p, q, r):
@@ -231,17 +233,33 @@ def _crossing_pairs(z, edges):
     return int(np.count_nonzero((d1 * d2 < 0) & (d3 * d4 < 0)))
 
 
-def outline_crossings(seq):
+def outline_crossings(seq, scope="all"):
     """(F,) int: pairs of outline edges that cross each other, per frame.
 
     Outline edges are those of the shape's paths (rings and polylines; for a
     mesh without paths, its boundary edges). Edges that share a vertex never
     count; two edges count when they cross properly (not when they only touch).
+
+    scope : {'all', 'region'}
+        'all': every pair of outline edges; 'region': only pairs within one
+        filled region (its outer ring and holes) or within one path outside
+        the regions, i.e. self-intersections of each item, not overlaps of
+        separate items.
     """
-    edges = _boundary_edges(seq.shape)
+    if scope not in ("all", "region"):
+        raise ParameterError(f"unknown scope {scope!r}; choose 'all' or 'region'")
+    shape = seq.shape
+    edges = _boundary_edges(shape)
     if not len(edges):
         return np.zeros(len(seq), dtype=np.int64)
-    return np.array([_crossing_pairs(z, edges) for z in seq.z], dtype=np.int64)
+    group = None
+    if scope == "region" and shape.paths:
+        owner = np.arange(len(shape.paths))
+        for r, ring_ids in enumerate(shape.regions or []):
+            owner[ring_ids] = len(shape.paths) + r
+        drawn = [k for k, (p, _) in enumerate(shape.paths) if len(p) > 1]
+        group = np.repeat(owner[drawn], [len(shape.paths[k][0]) - (0 if shape.paths[k][1] else 1) for k in drawn])
+    return np.array([_crossing_pairs(z, edges, group) for z in seq.z], dtype=np.int64)
 
 
 def symmetry_error(seq: Sequence, backward: Sequence | None = None) -> float:

@@ -148,11 +148,11 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
             f"{np.sqrt(area / (np.sqrt(3) / 4 * MAX_FACES)):.3g}")
     cuts = _cuts(zs, zt, rings)
     cut_edges = np.array([c for _, *pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2)
-    f_src = _triangulate(zs, rings, cut_edges, "source")
+    fixed_keys = _keys(cut_edges)
+    f_src = _triangulate(zs, rings, cut_edges, fixed_keys, "source")
     # the target keeps every source diagonal that is a diagonal of the target too: fewer crossings
     shared = _shared_diagonals(f_src, zt, _polygon(zt, rings), cut_edges)
-    f_tgt = _triangulate(zt, rings, np.r_[cut_edges, shared], "target")
-    fixed_keys = _keys(cut_edges)
+    f_tgt = _triangulate(zt, rings, np.r_[cut_edges, shared], _keys(np.r_[cut_edges, shared]), "target")
     z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size))
 
     # first try: the source mesh mapped by mean-value weights (reproduces affine maps)
@@ -313,10 +313,16 @@ def _inside(z, poly, pairs):
     seg = shapely.linestrings(np.stack([np.c_[z[pairs[:, 0]].real, z[pairs[:, 0]].imag],
                                         np.c_[z[pairs[:, 1]].real, z[pairs[:, 1]].imag]], axis=1))
     # DE-9IM: the segment's interior meets the polygon's interior, neither its boundary nor outside
-    return shapely.relate_pattern(poly, seg, "1**F**F**")
+    ok = shapely.relate_pattern(poly, seg, "1**F**F**")
+    # and passes no ring vertex closer than a rounding-proof margin (no sliver against the outline)
+    pts = shapely.points(np.c_[z.real, z.imag])
+    pi, si = shapely.STRtree(seg).query(pts, predicate="dwithin", distance=1e-9 * np.sqrt(_scale2(z)))
+    near = (pi != pairs[si, 0]) & (pi != pairs[si, 1])
+    ok[si[near]] = False
+    return ok
 
 
-def _triangulate(z, rings, constraints, name):
+def _triangulate(z, rings, constraints, fixed_keys, name):
     """Constrained Delaunay triangles (F, 3) of the polygon, ccw, with every constraint as an edge.
 
     Parameters
@@ -328,6 +334,9 @@ def _triangulate(z, rings, constraints, name):
         Segments between ring vertices that lie inside the polygon and do
         not cross each other (cuts and diagonals); the polygon is split along
         them and every piece triangulated on its own.
+    fixed_keys : (m,) int64
+        `_keys` of the constraints: Lawson flips (which remove the slivers
+        that nearly collinear ring vertices can leave) keep them.
     """
     import shapely
     from shapely.ops import split
@@ -352,8 +361,17 @@ def _triangulate(z, rings, constraints, name):
     a = _areas(z, f)
     f[a < 0] = f[a < 0][:, ::-1]
     area = abs(_signed_area(z[rings[0]])) - sum(abs(_signed_area(z[r])) for r in rings[1:])
-    if not np.isclose(np.abs(a).sum(), area, rtol=1e-9, atol=0) or np.any(a == 0):
+    if not np.isclose(np.abs(a).sum(), area, rtol=1e-9, atol=0):
         raise ShapeError(f"the {name} outline is too close to degenerate to triangulate")
+    f = _lawson(z, f, fixed_keys, tiny=1e-13 * _scale2(z))
+    thin = np.flatnonzero(_areas(z, f) <= 1e-13 * _scale2(z))
+    if thin.size:
+        ring_of = np.concatenate([np.full(len(r), i) for i, r in enumerate(rings)])
+        local = np.concatenate([np.arange(len(r)) for r in rings])
+        v = np.sort(f[thin[0]])
+        raise ShapeError(
+            f"the {name} outline is too close to degenerate to triangulate: vertices "
+            + ", ".join(f"{local[x]} of ring {ring_of[x]}" for x in v) + " are (nearly) collinear")
     return f
 
 
@@ -500,14 +518,23 @@ def _flip(f, h, twin, a, b, c):
     f[f2] = np.c_[d, b[h], c[h]]
 
 
-def _lawson(z, f, fixed_keys, rounds=200):
-    """Flip non-Delaunay edges (not fixed ones) until none is left; f is changed in place."""
+def _lawson(z, f, fixed_keys, rounds=200, tiny=0.0):
+    """Flip non-Delaunay edges (not fixed ones) until none is left; f is changed in place.
+
+    The longest edge of a face with an area at most ``tiny`` (a sliver of
+    nearly collinear vertices) is flipped too where both new faces are
+    positive.
+    """
     for _ in range(rounds):
         a, b, c, key, twin = _edge_table(f)
         h = np.flatnonzero((twin > np.arange(len(a))) & ~np.isin(key, fixed_keys))
         d = c[twin[h]]
         s = _incircle(z[a[h]], z[b[h]], z[c[h]], z[d])
         scale = np.abs(z[a[h]] - z[b[h]]) ** 4
+        if tiny > 0:
+            area = _areas(z, f)
+            sliver = (area[h // 3] <= tiny) | (area[twin[h] // 3] <= tiny)
+            s = np.where(sliver, np.inf, s)
         h, s = h[s > 1e-12 * scale], s[s > 1e-12 * scale]
         if not len(h):
             return f
@@ -583,7 +610,8 @@ def _open_cuts(f, cuts, first_copy):
     """Faces (F, 3) with the first cut (u, v) of every hole opened.
 
     The boundary cycle runs ``.., p, u, v, (hole).., v', u', q, ..`` with the
-    copies ``u' = first_copy + 2 h`` and ``v' = first_copy + 2 h + 1``: faces
+    copies ``u' = first_copy + 2 i`` and ``v' = first_copy + 2 i + 1`` for
+    the i-th entry of ``cuts`` (see `_cuts`): faces
     around u between the cut and q take u', faces around v between the cut
     and the hole vertex before v take v'.
     """
@@ -702,13 +730,13 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     e, c = e[hit], c[hit]
     ou = _orient(D[ca[c]], D[cb[c]], D[lo[e]])
     ov = _orient(D[ca[c]], D[cb[c]], D[hi[e]])
-    te = ou / (ou - ov)  # along lo -> hi
+    te = np.abs(ou) / (np.abs(ou) + np.abs(ov))  # along lo -> hi; the sides are known exactly
     ncross = len(e)
     Nd = len(orig)
     xid = Nd + np.arange(ncross)
     Dx = D[lo[e]] + te * (D[hi[e]] - D[lo[e]])
     dc = D[cb[c]] - D[ca[c]]
-    tc = (np.conj(dc) * (Dx - D[ca[c]])).real / np.abs(dc) ** 2
+    tc = np.clip((np.conj(dc) * (Dx - D[ca[c]])).real / np.abs(dc) ** 2, 0.0, 1.0)
     zs_x = zs_all[lo[e]] + te * (zs_all[hi[e]] - zs_all[lo[e]])
     zt_x = zt_all[ca[c]] + tc * (zt_all[cb[c]] - zt_all[ca[c]])
 
@@ -817,9 +845,24 @@ def _nudge(D, F, vert, direction, tol):
 
 
 # ---------------------------------------------------------------- joint quality improvement
+def _sine(z, f):
+    """(F,) sine of the smallest corner angle, 2 A l_min / (l_1 l_2 l_3); negative when inverted.
+
+    (The smallest angle is at most 60 degrees and the sine of an obtuse angle
+    is the sine of the sum of the other two, so the smallest sine is the
+    sine of the smallest angle.)
+    """
+    p = z[f]
+    sides = np.abs(p[:, [1, 2, 0]] - p)
+    prod = sides.prod(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = 2 * _areas(z, f) * sides.min(axis=1) / prod
+    return np.where(prod > 0, q, 0.0)
+
+
 def _quality(z, w, f):
-    """(F,) smallest corner angle of every face over both meshes, radians."""
-    return np.minimum(_angles(z, f).min(axis=1), _angles(w, f).min(axis=1))
+    """(F,) sine of the smallest corner angle of every face over both meshes."""
+    return np.minimum(_sine(z, f), _sine(w, f))
 
 
 def _valid(z, w, f, eps):
@@ -876,7 +919,7 @@ def _smooth(z, w, f, K, eps, rng, joint):
         ok = np.ones(N, dtype=bool)
         np.logical_and.at(ok, owner, _areas(p, fs) > e)
         q = np.full(N, np.inf)
-        np.minimum.at(q, owner, _angles(p, fs).min(axis=1))
+        np.minimum.at(q, owner, _sine(p, fs))
         return ok, q
 
     goals = [[(np.bincount(a, weights=p[b].real, minlength=N) + 1j * np.bincount(a, weights=p[b].imag, minlength=N))
@@ -906,15 +949,17 @@ def _smooth(z, w, f, K, eps, rng, joint):
     return pos[0], pos[1], int(done.any(axis=0).sum())
 
 
-def _joint_flips(z, w, f, eps):
-    """Flip edges whose flip raises the smallest angle of their two faces in both meshes together;
-    f is changed in place. Returns the number of flips."""
+def _joint_flips(z, w, f, eps, limit=0.5):
+    """Flip edges whose flip raises the smallest angle of their two faces in both meshes together,
+    where that angle's sine is below ``limit``; f is changed in place. Returns the number of flips."""
     a, b, c, key, twin = _edge_table(f)
+    qf = _quality(z, w, f)
     h = np.flatnonzero(twin > np.arange(len(a)))
+    q_old = np.minimum(qf[h // 3], qf[twin[h] // 3])
+    h, q_old = h[q_old < limit], q_old[q_old < limit]
     d = c[twin[h]]
     new1, new2 = np.c_[a[h], d, c[h]], np.c_[d, b[h], c[h]]
     ok = _valid(z, w, new1, eps) & _valid(z, w, new2, eps)
-    q_old = np.minimum(_quality(z, w, f[h // 3]), _quality(z, w, f[twin[h] // 3]))
     q_new = np.minimum(_quality(z, w, new1), _quality(z, w, new2))
     gain = q_new - q_old
     sel = ok & (gain > 1e-6)
@@ -927,7 +972,7 @@ def _joint_flips(z, w, f, eps):
 
 
 def _collapse(z, w, f, K, eps, limit):
-    """Collapse the shortest edge of faces whose smallest angle (in either mesh) is below ``limit``.
+    """Collapse the shortest edge of faces whose smallest angle (in either mesh) has a sine below ``limit``.
 
     An interior vertex x merges into its neighbour y when the link condition
     holds (x and y share exactly the two neighbours across their edge), every
@@ -1009,7 +1054,7 @@ def _joint_refine(z, w, f, size, rounds=30):
         w = np.r_[w, w[t].mean(axis=1)]
         f = np.r_[np.delete(f, bad, axis=0), np.c_[t[:, 0], t[:, 1], m], np.c_[t[:, 1], t[:, 2], m],
                   np.c_[t[:, 2], t[:, 0], m]]
-        for _ in range(10):
+        for _ in range(3):
             if not _joint_flips(z, w, f, eps):
                 break
     return z, w, f
@@ -1028,7 +1073,7 @@ def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
     eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
     f = f.copy()
     for _ in range(rounds):
-        f, collapsed = _collapse(z, w, f, K, eps, np.radians(limit))
+        f, collapsed = _collapse(z, w, f, K, eps, np.sin(np.radians(limit)))
         flips = _joint_flips(z, w, f, eps)
         z, w, moved = _smooth(z, w, f, K, eps, rng, joint)
         if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):

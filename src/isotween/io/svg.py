@@ -6,7 +6,8 @@ shapes turned into paths). Mapping rule (docs/formats.md): a filled subpath
 is a closed ring if it ends in ``Z`` and an open polyline otherwise; all of
 them, in document order, form one Shape. The ``fill-rule`` of each element
 decides which of its rings are outer boundaries and which are holes of which
-(``Shape.regions``); each path keeps the element's `Paint`. Degenerate
+(``Shape.regions``); each path keeps the element's `Paint`. Elements that
+draw nothing (no fill and no stroke) are left out. Degenerate
 subpaths (too few distinct points, or a filled ring of zero area) are dropped
 with a warning naming them. Coordinates stay in the root's user units with y
 pointing down (the viewBox and the width/height of the root are ignored).
@@ -166,6 +167,8 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
         label = _label(tag, el.id, counts[tag])
         _check_attributes(path, se, el, tag, label)
         paint = _paint(path, el, tag, label)
+        if paint.fill is None and paint.stroke is None:
+            continue  # draws nothing (e.g. an icon's bounding box with fill="none")
         kept = []
         for k, (points, closed) in enumerate(_subpaths(se, el, curve_segments)):
             closed = closed or paint.filled
