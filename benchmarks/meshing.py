@@ -117,8 +117,10 @@ def main():
     body = table(header, rows)
     print(body)
     note = (
-        "`compatible_meshes` (shapely constrained Delaunay per polygon, interior refinement of the source, "
-        "both mapped onto the unit disc, combinatorial overlay, joint collapses, flips and smoothing). "
+        "`compatible_meshes`: shapely constrained Delaunay triangulation of each polygon; the refined source "
+        "mesh mapped onto the target by mean-value weights where that flips nothing (overlay: no), else the "
+        "two triangulations overlaid in the unit disc and refined in both (overlay: yes); then joint edge "
+        "collapses and flips and smoothing, every step keeping both meshes valid. "
         "Rings from `isotween.resample` of DejaVu Sans Bold glyphs (matplotlib) and two icons drawn in the "
         "script; mesh size: the mean ring edge length (times 0.5 where the case says so). "
         "Min angle: after the overlay -> after the quality step. `refine_first` rows overlay the refined "
