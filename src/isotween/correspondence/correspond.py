@@ -296,9 +296,9 @@ def _fill_slots(items, frames, slots, unmatched):
                     ref = next(j for j, h in enumerate(hs) if h is not None)
                     ref_item = items[ref][slot.members[ref]]
                     hole = ref_item.rings[hs[ref]]
-                    f_ref, f_k = _regions._Frame.of(ref_item.rings[0]), _regions._Frame.of(item.rings[0])
-                    at = f_ref.to(f_k, _regions._centroid(hole, True))
-                    radius = _regions.TINY * float(np.abs(hole - _regions._centroid(hole, True)).max())
+                    f_ref, f_k = _regions.Frame.of(ref_item.rings[0]), _regions.Frame.of(item.rings[0])
+                    at = f_ref.to(f_k, _regions.centroid(hole, True))
+                    radius = _regions.TINY * float(np.abs(hole - _regions.centroid(hole, True)).max())
                     at, room = _regions.inside_point(poly, at, radius)
                     rings.append(_regions.small_copy([hole], True, at, room)[0])
                     paint.append(item.paint[0])
@@ -338,7 +338,7 @@ def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched):
     so that it does not cross them on its way. ``split``: inside the nearest
     region of the other drawing, as if it split off from (merged into) it.
     """
-    c = _regions._centroid(rings[0], closed)
+    c = _regions.centroid(rings[0], closed)
     at = f_from.to(f_to, c)
     scaled = [at + (z - c) * (f_to.scale / f_from.scale) for z in rings]
     radius = _regions.TINY * float(np.abs(np.concatenate(scaled) - at).max())
