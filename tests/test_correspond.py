@@ -297,3 +297,14 @@ def test_outline_crossings_counts_known_crossings():
         orient(a[j], b[j], a[i]) * orient(a[j], b[j], b[i]) < 0)
     seq = isotween.Sequence(shape.vertices[None], shape)
     assert outline_crossings(seq)[0] == np.count_nonzero(cross & apart) > 0
+
+
+def test_rings_keep_their_turn_so_mirror_symmetric_pairs_still_mesh():
+    # a square against a clockwise 2:1 rectangle: the mirrored start matches as well as the true one
+    square = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [2, 2], [1, 2], [0, 2], [0, 1]], float)
+    rect = np.array([[0, 0], [0, 1], [4, 1], [4, 0]], float) + [-1, 0.5]
+    src, tgt = isotween.resample(square, rect, points=24, keep_turn=True)
+    assert ring_area(src.z) * ring_area(tgt.z) > 0
+    a, b, report = correspond(Shape.from_polygon(square), Shape.from_polygon(rect))
+    assert not report.outlines and a.n_faces > 0 and report.flipped == 0
+    assert np.all(a.face_areas() * b.face_areas() > 0)

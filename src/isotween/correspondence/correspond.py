@@ -224,7 +224,7 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs):
     xy = [[np.c_[z.real, z.imag] for z in key] for key in per_key]
     outs = [None] * len(shapes)
     for k in range(1, len(shapes)):
-        a, b = resample(xy[0], xy[k], points=counts, closed=closed, rotation=rotation)
+        a, b = resample(xy[0], xy[k], points=counts, closed=closed, rotation=rotation, keep_turn=True)
         outs[0] = a if outs[0] is None else outs[0]
         outs[k] = b
     result = []
