@@ -46,7 +46,7 @@ def polygon_area(rings):
 
 
 def rect(x0, y0, x1, y1, n):
-    """Counter-clockwise rectangle with about n points per unit of perimeter... as a ring."""
+    """Counter-clockwise rectangle ring, n points per side."""
     corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1], [x0, y0]], dtype=float)
     pts = [np.linspace(corners[i], corners[i + 1], n, endpoint=False) for i in range(4)]
     return np.vstack(pts)
