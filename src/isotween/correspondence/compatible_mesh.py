@@ -423,8 +423,10 @@ def _cuts(zs, zt, rings, near=12):
     while len(joined) < len(rings):
         best = None
         for h in (h for h in range(1, len(rings)) if h not in joined):
-            picks = _hole_cuts(zs, zt, rings, h, np.concatenate([rings[j] for j in joined]), polys, used,
-                               taken, near)
+            base = np.concatenate([rings[j] for j in joined])
+            picks = _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near)
+            if picks is None:  # every pair, not only the nearest
+                picks = _hole_cuts(zs, zt, rings, h, base, polys, used, taken, len(base))
             if picks is not None and (best is None or picks[0] < best[0]):
                 best = (picks[0], h, picks[1])
         if best is None:
@@ -459,20 +461,25 @@ def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
     ok = ~np.isin(bv, list(used)) & ~np.isin(hv, list(used))
     for z, poly in zip((zs, zt), polys):
         ok[ok] = _inside(z, poly, np.c_[bv[ok], hv[ok]])
-    picks = []
-    for c in np.flatnonzero(ok):
-        if any(len(t) and np.any(shapely.intersects(
-                shapely.linestrings(np.c_[z[[bv[c], hv[c]]].real, z[[bv[c], hv[c]]].imag]),
-                t + [shapely.linestrings(np.c_[z[[bv[p], hv[p]]].real, z[[bv[p], hv[p]]].imag]) for p in picks]))
-               for z, t in zip((zs, zt), taken)):
-            continue
-        if picks:  # the second cut: another joined vertex, a quarter of the hole away from the first
-            gap = abs(int(hi[c]) - int(hi[picks[0]]))
-            if min(gap, len(hole) - gap) < max(1, len(hole) // 4) or bv[c] == bv[picks[0]]:
-                continue
-        picks.append(c)
-        if len(picks) == 2:
-            return float(d[hi[picks[0]], bi[picks[0]]]), tuple((int(bv[c]), int(hv[c])) for c in picks)
+    def clear(c, picks):
+        """Cut c crosses no chosen cut (nor the picks) in either shape."""
+        return not any(np.any(shapely.intersects(
+            shapely.linestrings(np.c_[z[[bv[c], hv[c]]].real, z[[bv[c], hv[c]]].imag]),
+            t + [shapely.linestrings(np.c_[z[[bv[p], hv[p]]].real, z[[bv[p], hv[p]]].imag]) for p in picks]))
+            for z, t in zip((zs, zt), taken) if len(t) or picks)
+
+    cand = np.flatnonzero(ok)
+    first = next((c for c in cand if clear(c, [])), None)
+    if first is None:
+        return None
+    # the second cut: another vertex on both rings, a quarter of the hole away from the first if possible
+    gap = np.abs(hi[cand] - hi[first])
+    gap = np.minimum(gap, len(hole) - gap)
+    other = (hv[cand] != hv[first]) & (bv[cand] != bv[first])
+    for want in (max(1, len(hole) // 4), 1):
+        second = next((c for c in cand[other & (gap >= want)] if clear(c, [first])), None)
+        if second is not None:
+            return float(d[hi[first], bi[first]]), tuple((int(bv[c]), int(hv[c])) for c in (first, second))
     return None
 
 
@@ -1075,7 +1082,10 @@ def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
     for _ in range(rounds):
         f, collapsed = _collapse(z, w, f, K, eps, np.sin(np.radians(limit)))
         flips = _joint_flips(z, w, f, eps)
-        z, w, moved = _smooth(z, w, f, K, eps, rng, joint)
+        moved = 0
+        for _ in range(4):  # an independent set each time: most interior vertices get a turn
+            z, w, m = _smooth(z, w, f, K, eps, rng, joint)
+            moved += m
         if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):
             break
     used = np.zeros(len(z), dtype=bool)
