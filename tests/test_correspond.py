@@ -187,6 +187,8 @@ def test_bad_options_are_refused_before_any_work():
         correspond(src, tgt, points=40, segment=0.1)
     with pytest.raises(ParameterError, match="unmatched"):
         correspond(src, tgt, unmatched="vanish")
+    with pytest.raises(ParameterError, match="mesh_size must be a positive length"):
+        correspond(src, src.with_vertices(src.vertices * 2), mesh_size=-1)  # even when compatible
     with pytest.raises(ShapeError, match="the target has no paths"):
         correspond(src, Shape(disc(5), [[0, 1], [2, 3]]))
 

@@ -162,6 +162,7 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
         A shape without paths.
     """
     source, target = as_shape(source, "source"), as_shape(target, "target")
+    _check_options(points, segment, unmatched, mesh_size)
     try:
         check_compatible(source, target)
     except IsotweenError:
@@ -191,6 +192,7 @@ def correspond_keys(shapes, *, points=None, segment=None, rotation=False, unmatc
     shapes = [as_shape(s, f"keyframe {k}") for k, s in enumerate(shapes)]
     if len(shapes) < 2:
         raise ParameterError(f"give at least two keyframes, got {len(shapes)}")
+    _check_options(points, segment, unmatched)
     try:
         check_compatible(*shapes, names=[f"keyframe {k}" for k in range(len(shapes))])
     except IsotweenError:
@@ -201,7 +203,11 @@ def correspond_keys(shapes, *, points=None, segment=None, rotation=False, unmatc
 
 
 # ---------------------------------------------------------------- outlines
-def _check_options(points, segment, unmatched):
+def _check_options(points, segment, unmatched, mesh_size=None):
+    """Raise `ParameterError` on a bad option, before any work."""
+    if mesh_size is not None and not (isinstance(mesh_size, numbers.Real) and np.isfinite(mesh_size)
+                                      and mesh_size > 0):
+        raise ParameterError(f"mesh_size must be a positive length, got {mesh_size!r}")
     if unmatched not in ("grow", "split"):
         raise ParameterError(f"unmatched must be 'grow' or 'split', got {unmatched!r}")
     if points is not None and segment is not None:
@@ -395,9 +401,6 @@ def _mesh_region(source_rings, target_rings, mesh_size):
 
 def _solids(shapes, report, mesh_size):
     """Replace every region pair of a compatible outline pair by compatible meshes."""
-    if mesh_size is not None and not (isinstance(mesh_size, numbers.Real) and np.isfinite(mesh_size)
-                                      and mesh_size > 0):
-        raise ParameterError(f"mesh_size must be a positive length, got {mesh_size!r}")
     src, tgt = shapes
     if not src.regions:
         return shapes
