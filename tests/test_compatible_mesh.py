@@ -46,7 +46,7 @@ def polygon_area(rings):
 
 
 def rect(x0, y0, x1, y1, n):
-    """Counter-clockwise rectangle with about n points per unit of perimeter... as a ring."""
+    """Counter-clockwise rectangle ring, n points per side."""
     corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1], [x0, y0]], dtype=float)
     pts = [np.linspace(corners[i], corners[i + 1], n, endpoint=False) for i in range(4)]
     return np.vstack(pts)
@@ -138,7 +138,7 @@ def test_random_star_polygons_never_flip():
     rng = np.random.default_rng(7)
     overlays = [0, 0]
     for i in range(24):
-        k = int(rng.integers(6, 30))
+        k = int(rng.integers(6, 24))
 
         def star(lo, hi):
             th = (np.arange(k) + 0.8 * rng.random(k)) / k * 2 * np.pi
@@ -148,7 +148,7 @@ def test_random_star_polygons_never_flip():
         src, tgt = star(1.0, 2.0), star(0.2, 2.5)
         if rng.random() < 0.5:  # clockwise input: the output keeps the input order
             src, tgt = src[::-1], tgt[::-1]
-        result = compatible_meshes([src], [tgt], mesh_size=rng.uniform(0.35, 0.7), refine_first=i % 2 == 1)
+        result = compatible_meshes([src], [tgt], mesh_size=rng.uniform(0.45, 0.8), refine_first=i % 2 == 1)
         check(result, [src], [tgt])
         overlays[i % 2] += result.info["overlay"]
     assert min(overlays) >= 6  # both overlay variants were exercised, not only the direct map

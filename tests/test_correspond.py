@@ -10,7 +10,7 @@ import pytest
 import isotween
 from isotween import Shape
 from isotween.correspondence import check_compatible, correspond
-from isotween.correspondence.regions import TINY, _centroid, items_of, ring_area
+from isotween.correspondence.regions import TINY, centroid, items_of, ring_area
 from isotween.errors import IncompatibleShapesError, ParameterError, ShapeError
 from isotween.metrics import flipped_faces, outline_crossings
 
@@ -124,14 +124,14 @@ def test_b_into_d_closes_one_hole():
     seq, flips, crossings = morph(a, b)
     assert not flips.any() and not crossings.any()
     # D's hole pairs with the B hole nearer to it; the other one closes to a small copy of itself
-    d_hole = _centroid(items_of(D, "D")[0].rings[1], True)
-    b_holes = [_centroid(h, True) for h in items_of(B, "B")[0].rings[1:]]
+    d_hole = centroid(items_of(D, "D")[0].rings[1], True)
+    b_holes = [centroid(h, True) for h in items_of(B, "B")[0].rings[1:]]
     near, far = sorted(b_holes, key=lambda c: abs(c - d_hole))
     sizes = {k: np.ptp(ring(b, k).real) for k in a.regions[0][1:]}
     paired, closed = max(sizes, key=sizes.get), min(sizes, key=sizes.get)
     tol = 0.01 * np.ptp(B.vertices[:, 1])  # resampled rings: centroids move a little
-    assert abs(_centroid(ring(a, paired), True) - near) < tol and abs(_centroid(ring(b, paired), True) - d_hole) < tol
-    assert abs(_centroid(ring(a, closed), True) - far) < tol and is_small_copy(ring(b, closed), ring(a, closed))
+    assert abs(centroid(ring(a, paired), True) - near) < tol and abs(centroid(ring(b, paired), True) - d_hole) < tol
+    assert abs(centroid(ring(a, closed), True) - far) < tol and is_small_copy(ring(b, closed), ring(a, closed))
     seq, _, crossings = morph(*correspond(B, D, outline=True, points=200)[:2])
     assert not crossings.any()
 
@@ -187,6 +187,8 @@ def test_bad_options_are_refused_before_any_work():
         correspond(src, tgt, points=40, segment=0.1)
     with pytest.raises(ParameterError, match="unmatched"):
         correspond(src, tgt, unmatched="vanish")
+    with pytest.raises(ParameterError, match="mesh_size must be a positive length"):
+        correspond(src, src.with_vertices(src.vertices * 2), mesh_size=-1)  # even when compatible
     with pytest.raises(ShapeError, match="the target has no paths"):
         correspond(src, Shape(disc(5), [[0, 1], [2, 3]]))
 
@@ -297,3 +299,14 @@ def test_outline_crossings_counts_known_crossings():
         orient(a[j], b[j], a[i]) * orient(a[j], b[j], b[i]) < 0)
     seq = isotween.Sequence(shape.vertices[None], shape)
     assert outline_crossings(seq)[0] == np.count_nonzero(cross & apart) > 0
+
+
+def test_rings_keep_their_turn_so_mirror_symmetric_pairs_still_mesh():
+    # a square against a clockwise 2:1 rectangle: the mirrored start matches as well as the true one
+    square = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [2, 2], [1, 2], [0, 2], [0, 1]], float)
+    rect = np.array([[0, 0], [0, 1], [4, 1], [4, 0]], float) + [-1, 0.5]
+    src, tgt = isotween.resample(square, rect, points=24, keep_turn=True)
+    assert ring_area(src.z) * ring_area(tgt.z) > 0
+    a, b, report = correspond(Shape.from_polygon(square), Shape.from_polygon(rect))
+    assert not report.outlines and a.n_faces > 0 and report.flipped == 0
+    assert np.all(a.face_areas() * b.face_areas() > 0)

@@ -1082,7 +1082,10 @@ def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
     for _ in range(rounds):
         f, collapsed = _collapse(z, w, f, K, eps, np.sin(np.radians(limit)))
         flips = _joint_flips(z, w, f, eps)
-        z, w, moved = _smooth(z, w, f, K, eps, rng, joint)
+        moved = 0
+        for _ in range(4):  # an independent set each time: most interior vertices get a turn
+            z, w, m = _smooth(z, w, f, K, eps, rng, joint)
+            moved += m
         if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):
             break
     used = np.zeros(len(z), dtype=bool)

@@ -162,6 +162,7 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
         A shape without paths.
     """
     source, target = as_shape(source, "source"), as_shape(target, "target")
+    _check_options(points, segment, unmatched, mesh_size)
     try:
         check_compatible(source, target)
     except IsotweenError:
@@ -191,6 +192,7 @@ def correspond_keys(shapes, *, points=None, segment=None, rotation=False, unmatc
     shapes = [as_shape(s, f"keyframe {k}") for k, s in enumerate(shapes)]
     if len(shapes) < 2:
         raise ParameterError(f"give at least two keyframes, got {len(shapes)}")
+    _check_options(points, segment, unmatched)
     try:
         check_compatible(*shapes, names=[f"keyframe {k}" for k in range(len(shapes))])
     except IsotweenError:
@@ -201,7 +203,11 @@ def correspond_keys(shapes, *, points=None, segment=None, rotation=False, unmatc
 
 
 # ---------------------------------------------------------------- outlines
-def _check_options(points, segment, unmatched):
+def _check_options(points, segment, unmatched, mesh_size=None):
+    """Raise `ParameterError` on a bad option, before any work."""
+    if mesh_size is not None and not (isinstance(mesh_size, numbers.Real) and np.isfinite(mesh_size)
+                                      and mesh_size > 0):
+        raise ParameterError(f"mesh_size must be a positive length, got {mesh_size!r}")
     if unmatched not in ("grow", "split"):
         raise ParameterError(f"unmatched must be 'grow' or 'split', got {unmatched!r}")
     if points is not None and segment is not None:
@@ -224,7 +230,7 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs):
     xy = [[np.c_[z.real, z.imag] for z in key] for key in per_key]
     outs = [None] * len(shapes)
     for k in range(1, len(shapes)):
-        a, b = resample(xy[0], xy[k], points=counts, closed=closed, rotation=rotation)
+        a, b = resample(xy[0], xy[k], points=counts, closed=closed, rotation=rotation, keep_turn=True)
         outs[0] = a if outs[0] is None else outs[0]
         outs[k] = b
     result = []
@@ -296,9 +302,9 @@ def _fill_slots(items, frames, slots, unmatched):
                     ref = next(j for j, h in enumerate(hs) if h is not None)
                     ref_item = items[ref][slot.members[ref]]
                     hole = ref_item.rings[hs[ref]]
-                    f_ref, f_k = _regions._Frame.of(ref_item.rings[0]), _regions._Frame.of(item.rings[0])
-                    at = f_ref.to(f_k, _regions._centroid(hole, True))
-                    radius = _regions.TINY * float(np.abs(hole - _regions._centroid(hole, True)).max())
+                    f_ref, f_k = _regions.Frame.of(ref_item.rings[0]), _regions.Frame.of(item.rings[0])
+                    at = f_ref.to(f_k, _regions.centroid(hole, True))
+                    radius = _regions.TINY * float(np.abs(hole - _regions.centroid(hole, True)).max())
                     at, room = _regions.inside_point(poly, at, radius)
                     rings.append(_regions.small_copy([hole], True, at, room)[0])
                     paint.append(item.paint[0])
@@ -338,7 +344,7 @@ def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched):
     so that it does not cross them on its way. ``split``: inside the nearest
     region of the other drawing, as if it split off from (merged into) it.
     """
-    c = _regions._centroid(rings[0], closed)
+    c = _regions.centroid(rings[0], closed)
     at = f_from.to(f_to, c)
     scaled = [at + (z - c) * (f_to.scale / f_from.scale) for z in rings]
     radius = _regions.TINY * float(np.abs(np.concatenate(scaled) - at).max())
@@ -395,9 +401,6 @@ def _mesh_region(source_rings, target_rings, mesh_size):
 
 def _solids(shapes, report, mesh_size):
     """Replace every region pair of a compatible outline pair by compatible meshes."""
-    if mesh_size is not None and not (isinstance(mesh_size, numbers.Real) and np.isfinite(mesh_size)
-                                      and mesh_size > 0):
-        raise ParameterError(f"mesh_size must be a positive length, got {mesh_size!r}")
     src, tgt = shapes
     if not src.regions:
         return shapes

@@ -64,8 +64,8 @@ def mesh_pair(source: ShapeLike, target: ShapeLike, max_area: float | None = Non
     source, target : Shape
         A compatible pair of polygon shapes: closed rings only (outer
         boundaries and holes, by the even-odd rule), e.g. from `resample`.
-        With the default mesher: one polygon, ring 0 the outer boundary and
-        the other rings its holes.
+        With the default mesher: one polygon, its largest ring the outer
+        boundary and the other rings its holes.
     max_area : float, optional
         Largest triangle area. With the default mesher it sets the mesh size
         (the side of an equilateral triangle of area ``max_area``) unless

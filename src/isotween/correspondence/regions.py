@@ -23,7 +23,8 @@ from scipy.optimize import linear_sum_assignment
 
 from ..errors import IncompatibleShapesError, ParameterError, ShapeError
 
-__all__ = ["Item", "Slot", "TINY", "items_of", "plan", "winding_numbers", "fill_regions", "ring_area"]
+__all__ = ["Item", "Slot", "Frame", "TINY", "items_of", "frames_of", "plan", "winding_numbers", "fill_regions",
+           "ring_area", "centroid", "inside_point", "region_polygon", "small_copy"]
 
 #: scale of the small copy a missing item grows from (or shrinks to)
 TINY = 0.05
@@ -75,7 +76,7 @@ def ring_area(z):
     return 0.5 * float(np.sum((np.conj(z) * np.roll(z, -1)).imag))
 
 
-def _centroid(z, closed):
+def centroid(z, closed):
     """Area centroid of a closed ring (vertex mean if flat), length-weighted mean of a polyline."""
     if closed:
         w = np.roll(z, -1)
@@ -198,7 +199,7 @@ def items_of(shape, name):
 
 
 # ---------------------------------------------------------------- pairing
-class _Frame(NamedTuple):
+class Frame(NamedTuple):
     """Normalising frame: centre (complex) and scale (bounding-box diagonal)."""
 
     centre: complex
@@ -225,7 +226,7 @@ def frames_of(items):
 
     Returns
     -------
-    list of _Frame
+    list of Frame
     """
     pts = [np.concatenate([r for it in key for r in it.rings]) for key in items]
     boxes = np.array([[z.real.min(), z.imag.min(), z.real.max(), z.imag.max()] for z in pts])
@@ -234,15 +235,15 @@ def frames_of(items):
     inter = np.prod(np.clip(hi - lo, 0, None), axis=1)
     area = np.prod(size, axis=1)
     if np.all(inter >= 0.8 * np.minimum(area, area[0])):
-        joint = _Frame.of(np.concatenate(pts))
+        joint = Frame.of(np.concatenate(pts))
         return [joint] * len(items)
-    return [_Frame.of(z) for z in pts]
+    return [Frame.of(z) for z in pts]
 
 
 def _features(item_rings, closed, frame):
     """(centroid, size) of an item's outer ring in normalised coordinates."""
     z = (item_rings[0] - frame.centre) / frame.scale
-    return _centroid(z, closed), _size(z, closed), z
+    return centroid(z, closed), _size(z, closed), z
 
 
 def _cost(a_feats, b_feats, closed):
@@ -321,7 +322,7 @@ def plan(items, frames, pairs=None):
     ----------
     items : list of list of Item
         The items of every drawing (the first is the reference).
-    frames : list of _Frame
+    frames : list of Frame
         Each drawing's normalising frame.
     pairs : list of (int, int), optional
         Region pairs (source region, target region) forced on two drawings.
@@ -372,10 +373,10 @@ def _plan_holes(items, frames, members):
     owner = [first] * len(slots)
     for k in present[1:]:
         region = items[k][members[k]]
-        fk = _Frame.of(region.rings[0])
+        fk = Frame.of(region.rings[0])
         ks = list(range(1, len(region.rings)))
         refs = [(s[o], o) for s, o in zip(slots, owner)]
-        feats_ref = [_features([items[o][members[o]].rings[h]], True, _Frame.of(items[o][members[o]].rings[0]))
+        feats_ref = [_features([items[o][members[o]].rings[h]], True, Frame.of(items[o][members[o]].rings[0]))
                      for h, o in refs]
         feats_k = [_features([region.rings[h]], True, fk) for h in ks]
         done = _assign(_cost(feats_ref, feats_k, True)) if feats_ref and feats_k else []
@@ -446,7 +447,7 @@ def small_copy(rings, closed, at, room=None):
     When ``room`` (distance to the nearest boundary) is given, the copy is
     made smaller still so that it stays within half that distance.
     """
-    c = _centroid(rings[0], closed)
+    c = centroid(rings[0], closed)
     radius = max(float(np.abs(np.concatenate(rings) - c).max()), 1e-300)
     scale = TINY if not room else min(TINY, 0.5 * room / radius)
     return [at + scale * (z - c) for z in rings]

@@ -33,7 +33,8 @@ __all__ = ["resample"]
 
 
 def resample(source_rings: Any, target_rings: Any, points: int | list[int] | None = None, closed: Any = None,
-             corners: float | None = None, rotation: bool = False) -> tuple[Shape, Shape]:
+             corners: float | None = None, rotation: bool = False,
+             keep_turn: bool = False) -> tuple[Shape, Shape]:
     """Resample two sets of rings to a compatible pair of outline shapes.
 
     Parameters
@@ -59,6 +60,10 @@ def resample(source_rings: Any, target_rings: Any, points: int | list[int] | Non
         Also factor out a rotation in the matching cost (a rotated copy of a
         ring matches itself at the right start). Default: only centroid and
         scale.
+    keep_turn : bool
+        Traverse every closed target ring in the turning direction of its
+        source ring (never a mirror image), as compatible meshes need.
+        Default: the better matching of the two directions.
 
     Returns
     -------
@@ -108,7 +113,7 @@ def resample(source_rings: Any, target_rings: Any, points: int | list[int] | Non
     for (a, c), (b, _), n in zip(src, tgt, counts):
         sa, sb = _Ring(a, c), _Ring(b, c)
         x = sa.at(sa.grid(0.0, n), corners)
-        u, reverse = _best_start(x, sb, rotation)
+        u, reverse = _best_start(x, sb, rotation, keep_turn)
         ring = sb.reversed() if reverse else sb
         out_s.append(x)
         out_t.append(ring.at(ring.grid(u, n), corners))
@@ -268,7 +273,7 @@ def _score(x, y, rotation):
     return np.abs(c) if rotation else c.real
 
 
-def _best_start(x, ring, rotation):
+def _best_start(x, ring, rotation, keep_turn=False):
     """Start (arc length) and orientation of ``ring`` that best match samples ``x``.
 
     Parameters
@@ -277,6 +282,8 @@ def _best_start(x, ring, rotation):
         Source samples.
     ring : _Ring
     rotation : bool
+    keep_turn : bool
+        Only the direction that turns like ``x`` (closed rings).
 
     Returns
     -------
@@ -294,7 +301,14 @@ def _best_start(x, ring, rotation):
     q = max(1, -(-max(4 * n, 2 * len(ring.z)) // n))
     spectrum = np.conj(np.fft.fft(xn))
     best = (-np.inf, 0.0, False)
+    allowed = (False, True)
+    if keep_turn:
+        turn = np.sign(np.sum((np.conj(x) * np.roll(x, -1)).imag))
+        own = np.sign(np.sum((np.conj(ring.z) * np.roll(ring.z, -1)).imag))
+        allowed = (bool(turn != own),)
     for reverse, r in zip((False, True), both):
+        if reverse not in allowed:
+            continue
         grid = _normalised(r.at(r.length * np.arange(n * q) / (n * q)).reshape(n, q))
         corr = np.fft.ifft(spectrum[:, None] * np.fft.fft(grid, axis=0), axis=0)  # (n, q): shift s, offset
         score = np.abs(corr) if rotation else corr.real
