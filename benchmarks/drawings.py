@@ -43,49 +43,26 @@ TIMEOUT = 120  # seconds per pair before it counts as a failure
 
 
 # ---------------------------------------------------------------- measures
-def crossings(points, edges, group):
-    """Pairs of edges of one group that cross properly (sharing no vertex).
+def outline_measures(seq, regions=None):
+    """Crossings per in-between frame and edge-length deviation of the outline edges.
 
-    points : (n, 2); edges : (E, 2) int; group : (E,) int. Returns int.
+    The outline is every closed path of the sequence's shape; crossings are counted
+    within each filled region (outer ring and holes: ``regions``, default the
+    shape's), as `isotween.metrics.outline_crossings` with ``scope="region"`` does.
     """
-    p, q = points[edges[:, 0]], points[edges[:, 1]]
-    lo, hi = np.minimum(p, q), np.maximum(p, q)
-    i, j = np.triu_indices(len(edges), 1)
-    keep = (group[i] == group[j]) & np.all(lo[i] <= hi[j], axis=1) & np.all(lo[j] <= hi[i], axis=1)
-    i, j = i[keep], j[keep]
-    share = (edges[i, 0] == edges[j, 0]) | (edges[i, 0] == edges[j, 1]) | \
-            (edges[i, 1] == edges[j, 0]) | (edges[i, 1] == edges[j, 1])
-    i, j = i[~share], j[~share]
+    import isotween
 
-    def orient(a, b, c):
-        return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-
-    d1, d2 = orient(p[i], q[i], p[j]), orient(p[i], q[i], q[j])
-    d3, d4 = orient(p[j], q[j], p[i]), orient(p[j], q[j], q[i])
-    return int(np.count_nonzero((d1 * d2 < 0) & (d3 * d4 < 0)))
-
-
-def edge_deviation(frames, edges, times):
-    """Largest relative deviation of an edge's length from the blend of its end lengths."""
-    L = np.linalg.norm(frames[:, edges[:, 1]] - frames[:, edges[:, 0]], axis=-1)
-    blend = (1 - times[:, None]) * L[0] + times[:, None] * L[-1]
-    return float(np.max(np.abs(L / np.maximum(blend, 1e-300) - 1)))
-
-
-def ring_edges(rings):
-    """Edges (E, 2) and ring index (E,) of closed rings stored one after another."""
-    sizes = np.array([len(r) for r in rings])
-    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    edges = np.vstack([np.c_[s + np.arange(k), s + (np.arange(k) + 1) % k] for s, k in zip(starts, sizes)])
-    return edges, np.repeat(np.arange(len(rings)), sizes)
-
-
-def ring_groups(shape):
-    """Region index of every path of a shape read from SVG (each path alone without regions)."""
-    group = np.arange(len(shape.paths))
-    for r, members in enumerate(getattr(shape, "regions", None) or []):
-        group[members] = len(shape.paths) + r
-    return group
+    shape = seq.shape
+    closed = [k for k, (_, c) in enumerate(shape.paths) if c]
+    rings = [shape.paths[k][0] for k in closed]
+    renumber = {k: i for i, k in enumerate(closed)}
+    regions = shape.regions if regions is None else regions
+    regions = [[renumber[k] for k in r if k in renumber] for r in (regions or [])]
+    outline = isotween.Shape(shape.vertices, np.vstack([np.c_[p, np.roll(p, -1)] for p in rings]),
+                             paths=[(p, True) for p in rings], regions=[r for r in regions if r] or None)
+    oseq = isotween.Sequence(frames=seq.frames, shape=outline, times=seq.times)
+    crossings = isotween.metrics.outline_crossings(oseq, scope="region")[1:-1]
+    return [int(c) for c in crossings], isotween.metrics.edge_length_deviation(oseq)
 
 
 # ---------------------------------------------------------------- isotween
@@ -122,12 +99,7 @@ def run_isotween(job):
         else:
             out["mesh_flips"] = 0
         out["frame_flips"] = [int(c) for c in isotween.metrics.flipped_faces(seq, None)[1:-1]]
-        closed = [p for p, c in src.paths if c]
-        group = ring_groups(src)[[i for i, (_, c) in enumerate(src.paths) if c]]
-        edges = np.vstack([np.c_[p, np.roll(p, -1)] for p in closed])
-        eg = np.repeat(group, [len(p) for p in closed])
-        out["crossings"] = [crossings(f, edges, eg) for f in seq.frames[1:-1]]
-        out["edge_deviation"] = edge_deviation(seq.frames, edges, seq.times)
+        out["crossings"], out["edge_deviation"] = outline_measures(seq)
     except Exception as exc:  # noqa: BLE001 - every failure is a measured outcome
         out["ok"] = False
         out["error"] = f"{type(exc).__name__}: {exc}"
@@ -153,7 +125,7 @@ def flubber_inputs(jobs):
         rb = [b.vertices[p].tolist() for p, _ in b.paths]
         diag = max(a.bbox_diagonal(), b.bbox_diagonal())
         items.append({"id": k, "a": ra, "b": rb, "seg": 0.01 * diag})
-        groups[k] = (ring_groups(a), ring_groups(b))
+        groups[k] = a.regions
     return items, groups
 
 
@@ -167,6 +139,8 @@ def run_flubber(jobs, n_frames):
                               capture_output=True, text=True, check=True)
     finally:
         os.unlink(fh.name)
+    import isotween
+
     times = np.linspace(0, 1, n_frames)
     out = {}
     for line in proc.stdout.splitlines():
@@ -175,17 +149,14 @@ def run_flubber(jobs, n_frames):
         if not r["ok"]:
             res["error"] = r["error"]
         else:
-            rings = r["frames"][0]
-            edges, ring = ring_edges(rings)
-            ga, gb = groups[r["id"]]
-            if r["mode"] == "interpolateAll":
-                group = ga[ring]  # ring k morphs source ring k: keep its region
-            else:
-                group = ring  # separate / combine: every piece is its own region
             frames = np.array([np.vstack(f) for f in r["frames"]], dtype=float)
-            res["crossings"] = [crossings(f, edges, group) for f in frames[1:-1]]
+            shape = isotween.Shape.from_paths([np.asarray(ring, float) for ring in r["frames"][0]])
+            seq = isotween.Sequence(frames=frames, shape=shape, times=times)
+            # interpolateAll morphs ring k of the source into ring k of the target: ring k keeps the
+            # source's region; separate / combine make pieces, each its own region
+            regions = groups[r["id"]] if r["mode"] == "interpolateAll" else []
+            res["crossings"], res["edge_deviation"] = outline_measures(seq, regions)
             res["frame_flips"] = [0] * (n_frames - 2)
-            res["edge_deviation"] = edge_deviation(frames, edges, times)
         out[r["id"]] = res
     return out
 
