@@ -70,7 +70,11 @@ def assert_same_shape(a, b, paths=True):
 def test_outline_round_trip_is_exact(tmp_path, ext):
     shape = path_shape()
     io.save(shape, tmp_path / f"s{ext}")
-    assert_same_shape(io.load(tmp_path / f"s{ext}"), shape)
+    back = io.load(tmp_path / f"s{ext}")
+    if ext == ".svg":  # SVG is y-down: a y-up shape is written upright, as (x, -y)
+        assert back.y_down
+        back = back.with_vertices(back.vertices * [1, -1])
+    assert_same_shape(back, shape)
 
 
 @pytest.mark.parametrize("ext", [".obj", ".off", ".json", ".npz"])
@@ -87,6 +91,7 @@ def test_svg_writes_mesh_edges_as_a_drawing(tmp_path):
     shape = mesh_shape()
     io.save(shape, tmp_path / "m.svg")
     back = io.load(tmp_path / "m.svg")
+    back = back.with_vertices(back.vertices * [1, -1])  # y-up mesh, written upright
     # every edge of the mesh is drawn: the segments read back are the same set
     seg = lambda s: {tuple(sorted(map(tuple, s.vertices[e].round(12).tolist()))) for e in s.edges}
     assert seg(back) == seg(shape)
@@ -112,7 +117,9 @@ def test_svg_keeps_y_down_and_user_units(tmp_path):
     shape = Shape.from_polygon([[0.0, 0.0], [10.0, 0.0], [10.0, 5.0]])
     io.save(shape, tmp_path / "t.svg")
     text = (tmp_path / "t.svg").read_text()
-    assert 'd="M 0.0 0.0 L 10.0 0.0 L 10.0 5.0 Z"' in text
+    assert 'd="M 0.0 0.0 L 10.0 0.0 L 10.0 -5.0 Z"' in text  # y-up: drawn upright
+    io.save(Shape(shape.vertices, shape.edges, paths=shape.paths, y_down=True), tmp_path / "d.svg")
+    assert 'd="M 0.0 0.0 L 10.0 0.0 L 10.0 5.0 Z"' in (tmp_path / "d.svg").read_text()  # y-down: as it is
 
 
 # ---------------------------------------------------------------- SVG reading
@@ -390,6 +397,9 @@ def test_frame_folder_round_trip(tmp_path, fmt):
     files = io.write_frames(seq, tmp_path / "frames", format=fmt)
     assert [f.name for f in files] == [f"frame_{k:04d}.{fmt}" for k in range(4)]
     back = io.load_sequence(tmp_path / "frames")
+    if fmt == "svg":  # y-up frames are written upright and read back as y-down (x, -y)
+        assert back.shape.y_down
+        back = Sequence(back.frames * [1, -1], back.shape.with_vertices(back.shape.vertices * [1, -1]))
     np.testing.assert_array_equal(back.frames, seq.frames)
     assert_same_shape(back.shape, seq.shape)
 
@@ -433,7 +443,7 @@ def test_write_output_dispatches_on_the_name(tmp_path):
     np.testing.assert_array_equal(io.load_sequence(tmp_path / "s.npz").frames, seq.frames)
     written = io.write_output(seq, tmp_path / "frames", format="svg")
     assert [p.name for p in written] == ["frame_0000.svg", "frame_0001.svg", "frame_0002.svg"]
-    np.testing.assert_array_equal(io.load_sequence(tmp_path / "frames").frames, seq.frames)
+    np.testing.assert_array_equal(io.load_sequence(tmp_path / "frames").frames, seq.frames * [1, -1])  # upright
     written = io.write_output(seq, tmp_path / "plain")  # no extension: a folder of OBJ frames
     assert written[0].name == "frame_0000.obj"
 

@@ -190,11 +190,13 @@ def write_svg(shape, path):
     Each shape path becomes one ``<path>`` element (``Z`` for a closed ring);
     edges outside every path (triangle sides, edge soups) are drawn as chains
     in one more ``<path id="edges">``. Numbers are shortest round-trip
-    decimals in user units (y down, no flip), so a shape whose edges are its
-    paths, listing the vertices in order (what `read_svg` returns), reads back
-    identically. uv and faces are not stored.
+    decimals in user units, so a shape whose edges are its paths, listing the
+    vertices in order (what `read_svg` returns), reads back identically. SVG
+    is y-down: a y-down shape is written as it is, a y-up shape with y
+    negated, so that the file shows it upright (it reads back as the y-down
+    shape ``(x, -y)``). uv and faces are not stored.
     """
-    v = shape.vertices
+    v = shape.vertices if shape.y_down else shape.vertices * np.array([1.0, -1.0]) + 0.0  # no -0.0
     lo, hi = (v.min(axis=0), v.max(axis=0)) if len(v) else (np.zeros(2), np.ones(2))
     size = np.maximum(hi - lo, 1e-9 * max(float(np.abs(v).max(initial=1.0)), 1.0))
     pad = 0.05 * float(size.max())
