@@ -337,7 +337,7 @@ def test_svg_animation_holds_every_frame(tmp_path, bent_bar):
     io.write_output(bent_bar, tmp_path / "bar.svg")
     anim = _svg_animation(tmp_path / "bar.svg")
     d0, values, dur = anim["fill"]
-    assert set(anim) == {"fill"} and len(values) == 7 and d0 == values[0] and dur == f"{7 / 12:.6g}s"
+    assert set(anim) == {"fill"} and len(values) == 7 and d0 == values[0] and dur == f"{7 / render.FPS:.6g}s"
     faces = bent_bar.shape.faces
     for k, d in enumerate(values):
         assert d.count("M") == len(faces) and d.count("Z") == len(faces)

@@ -15,6 +15,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 from ..errors import FileFormatError, ShapeError, require
+from ..paint import paint_groups, svg_paint_attributes
 from ..shape import Shape
 from ._files import check_readable, write_text
 from ._mesh import chains
@@ -194,7 +195,9 @@ def write_svg(shape, path):
     vertices in order (what `read_svg` returns), reads back identically. SVG
     is y-down: a y-down shape is written as it is, a y-up shape with y
     negated, so that the file shows it upright (it reads back as the y-down
-    shape ``(x, -y)``). uv and faces are not stored.
+    shape ``(x, -y)``). A shape with ``paint`` is written in its colours, one
+    ``<path>`` per region (holes cut by the even-odd rule) or lone path. uv
+    and faces are not stored.
     """
     v = shape.vertices if shape.y_down else shape.vertices * np.array([1.0, -1.0]) + 0.0  # no -0.0
     lo, hi = (v.min(axis=0), v.max(axis=0)) if len(v) else (np.zeros(2), np.ones(2))
@@ -206,8 +209,14 @@ def write_svg(shape, path):
     elements = []
     covered = np.zeros(0, dtype=np.int64)
     paths = shape.paths or []
-    for k, (idx, closed) in enumerate(paths):
-        elements.append(f'  <path id="path{k}" d="{_subpath_data(v[idx], closed)}"/>')
+    if shape.paint is None:
+        for k, (idx, closed) in enumerate(paths):
+            elements.append(f'  <path id="path{k}" d="{_subpath_data(v[idx], closed)}"/>')
+    else:  # one element per region (holes cut by the even-odd rule) or lone path, in its paint
+        for group, paint in paint_groups(shape):
+            d = " ".join(_subpath_data(v[paths[i][0]], paths[i][1]) for i in group)
+            attrs = " ".join(f'{k}="{a}"' for k, a in svg_paint_attributes(paint).items())
+            elements.append(f'  <path id="path{group[0]}" d="{d}" fill-rule="evenodd" {attrs}/>')
     if paths:
         pe = np.vstack([np.column_stack([p, np.roll(p, -1)] if c else [p[:-1], p[1:]]) for p, c in paths])
         covered = np.unique(np.sort(pe, axis=1), axis=0)

@@ -1,10 +1,10 @@
-"""Rendering: frames on matplotlib axes, PNG strips, GIF/MP4/SVG animations, an HTML viewer.
+"""Rendering: frames on matplotlib axes, PNG strips, GIF/WebP/APNG/MP4/SVG animations, an HTML viewer.
 
 Everything draws through matplotlib's Agg backend (no display needed); every
 file is written atomically.
 """
 
-from .animation import write_gif, write_mp4
+from .animation import FPS, SIZE, playback_order, write_apng, write_gif, write_mp4, write_webp
 from .frame import draw_frame, write_frame_png
 from .html import write_html
 from .plots import plot_energy
@@ -18,6 +18,11 @@ __all__ = [
     "write_strip",
     "write_gif",
     "write_mp4",
+    "write_webp",
+    "write_apng",
+    "playback_order",
+    "FPS",
+    "SIZE",
     "write_html",
     "write_svg_animation",
     "plot_energy",
