@@ -9,6 +9,8 @@ from PIL import Image
 from isotween import Sequence, Shape, interpolate, io, render
 from isotween.paint import Paint, oklab_to_srgb, sequence_paint
 
+from browser import browser, screenshot  # noqa: F401  (fixture)
+
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
 RED, BLUE = (1.0, 0.0, 0.0, 1.0), (0.0, 0.0, 1.0, 1.0)
 # Oklab of sRGB red and blue as published by Ottosson (2020); their midpoint in sRGB is the
@@ -143,3 +145,22 @@ def test_background_colour(tmp_path):
     with Image.open(tmp_path / "b.apng") as im:
         assert np.asarray(im.convert("RGB"))[0, 0].tolist() == [0x10, 0x20, 0x30]
         assert im.info.get("loop") == 1
+
+
+def test_page_draws_the_paint(tmp_path, red_to_blue, browser):
+    render.write_html(red_to_blue, tmp_path / "p.html")
+    page = browser.new_page(viewport={"width": 900, "height": 640})
+    errors = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    try:
+        page.goto((tmp_path / "p.html").as_uri())
+        assert page.eval_on_selector("#mode", "s => s.value") == "paint"
+        for k, expected in ((0, [255, 0, 0]), (2, MID.tolist()), (4, [0, 0, 255])):
+            page.evaluate(f"window.isotween.setFrame({k})")
+            rgb = screenshot(page, "#view")
+            hits = np.all(np.abs(rgb.reshape(-1, 3).astype(int) - expected) <= 3, axis=1)
+            assert hits.sum() > 500, (k, expected)
+    finally:
+        page.close()
+    assert not errors

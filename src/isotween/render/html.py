@@ -11,6 +11,7 @@ from importlib import resources
 import numpy as np
 
 from ..io._files import atomic_path
+from ..paint import paint_groups, sequence_paint
 from ._framestats import frame_stats
 from ._frames import sequence_frames
 from ._view import bbox_of
@@ -35,6 +36,41 @@ def _png_data_url(tex, max_side=1024):
     buf = io.BytesIO()
     img.save(buf, format="PNG", optimize=True)
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def _css(colour, opacity):
+    if colour is None:
+        return None
+    r, g, b, a = colour
+    return f"rgba({round(255 * r)},{round(255 * g)},{round(255 * b)},{a * opacity:.4g})"
+
+
+def paint_data(seq):
+    """The sequence's paint for the page: one entry per drawn group, values per frame.
+
+    Returns
+    -------
+    list of dict or None
+        ``paths`` ([indices, closed] of each path of the group), ``fill`` and
+        ``stroke`` (F,) CSS colours or None, ``width`` (F,) stroke widths in
+        shape units; None without paint.
+    """
+    regions, paints = sequence_paint(seq)
+    if paints is None:
+        return None
+    shape = seq.shape
+    first = shape.with_vertices(shape.vertices)
+    first.regions, first.paint = regions, paints[0]
+    out = []
+    for group, _ in paint_groups(first):
+        track = [frame[group[0]] for frame in paints]
+        out.append({
+            "paths": [[shape.paths[i][0].tolist(), bool(shape.paths[i][1])] for i in group],
+            "fill": [_css(p.fill, p.opacity) for p in track],
+            "stroke": [_css(p.stroke, p.opacity) for p in track],
+            "width": [round(p.stroke_width, 6) for p in track],
+        })
+    return out
 
 
 def page_data(seq, texture=None, title=None, fps=12):
@@ -81,6 +117,7 @@ def page_data(seq, texture=None, title=None, fps=12):
         "uv": [],
         "texture": None,
     }
+    data["paint"] = paint_data(seq)
     if texture is not None:
         tex = load_texture(texture)
         data["uv"] = np.round(texture_uv(shape, shape.uv, shape.vertices), 6).ravel().tolist()
