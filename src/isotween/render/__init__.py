@@ -1,4 +1,4 @@
-"""Rendering: frames on matplotlib axes, PNG strips, GIF/WebP/APNG/MP4/SVG animations, an HTML viewer.
+"""Rendering: frames on matplotlib axes, PNG strips, GIF/WebP/APNG/MP4/SVG/Lottie animations, an HTML viewer.
 
 Everything draws through matplotlib's Agg backend (no display needed); every
 file is written atomically.
@@ -7,6 +7,7 @@ file is written atomically.
 from .animation import FPS, SIZE, playback_order, write_apng, write_gif, write_mp4, write_webp
 from .frame import draw_frame, write_frame_png
 from .html import write_html
+from .lottie import write_lottie
 from .plots import plot_energy
 from .strip import write_strip
 from .svg_animation import write_svg_animation
@@ -24,6 +25,7 @@ __all__ = [
     "FPS",
     "SIZE",
     "write_html",
+    "write_lottie",
     "write_svg_animation",
     "plot_energy",
     "load_texture",
