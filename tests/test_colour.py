@@ -75,7 +75,9 @@ def test_red_to_blue_middle_frame_has_the_oklab_midpoint(tmp_path, red_to_blue):
     seq = red_to_blue
     assert seq.times[2] == 0.5
     render.write_strip(seq, tmp_path / "s.png", frames=[2], cell=120)
-    renderer = render._frames.SequenceRenderer(seq, 120)
+    from isotween.render._frames import SequenceRenderer
+
+    renderer = SequenceRenderer(seq, 120)
     assert np.abs(centre_colour(renderer.image(2), seq, 2, 120) - MID).max() <= 2
     assert centre_colour(renderer.image(0), seq, 0, 120).tolist() == [255, 0, 0]
     assert centre_colour(renderer.image(4), seq, 4, 120).tolist() == [0, 0, 255]

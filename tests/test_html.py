@@ -253,7 +253,9 @@ def test_page_in_headless_chromium(tmp_path, bent_bar):
         assert min(counts) > 2000
         # play advances frames
         browser.evaluate("document.getElementById('play').click()")
-        time.sleep(0.4)
+        deadline = time.monotonic() + 5  # a loaded machine may render the first ticks late
+        while browser.evaluate("window.isotween.frame()") == 0 and time.monotonic() < deadline:
+            time.sleep(0.1)
         browser.evaluate("document.getElementById('play').click()")
         assert browser.evaluate("window.isotween.frame()") != 0
 

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from isotween import Sequence, Shape
+import isotween
 from isotween import io
 from isotween.errors import FileFormatError, IncompatibleShapesError, ParameterError
 from isotween.io._files import atomic_path
@@ -439,12 +440,12 @@ def test_failing_frame_writes_leave_no_folder(tmp_path):
 # ---------------------------------------------------------------- write_output
 def test_write_output_dispatches_on_the_name(tmp_path):
     seq = blend_sequence(path_shape(), frames=3)
-    assert io.write_output(seq, tmp_path / "s.npz") == [tmp_path / "s.npz"]
+    assert isotween.write_output(seq, tmp_path / "s.npz") == [tmp_path / "s.npz"]
     np.testing.assert_array_equal(io.load_sequence(tmp_path / "s.npz").frames, seq.frames)
-    written = io.write_output(seq, tmp_path / "frames", format="svg")
+    written = isotween.write_output(seq, tmp_path / "frames", format="svg")
     assert [p.name for p in written] == ["frame_0000.svg", "frame_0001.svg", "frame_0002.svg"]
     np.testing.assert_array_equal(io.load_sequence(tmp_path / "frames").frames, seq.frames * [1, -1])  # upright
-    written = io.write_output(seq, tmp_path / "plain")  # no extension: a folder of OBJ frames
+    written = isotween.write_output(seq, tmp_path / "plain")  # no extension: a folder of OBJ frames
     assert written[0].name == "frame_0000.obj"
 
 
@@ -454,14 +455,14 @@ def test_write_output_dispatches_on_the_name(tmp_path):
         ("s.obj", None, FileFormatError, "holds one shape, not a sequence"),
         ("s.foo", None, FileFormatError, "unknown output kind '.foo'"),
         ("s.gif", "obj", ParameterError, "names a .gif file"),
-        ("d", "ply", ParameterError, "unknown frame format"),
+        ("d", "ply", ParameterError, "unknown format"),
         ("missing/s.npz", None, FileFormatError, "does not exist"),
     ],
 )
 def test_write_output_refuses_before_writing(tmp_path, name, fmt, error, expected):
     seq = blend_sequence(path_shape(), frames=3)
     with pytest.raises(error, match=expected):
-        io.write_output(seq, tmp_path / name, format=fmt)
+        isotween.write_output(seq, tmp_path / name, format=fmt)
     assert os.listdir(tmp_path) == []
 
 
@@ -470,15 +471,15 @@ def test_write_output_rendered_kinds(tmp_path):
     from PIL import Image
 
     seq = blend_sequence(path_shape(), frames=4)
-    io.write_output(seq, tmp_path / "a.gif")
+    isotween.write_output(seq, tmp_path / "a.gif")
     with Image.open(tmp_path / "a.gif") as im:
         assert im.n_frames == 4
-    io.write_output(seq, tmp_path / "a.png")
+    isotween.write_output(seq, tmp_path / "a.png")
     with Image.open(tmp_path / "a.png") as im:
         assert im.format == "PNG"
-    io.write_output(seq, tmp_path / "a.html")
+    isotween.write_output(seq, tmp_path / "a.html")
     assert "<html" in (tmp_path / "a.html").read_text().lower()
-    io.write_output(seq, tmp_path / "pngs", format="png")
+    isotween.write_output(seq, tmp_path / "pngs", format="png")
     assert sorted(os.listdir(tmp_path / "pngs")) == [f"frame_{k:04d}.png" for k in range(4)]
 
 

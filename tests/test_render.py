@@ -333,8 +333,9 @@ def _numbers(d):
 
 
 def test_svg_animation_holds_every_frame(tmp_path, bent_bar):
-    io = pytest.importorskip("isotween.io")
-    io.write_output(bent_bar, tmp_path / "bar.svg")
+    from isotween import write_output
+
+    write_output(bent_bar, tmp_path / "bar.svg")
     anim = _svg_animation(tmp_path / "bar.svg")
     d0, values, dur = anim["fill"]
     assert set(anim) == {"fill"} and len(values) == 7 and d0 == values[0] and dur == f"{7 / render.FPS:.6g}s"

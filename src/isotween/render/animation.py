@@ -8,15 +8,11 @@ import numpy as np
 
 from .. import errors
 from ..errors import ParameterError
-from ..io._files import atomic_path
+from ..io import atomic_path
 from ._frames import SequenceRenderer
+from .defaults import BACKGROUND, FPS, SIZE
 
 __all__ = ["write_gif", "write_mp4", "write_webp", "write_apng", "playback_order", "FPS", "SIZE"]
-
-#: frames per second of every animated output unless told otherwise
-FPS = 24
-#: longest side in pixels of raster animations unless told otherwise
-SIZE = 480
 
 
 def check_fps(fps):
@@ -77,7 +73,7 @@ def _pillow_frames(seq, fps, size, texture, bounce, hold, background, style, pro
 
 
 def write_gif(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=False, style="auto", *,
-              hold=0.0, background="white", progress=False):
+              hold=0.0, background=BACKGROUND, progress=False):
     """Write every frame of a sequence as an animated GIF.
 
     All frames are drawn over the bounding box of the whole sequence, so the
@@ -122,7 +118,7 @@ def write_gif(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=Fal
 
 
 def write_webp(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=False, style="auto", *,
-               hold=0.0, background="white", progress=False, quality=90):
+               hold=0.0, background=BACKGROUND, progress=False, quality=90):
     """Write a sequence as an animated WebP (Pillow; lossy at ``quality``, or lossless at 100).
 
     Parameters are those of `write_gif`; ``quality`` in [0, 100].
@@ -140,7 +136,7 @@ def write_webp(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=Fa
 
 
 def write_apng(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=False, style="auto", *,
-               hold=0.0, background="white", progress=False):
+               hold=0.0, background=BACKGROUND, progress=False):
     """Write a sequence as an animated PNG (APNG, lossless; Pillow).
 
     Parameters are those of `write_gif`. Plays in every current browser;
@@ -156,7 +152,7 @@ def write_apng(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=Fa
 
 
 def write_mp4(seq, path, fps=FPS, size=SIZE, texture=None, style="auto", *, bounce=False, hold=0.0,
-              background="white", progress=False, loop=True):
+              background=BACKGROUND, progress=False, loop=True):
     """Write every frame of a sequence as an H.264 MP4 video.
 
     Needs the ``video`` extra (imageio-ffmpeg). Pixel sizes are rounded up to

@@ -10,11 +10,13 @@ from importlib import resources
 
 import numpy as np
 
-from ..io._files import atomic_path
+from ..io import atomic_path
 from ..paint import paint_groups, sequence_paint
 from ._framestats import frame_stats
 from ._frames import sequence_frames
 from ._view import bbox_of
+from .defaults import FPS
+from .frame import check_colour
 from .texture import load_texture, texture_uv
 
 __all__ = ["write_html"]
@@ -73,7 +75,7 @@ def paint_data(seq):
     return out
 
 
-def page_data(seq, texture=None, title=None, fps=12):
+def page_data(seq, texture=None, title=None, fps=FPS, bounce=False, background="white"):
     """Everything the viewer needs, as JSON-ready Python values.
 
     Parameters
@@ -83,6 +85,10 @@ def page_data(seq, texture=None, title=None, fps=12):
     title : str, optional
     fps : float
         Playback rate at speed 1x.
+    bounce : bool
+        Whether the bounce box starts ticked.
+    background : matplotlib colour
+        Colour behind the shape.
 
     Returns
     -------
@@ -100,6 +106,8 @@ def page_data(seq, texture=None, title=None, fps=12):
         "converged": bool(getattr(seq, "converged", True)),
         "energy": [float(e) for e in np.asarray(getattr(seq, "energy", []), dtype=np.float64).ravel()],
         "fps": float(fps),
+        "bounce": bool(bounce),
+        "background": _css(check_colour(background), 1.0),
         "nVertices": int(shape.n_vertices),
         "frames": np.round(frames.reshape(len(frames), -1), digits).tolist(),
         "times": np.round(np.asarray(seq.times, dtype=np.float64), 6).tolist(),
@@ -125,7 +133,7 @@ def page_data(seq, texture=None, title=None, fps=12):
     return data
 
 
-def write_html(seq, path, texture=None, title=None, fps=12):
+def write_html(seq, path, texture=None, title=None, fps=FPS, bounce=False, background="white"):
     """Write an interactive viewer of a sequence as one self-contained HTML file.
 
     The page embeds all frames (rounded to about 1e-5 of the shape's size), the
@@ -144,8 +152,11 @@ def write_html(seq, path, texture=None, title=None, fps=12):
     title : str, optional
     fps : float
         Playback rate at speed 1x.
+    bounce : bool
+        Whether the page starts in bounce mode.
+    background : matplotlib colour
     """
-    data = page_data(seq, texture=texture, title=title, fps=fps)
+    data = page_data(seq, texture=texture, title=title, fps=fps, bounce=bounce, background=background)
     payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
     template = resources.files(__package__).joinpath("page.html").read_text(encoding="utf-8")
     values = {"TITLE": html.escape(data["title"]), "DATA": payload}

@@ -10,7 +10,7 @@ import json
 
 import numpy as np
 
-from ..io._files import write_text
+from ..io import write_text
 from ..paint import paint_groups, sequence_paint
 from ._frames import sequence_frames
 from ._view import bbox_of, fit_view, image_size

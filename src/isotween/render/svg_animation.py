@@ -10,7 +10,7 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 
-from ..io._files import write_text
+from ..io import write_text
 from ..paint import paint_groups, sequence_paint, svg_paint_attributes
 from ._frames import sequence_frames
 from ._view import PAD, bbox_of
