@@ -117,9 +117,18 @@ def page(browser):
     assert errors == []
 
 
+def wait_ready(page, timeout=60.0):
+    """Wait until the page has inflated its data and drawn its first frame (polled from here)."""
+    deadline = time.monotonic() + timeout
+    while page.evaluate("document.body.dataset.ready") != "1":
+        if time.monotonic() > deadline:
+            raise TimeoutError("the page never drew its first frame")
+        time.sleep(0.02)
+
+
 def open_page(page, path):
     page.goto(path.as_uri())
-    page.wait_for_function("document.body.dataset.ready === '1'", timeout=20000)
+    wait_ready(page)
 
 
 def canvas_pixels(page):
