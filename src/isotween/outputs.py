@@ -14,6 +14,7 @@ from .errors import FileFormatError, ParameterError, require
 from .io import SHAPE_FORMATS, save_sequence, write_frames
 from .io.frames import DATA_FRAME_FORMATS, write_frame_files
 from .render.defaults import BACKGROUND, FPS, SIZE
+from .render.outline import mesh_boundary
 
 __all__ = ["write_output", "output_kind", "with_paint", "OUTPUT_KINDS", "FRAME_FORMATS", "FORMATS", "RENDER_OPTIONS",
            "ANIMATIONS"]
@@ -200,31 +201,6 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
     return [out]
 
 
-def _boundary_paths(shape):
-    """Closed boundary loops of a triangle mesh, as ``paths``.
-
-    Boundary sides (in one face only) keep their face's direction, so in a
-    consistently oriented mesh they link up into directed loops.
-    """
-    sides = shape.faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    _, inverse, counts = np.unique(np.sort(sides, axis=1), axis=0, return_inverse=True, return_counts=True)
-    boundary = sides[counts[inverse.ravel()] == 1].tolist()
-    following = {}
-    for i, j in boundary:
-        following.setdefault(i, []).append(j)
-    loops = []
-    for start in [i for i, _ in boundary]:
-        if not following.get(start):
-            continue
-        loop, v = [start], following[start].pop()
-        while v != start and following.get(v):
-            loop.append(v)
-            v = following[v].pop()
-        if v == start and len(loop) >= 3:
-            loops.append((np.array(loop), True))
-    return loops
-
-
 def with_paint(seq, fill=None, stroke=None, stroke_width=None):
     """A copy of ``seq`` painted in given colours, blended in Oklab from start to end.
 
@@ -253,7 +229,7 @@ def with_paint(seq, fill=None, stroke=None, stroke_width=None):
     shape = seq.shape
     paths = shape.paths
     if not paths and shape.n_faces:
-        paths = _boundary_paths(shape)
+        paths = [(loop, True) for loop in mesh_boundary(shape.faces)]
     if not paths:
         raise ParameterError("--fill and --stroke need outlines or a triangle mesh; this shape is an edge soup")
 

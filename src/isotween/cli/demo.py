@@ -51,7 +51,8 @@ def demo_command(name, outdir, list_names, quiet, fill, stroke, stroke_width, **
     texture = options.get("texture")
     with progress(quiet) as callback:
         seq = interpolate(source, target, callback=callback, **kwargs)
-    seq = with_paint(seq, fill=fill, stroke=stroke, stroke_width=stroke_width)
+    colours = {k: v for k, v in (("fill", fill), ("stroke", stroke), ("stroke_width", stroke_width)) if v is not None}
+    seq = with_paint(seq, **(colours or examples.example_paint(name)))
     render["title"] = render["title"] or f"isotween demo: {name}"
     created = not folder.exists()
     folder.mkdir(exist_ok=True)

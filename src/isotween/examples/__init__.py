@@ -12,7 +12,7 @@ from pathlib import Path
 
 from ..errors import ParameterError
 
-__all__ = ["names", "describe", "load_example"]
+__all__ = ["names", "describe", "load_example", "example_paint"]
 
 DATA = Path(__file__).with_name("data")
 
@@ -38,6 +38,11 @@ def names():
 def describe(name):
     """One line saying what the example shows (str)."""
     return _entry(name)["description"]
+
+
+def example_paint(name):
+    """Colours an example is drawn in: keyword arguments of `isotween.outputs.with_paint` (dict, maybe empty)."""
+    return dict(_entry(name).get("paint", {}))
 
 
 def load_example(name):
