@@ -2,8 +2,9 @@
 
 For each case: page size, time from navigation to the first frame drawn
 (wall time from page.goto until the page reports it has inflated its data
-and drawn; polled every 20 ms, so an upper bound), the
-drawing time of one frame (median over all frames, drawn synchronously), and
+and drawn; polled every 20 ms, so an upper bound), the time to show one
+frame (setFrame until two animation frames later, so the canvas has been
+rasterised; median over all frames, so at least one display interval), and
 the playback rate (frames drawn per second while playing, requestAnimationFrame
 paced). Medians of --runs page loads. Frames are made directly (a grid mesh
 turning and stretching), not solved.
