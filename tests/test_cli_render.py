@@ -136,3 +136,16 @@ def test_paint_of_the_inputs_reaches_the_rendered_sequence(tmp_path):
     result = run("render", tmp_path / "p.npz", "-o", tmp_path / "p.svg", "-q")
     assert result.exit_code == 0, result.output
     assert 'values="#ff0000;' in (tmp_path / "p.svg").read_text()
+
+
+def test_demo_example_in_colour(tmp_path):
+    result = run("demo", "holes", "-o", tmp_path / "d", "-q", "--size", 120)
+    assert result.exit_code == 0, result.output
+    with Image.open(tmp_path / "d" / "holes.gif") as im:
+        first = np.asarray(im.convert("RGB")).reshape(-1, 3).astype(int)
+        im.seek(im.n_frames - 1)
+        last = np.asarray(im.convert("RGB")).reshape(-1, 3).astype(int)
+    # the example's paint: dark red at the start, blue at the end
+    assert (np.abs(first - [0xC0, 0x39, 0x2B]).max(axis=1) <= 6).sum() > 500
+    assert (np.abs(last - [0x1F, 0x5F, 0xA8]).max(axis=1) <= 6).sum() > 500
+    assert "isotween demo: holes" in (tmp_path / "d" / "holes.html").read_text()
