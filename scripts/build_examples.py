@@ -28,6 +28,7 @@ import isotween
 from isotween import Shape, io
 from isotween.cli import main
 from isotween.examples import DATA
+from isotween.outputs import with_paint
 from isotween.render import write_strip
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -236,6 +237,10 @@ def build_texture():
     return out
 
 
+#: colours of the examples drawn in colour (`isotween.outputs.with_paint` arguments)
+PAINT = {"holes": {"fill": ["#c0392b", "#1f5fa8"], "stroke": "#1b1b1b", "stroke_width": 0.06}}
+
+
 def main_build():
     for old in DATA.glob("*"):
         old.unlink()
@@ -251,6 +256,8 @@ def main_build():
             entry["resample"] = points
         if name == "hopper":
             entry["texture"] = texture.name
+        if name in PAINT:
+            entry["paint"] = PAINT[name]
         index.append(entry)
     (DATA / "index.json").write_text(json.dumps({"examples": index}, indent=1) + "\n")
     isotween.examples._index.cache_clear()
@@ -259,7 +266,7 @@ def main_build():
     for name in isotween.examples.names():
         src, tgt, options = isotween.examples.load_example(name)
         texture = options.pop("texture", None)
-        seq = isotween.interpolate(src, tgt, **options)
+        seq = with_paint(isotween.interpolate(src, tgt, **options), **isotween.examples.example_paint(name))
         picked = np.unique(np.round(np.linspace(0, len(seq) - 1, 6)).astype(int))
         write_strip(seq, GALLERY / f"{name}.png", frames=picked, texture=texture, cell=200)
         print(f"{name}: {src.n_vertices} vertices, {src.n_edges} edges, {src.n_faces} faces, "
