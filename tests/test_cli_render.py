@@ -87,6 +87,7 @@ def test_format_lottie_and_refusals(tmp_path, saved):
     assert result.exit_code == 0, result.output
     assert json.loads((tmp_path / "anim.json").read_text())["layers"]
     for args, needle in ((["--size", "3x3"], "is not a size"), (["--fill", "reddish"], "is not a colour"),
+                         (["--background", "red:blue"], "give one colour"),
                          (["--fps", "0"], "--fps")):
         result = run("render", saved, "-o", tmp_path / "x.gif", *args)
         assert result.exit_code == 2 and needle in result.output

@@ -166,3 +166,11 @@ def test_page_draws_the_paint(tmp_path, red_to_blue, browser):
     finally:
         page.close()
     assert not errors
+
+
+def test_svg_frame_folder_has_each_frames_colour(tmp_path, red_to_blue):
+    io.write_frames(red_to_blue, tmp_path / "f", format="svg")
+    fills = [re.search(r'fill="(#[0-9a-f]{6})"', (tmp_path / "f" / f"frame_{k:04d}.svg").read_text()).group(1)
+             for k in range(5)]
+    assert fills[0] == "#ff0000" and fills[4] == "#0000ff"
+    assert np.abs(np.array([int(fills[2][i:i + 2], 16) for i in (1, 3, 5)]) - MID).max() <= 1

@@ -75,16 +75,18 @@ class SizeType(click.ParamType):
 
 
 class ColoursType(click.ParamType):
-    """``COLOUR`` or ``START:END`` (names or #rrggbb)."""
+    """``COLOUR`` or ``START:END`` (names or #rrggbb); one colour only when ``pair`` is False."""
 
-    name = "COLOUR[:COLOUR]"
+    def __init__(self, pair=True):
+        self.pair = pair
+        self.name = "COLOUR[:COLOUR]" if pair else "COLOUR"
 
     def convert(self, value, param, ctx):
         if not isinstance(value, str):
             return value
         parts = value.split(":")
-        if len(parts) > 2 or not all(parts):
-            self.fail(f"{value!r}: give one colour or START:END", param, ctx)
+        if len(parts) > (2 if self.pair else 1) or not all(parts):
+            self.fail(f"{value!r}: give one colour{' or START:END' if self.pair else ''}", param, ctx)
         from matplotlib.colors import is_color_like
 
         bad = [p for p in parts if not is_color_like(p)]
@@ -142,7 +144,8 @@ render_options = _compose(
     click.option("--bounce/--no-bounce", default=None, help="Play forward then backward [default: no]."),
     click.option("--loop/--no-loop", default=None, help="Repeat forever or play once [default: loop]."),
     click.option("--title", default=None, help="Title of the page, SVG or Lottie [default: the input files]."),
-    click.option("--background", default=None, help=f"Colour behind the shape [default: {BACKGROUND}]."),
+    click.option("--background", type=ColoursType(pair=False), default=None,
+                 help=f"Colour behind the shape [default: {BACKGROUND}]."),
     click.option("--fill", type=ColoursType(), default=None,
                  help="Fill colour, or START:END blended in Oklab (replaces the shapes' own paint)."),
     click.option("--stroke", type=ColoursType(), default=None, help="Outline colour, or START:END."),

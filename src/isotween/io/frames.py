@@ -4,6 +4,7 @@ import re
 from pathlib import Path
 
 from ..errors import FileFormatError, ParameterError
+from ..paint import sequence_paint
 from ._files import atomic_dir
 
 __all__ = ["write_frames", "write_frame_files", "frame_names", "DATA_FRAME_FORMATS", "FRAME_FORMATS"]
@@ -86,7 +87,9 @@ def write_frames(seq, directory, format="obj", progress=False):
     Returns
     -------
     list of Path
-        The files written, in frame order (see `write_frame_files`).
+        The files written, in frame order (see `write_frame_files`). Each
+        frame carries its own paint (`isotween.paint.sequence_paint`), which
+        the SVG format writes.
     """
     from .shapes import SHAPE_FORMATS
 
@@ -95,4 +98,12 @@ def write_frames(seq, directory, format="obj", progress=False):
         raise ParameterError(f"unknown frame format '{format}'; use one of {', '.join(DATA_FRAME_FORMATS)} "
                              "(png frames: isotween.write_output)")
     save = SHAPE_FORMATS[f".{fmt}"][1]
-    return write_frame_files(len(seq), directory, fmt, lambda k, path: save(seq[k], path), progress=progress)
+    regions, paints = sequence_paint(seq)
+
+    def frame(k):  # frame k with its own (interpolated) paint
+        shape = seq[k]
+        if paints is not None:
+            shape.regions, shape.paint = regions, paints[k]
+        return shape
+
+    return write_frame_files(len(seq), directory, fmt, lambda k, path: save(frame(k), path), progress=progress)
