@@ -150,3 +150,14 @@ def test_demo_example_in_colour(tmp_path):
     assert (np.abs(first - [0xC0, 0x39, 0x2B]).max(axis=1) <= 6).sum() > 500
     assert (np.abs(last - [0x1F, 0x5F, 0xA8]).max(axis=1) <= 6).sum() > 500
     assert "isotween demo: holes" in (tmp_path / "d" / "holes.html").read_text()
+
+
+def test_info_reports_the_paint(tmp_path):
+    base = Shape.from_polygon(SQUARE)
+    a = Shape(base.vertices, base.edges, paths=base.paths, paint=[Paint(fill=(1, 0, 0, 1))])
+    b = Shape(base.vertices + 2, base.edges, paths=base.paths, paint=[Paint(fill=(0, 0, 1, 1))])
+    from isotween import interpolate
+
+    io.save_sequence(interpolate(a, b, frames=3), tmp_path / "p.npz")
+    result = run("info", tmp_path / "p.npz")
+    assert result.exit_code == 0 and "paint: fills #ff0000 -> #0000ff (Oklab blend)" in result.output
