@@ -28,6 +28,7 @@ import isotween
 from isotween import Shape, io
 from isotween.cli import main
 from isotween.examples import DATA
+from isotween.outputs import with_paint
 from isotween.render import write_strip
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -244,6 +245,10 @@ def build_texture():
     return out
 
 
+#: colours of the examples drawn in colour (`isotween.outputs.with_paint` arguments)
+PAINT = {"holes": {"fill": ["#c0392b", "#1f5fa8"], "stroke": "#1b1b1b", "stroke_width": 0.06}}
+
+
 def main_build(only=None):
     """Build every example, or with ``only`` (a list of names) just those (the
     others' data files and strips are kept as they are)."""
@@ -272,6 +277,8 @@ def main_build(only=None):
             entry["resample"] = points
         if name == "hopper":
             entry["texture"] = texture.name
+        if name in PAINT:
+            entry["paint"] = PAINT[name]
         index.append(entry)
     (DATA / "index.json").write_text(json.dumps({"examples": index}, indent=1) + "\n")
     isotween.examples._index.cache_clear()
@@ -282,7 +289,7 @@ def main_build(only=None):
             continue
         src, tgt, options = isotween.examples.load_example(name)
         texture = options.pop("texture", None)
-        seq = isotween.interpolate(src, tgt, **options)
+        seq = with_paint(isotween.interpolate(src, tgt, **options), **isotween.examples.example_paint(name))
         picked = np.unique(np.round(np.linspace(0, len(seq) - 1, 6)).astype(int))
         write_strip(seq, GALLERY / f"{name}.png", frames=picked, texture=texture, cell=200)
         if (GALLERY / f"{name}.png").stat().st_size > 140 * 1024:  # the README budget is 150 KiB a strip

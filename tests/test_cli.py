@@ -41,8 +41,8 @@ def pair(tmp_path):
     """An open chain and the same chain turned by 120 degrees and moved."""
     src = chain()
     io.save(src, tmp_path / "a.obj")
-    io.save(rotated(src, 2 * np.pi / 3, 2 + 1j), tmp_path / "b.svg")
-    return tmp_path / "a.obj", tmp_path / "b.svg"
+    io.save(rotated(src, 2 * np.pi / 3, 2 + 1j), tmp_path / "b.off")
+    return tmp_path / "a.obj", tmp_path / "b.off"
 
 
 def test_interpolate_recovers_a_rigid_motion(tmp_path, pair):
@@ -160,7 +160,7 @@ def test_unwritable_output(tmp_path, pair):
     assert_one_line_error(result, "o.npz", "not a folder")
     result = run("interpolate", *pair, "-o", tmp_path / "plain", "--format", "obj")
     assert_one_line_error(result, "plain", "not a folder")
-    assert sorted(os.listdir(tmp_path)) == ["a.obj", "b.svg", "plain"]
+    assert sorted(os.listdir(tmp_path)) == ["a.obj", "b.off", "plain"]
 
 
 def test_missing_texture(tmp_path, pair):

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from isotween import Sequence, Shape
+import isotween
 from isotween import io
 from isotween.errors import FileFormatError, IncompatibleShapesError, ParameterError
 from isotween.io._files import atomic_path
@@ -70,7 +71,11 @@ def assert_same_shape(a, b, paths=True):
 def test_outline_round_trip_is_exact(tmp_path, ext):
     shape = path_shape()
     io.save(shape, tmp_path / f"s{ext}")
-    assert_same_shape(io.load(tmp_path / f"s{ext}"), shape)
+    back = io.load(tmp_path / f"s{ext}")
+    if ext == ".svg":  # SVG is y-down: a y-up shape is written upright, as (x, -y)
+        assert back.y_down
+        back = back.with_vertices(back.vertices * [1, -1])
+    assert_same_shape(back, shape)
 
 
 @pytest.mark.parametrize("ext", [".obj", ".off", ".json", ".npz"])
@@ -87,6 +92,7 @@ def test_svg_writes_mesh_edges_as_a_drawing(tmp_path):
     shape = mesh_shape()
     io.save(shape, tmp_path / "m.svg")
     back = io.load(tmp_path / "m.svg")
+    back = back.with_vertices(back.vertices * [1, -1])  # y-up mesh, written upright
     # every edge of the mesh is drawn: the segments read back are the same set
     seg = lambda s: {tuple(sorted(map(tuple, s.vertices[e].round(12).tolist()))) for e in s.edges}
     assert seg(back) == seg(shape)
@@ -112,7 +118,9 @@ def test_svg_keeps_y_down_and_user_units(tmp_path):
     shape = Shape.from_polygon([[0.0, 0.0], [10.0, 0.0], [10.0, 5.0]])
     io.save(shape, tmp_path / "t.svg")
     text = (tmp_path / "t.svg").read_text()
-    assert 'd="M 0.0 0.0 L 10.0 0.0 L 10.0 5.0 Z"' in text
+    assert 'd="M 0.0 0.0 L 10.0 0.0 L 10.0 -5.0 Z"' in text  # y-up: drawn upright
+    io.save(Shape(shape.vertices, shape.edges, paths=shape.paths, y_down=True), tmp_path / "d.svg")
+    assert 'd="M 0.0 0.0 L 10.0 0.0 L 10.0 5.0 Z"' in (tmp_path / "d.svg").read_text()  # y-down: as it is
 
 
 # ---------------------------------------------------------------- SVG reading
@@ -390,6 +398,9 @@ def test_frame_folder_round_trip(tmp_path, fmt):
     files = io.write_frames(seq, tmp_path / "frames", format=fmt)
     assert [f.name for f in files] == [f"frame_{k:04d}.{fmt}" for k in range(4)]
     back = io.load_sequence(tmp_path / "frames")
+    if fmt == "svg":  # y-up frames are written upright and read back as y-down (x, -y)
+        assert back.shape.y_down
+        back = Sequence(back.frames * [1, -1], back.shape.with_vertices(back.shape.vertices * [1, -1]))
     np.testing.assert_array_equal(back.frames, seq.frames)
     assert_same_shape(back.shape, seq.shape)
 
@@ -429,12 +440,12 @@ def test_failing_frame_writes_leave_no_folder(tmp_path):
 # ---------------------------------------------------------------- write_output
 def test_write_output_dispatches_on_the_name(tmp_path):
     seq = blend_sequence(path_shape(), frames=3)
-    assert io.write_output(seq, tmp_path / "s.npz") == [tmp_path / "s.npz"]
+    assert isotween.write_output(seq, tmp_path / "s.npz") == [tmp_path / "s.npz"]
     np.testing.assert_array_equal(io.load_sequence(tmp_path / "s.npz").frames, seq.frames)
-    written = io.write_output(seq, tmp_path / "frames", format="svg")
+    written = isotween.write_output(seq, tmp_path / "frames", format="svg")
     assert [p.name for p in written] == ["frame_0000.svg", "frame_0001.svg", "frame_0002.svg"]
-    np.testing.assert_array_equal(io.load_sequence(tmp_path / "frames").frames, seq.frames)
-    written = io.write_output(seq, tmp_path / "plain")  # no extension: a folder of OBJ frames
+    np.testing.assert_array_equal(io.load_sequence(tmp_path / "frames").frames, seq.frames * [1, -1])  # upright
+    written = isotween.write_output(seq, tmp_path / "plain")  # no extension: a folder of OBJ frames
     assert written[0].name == "frame_0000.obj"
 
 
@@ -444,14 +455,14 @@ def test_write_output_dispatches_on_the_name(tmp_path):
         ("s.obj", None, FileFormatError, "holds one shape, not a sequence"),
         ("s.foo", None, FileFormatError, "unknown output kind '.foo'"),
         ("s.gif", "obj", ParameterError, "names a .gif file"),
-        ("d", "ply", ParameterError, "unknown frame format"),
+        ("d", "ply", ParameterError, "unknown format"),
         ("missing/s.npz", None, FileFormatError, "does not exist"),
     ],
 )
 def test_write_output_refuses_before_writing(tmp_path, name, fmt, error, expected):
     seq = blend_sequence(path_shape(), frames=3)
     with pytest.raises(error, match=expected):
-        io.write_output(seq, tmp_path / name, format=fmt)
+        isotween.write_output(seq, tmp_path / name, format=fmt)
     assert os.listdir(tmp_path) == []
 
 
@@ -460,15 +471,15 @@ def test_write_output_rendered_kinds(tmp_path):
     from PIL import Image
 
     seq = blend_sequence(path_shape(), frames=4)
-    io.write_output(seq, tmp_path / "a.gif")
+    isotween.write_output(seq, tmp_path / "a.gif")
     with Image.open(tmp_path / "a.gif") as im:
         assert im.n_frames == 4
-    io.write_output(seq, tmp_path / "a.png")
+    isotween.write_output(seq, tmp_path / "a.png")
     with Image.open(tmp_path / "a.png") as im:
         assert im.format == "PNG"
-    io.write_output(seq, tmp_path / "a.html")
+    isotween.write_output(seq, tmp_path / "a.html")
     assert "<html" in (tmp_path / "a.html").read_text().lower()
-    io.write_output(seq, tmp_path / "pngs", format="png")
+    isotween.write_output(seq, tmp_path / "pngs", format="png")
     assert sorted(os.listdir(tmp_path / "pngs")) == [f"frame_{k:04d}.png" for k in range(4)]
 
 

@@ -333,11 +333,12 @@ def _numbers(d):
 
 
 def test_svg_animation_holds_every_frame(tmp_path, bent_bar):
-    io = pytest.importorskip("isotween.io")
-    io.write_output(bent_bar, tmp_path / "bar.svg")
+    from isotween import write_output
+
+    write_output(bent_bar, tmp_path / "bar.svg")
     anim = _svg_animation(tmp_path / "bar.svg")
     d0, values, dur = anim["fill"]
-    assert set(anim) == {"fill"} and len(values) == 7 and d0 == values[0] and dur == f"{7 / 12:.6g}s"
+    assert set(anim) == {"fill"} and len(values) == 7 and d0 == values[0] and dur == f"{7 / render.FPS:.6g}s"
     faces = bent_bar.shape.faces
     for k, d in enumerate(values):
         assert d.count("M") == len(faces) and d.count("Z") == len(faces)
@@ -366,3 +367,29 @@ def test_svg_animation_of_outlines_and_soups(tmp_path):
     _, values, _ = anim["line"]
     assert set(anim) == {"line"} and [d.count("M") for d in values] == [2, 2]
     np.testing.assert_allclose(_numbers(values[1]), (ring * 2 * [1, -1])[[0, 1, 2, 3]], atol=1e-4)
+
+
+# ---------------------------------------------------------------- comparison figures
+def test_compared_frames_are_all_or_evenly_spaced():
+    from isotween.render.comparison import compared_frames
+
+    assert compared_frames(9, 12).tolist() == list(range(9))  # every frame (was 7 of 9, uneven)
+    for n in (45, 205, 14, 100):
+        k = compared_frames(n, 12)
+        assert k[0] == 0 and 2 <= len(k) <= 12 and len(set(np.diff(k))) == 1  # one step
+    assert compared_frames(205, 12)[-1] == 204 and compared_frames(45, 12)[-1] == 44  # ends shown
+
+
+def test_metrics_figure_keeps_equal_curves_apart_with_integer_counts():
+    from isotween.render.comparison import metrics_figure
+
+    bar = grid_mesh(7, 3, length=4.0, width=1.0)
+    seq = interpolate(bar, bar.with_vertices(bend(bar.vertices, np.pi / 2)), frames=5)
+    fig = metrics_figure({"a": seq, "b": seq})  # two identical sequences
+    edge_axes, _, count_axes = fig.axes
+    a, b = edge_axes.lines[:2]
+    np.testing.assert_array_equal(a.get_ydata(), b.get_ydata())
+    assert np.all(a.get_xdata() != b.get_xdata())  # shifted apart: both stay visible
+    assert a.get_marker() != b.get_marker() and a.get_linestyle() != b.get_linestyle()
+    ticks = count_axes.get_yticks()
+    assert np.all(ticks == np.round(ticks))

@@ -11,7 +11,8 @@ from .correspondence import check_compatible, correspond, mesh_pair, resample
 from .editing import edit
 from .errors import IsotweenError
 from .interpolate import interpolate
-from .io import load, load_sequence, save, save_sequence, write_output
+from .io import load, load_sequence, save, save_sequence
+from .outputs import write_output
 from .keyframes import interpolate_keyframes
 from .sequence import Sequence
 from .shape import Shape, ShapeLike

@@ -21,7 +21,7 @@ from .baselines import METHODS as BASELINES
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError, ParameterError, require
 from .interpolate import interpolate
-from .io._files import atomic_dir
+from .io import atomic_dir
 
 if TYPE_CHECKING:
     from collections.abc import Iterable
@@ -39,7 +39,7 @@ COLUMNS = ("method", "status", "edge_length_deviation", "area_deviation", "flipp
 
 
 def compare(source: ShapeLike, target: ShapeLike, methods: Iterable[str] = METHODS, frames: int = 9,
-            report_dir: str | PathLike | None = None, columns: int = 7,
+            report_dir: str | PathLike | None = None, columns: int = 12,
             **options: Any) -> list[dict]:
     """Interpolate with several methods and measure each with the same metrics.
 
@@ -55,7 +55,8 @@ def compare(source: ShapeLike, target: ShapeLike, methods: Iterable[str] = METHO
         Folder to write ``methods.png``, ``metrics.png``, ``table.md`` and
         ``table.csv`` into (created if missing; all files or none).
     columns : int
-        Frames shown per method in ``methods.png``.
+        Most frames shown per method in ``methods.png``: every frame when
+        they fit, else evenly spaced ones (`isotween.render.compared_frames`).
     **options
         Passed to :func:`isotween.interpolate` (``tol``, ``max_iter``, ...).
 
@@ -133,54 +134,12 @@ def _cell(value):
     return str(value).replace("|", "/")
 
 
-def write_report(report_dir, rows, sequences, columns=7):
+def write_report(report_dir, rows, sequences, columns=12):
     """Write the report files of :func:`compare` into ``report_dir`` atomically."""
-    require("isotween.render", "cli")
+    render = require("isotween.render", "cli")
     with atomic_dir(report_dir) as tmp:
         (tmp / "table.md").write_text(table_markdown(rows), encoding="utf-8")
         (tmp / "table.csv").write_text(table_csv(rows), encoding="utf-8")
         if sequences:
-            _methods_figure(sequences, tmp / "methods.png", columns)
-            _metrics_figure(sequences, tmp / "metrics.png")
-
-
-def _methods_figure(sequences, path, columns):
-    """Rows = methods, columns = evenly spaced frames, one common window."""
-    from .render._view import bbox_of, image_size
-    from .render.frame import FramePainter, save_png
-
-    seqs = list(sequences.values())
-    box = bbox_of(np.concatenate([s.frames.reshape(-1, 2) for s in seqs]))
-    w, h = image_size(box, 200)
-    painter = FramePainter(w, h, box, y_down=seqs[0].shape.y_down)
-    picked = np.unique(np.round(np.linspace(0, len(seqs[0]) - 1, min(columns, len(seqs[0])))).astype(int))
-    sheet = np.full((len(seqs) * h, len(picked) * w, 3), 255, np.uint8)
-    for r, (method, seq) in enumerate(sequences.items()):
-        for c, k in enumerate(picked):
-            label = f"{method}  t={seq.times[k]:.2f}" if c == 0 else f"t={seq.times[k]:.2f}"
-            sheet[r * h:(r + 1) * h, c * w:(c + 1) * w] = painter.render(seq[int(k)], label=label)
-    sheet[:, w - 1:len(picked) * w - 1:w] = 200  # hairlines between cells
-    sheet[h - 1:len(seqs) * h - 1:h, :] = 200
-    save_png(sheet, path)
-
-
-def _metrics_figure(sequences, path):
-    """Edge-length deviation, area deviation and flipped faces per frame."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(13, 3.8), dpi=100, layout="constrained")
-    canvas = FigureCanvasAgg(fig)
-    axes = fig.subplots(1, 3)
-    for method, seq in sequences.items():
-        t = seq.times
-        axes[0].plot(t, 100 * metrics.edge_length_deviation(seq, reduce=None), ".-", label=method)
-        axes[1].plot(t, 100 * metrics.area_deviation(seq, reduce=None), ".-", label=method)
-        axes[2].plot(t, metrics.flipped_faces(seq, reduce=None), ".-", label=method)
-    titles = ("max edge-length deviation (%)", "max area deviation (%)", "flipped faces")
-    for ax, title in zip(axes, titles):
-        ax.set_xlabel("t")
-        ax.set_title(title)
-        ax.grid(alpha=0.3)
-    axes[0].legend(loc="best", fontsize=8)
-    canvas.print_figure(path, format="png")
+            render.write_methods_figure(sequences, tmp / "methods.png", columns)
+            render.write_metrics_figure(sequences, tmp / "metrics.png")

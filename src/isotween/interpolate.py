@@ -16,6 +16,7 @@ from .optimisation.assembly import FrameAssembler, centroid_path
 from .optimisation.global_solver import LINEAR_SOLVERS, global_solve
 from .optimisation.local_solver import ASSEMBLY, local_solve
 from .optimisation.schemes import SCHEMES
+from .paint import paint_keys
 from .sequence import Sequence
 from .times import frame_times
 
@@ -143,7 +144,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
         frames=frames, shape=source, times=t, scheme=scheme,
         energy=info.pop("energy"), iterations=info.pop("iterations"),
         converged=info.pop("converged"), timings=timings, method="aiap",
-        info={"options": options, **info},
+        info={"options": options, **info, **paint_keys([source, target], [0.0, 1.0])},
     )
 
 
@@ -167,4 +168,5 @@ def _baseline(method, source, target, t, options, callback):
                         max_iter=options["max_iter"], callback=callback)
     seq.timings.setdefault("total", time.perf_counter() - start)
     seq.info.setdefault("options", options)
+    seq.info.update(paint_keys([source, target], [0.0, 1.0]))
     return seq

@@ -16,6 +16,7 @@ from .initialisation import edge_vector_init, linear_init
 from .interpolate import _check_choice
 from .optimisation.local_solver import ASSEMBLY, local_solve
 from .optimisation.schemes import SCHEMES
+from .paint import paint_keys
 from .sequence import Sequence
 
 if TYPE_CHECKING:
@@ -135,4 +136,5 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
     return Sequence(np.stack([out.real.T, out.imag.T], axis=-1), base, times=t, scheme=scheme,
                     energy=info["energy"], iterations=info["iterations"],
                     converged=info["converged"], timings=timings, method="aiap-keyframes",
-                    info={"keyframe_indices": idx.tolist(), "max_move": info["max_move"]})
+                    info={"keyframe_indices": idx.tolist(), "max_move": info["max_move"],
+                          **paint_keys(shapes, key_t)})

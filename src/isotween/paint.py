@@ -12,7 +12,8 @@ import numpy as np
 
 from .errors import ParameterError
 
-__all__ = ["Paint", "DEFAULT_FILL", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb"]
+__all__ = ["Paint", "DEFAULT_FILL", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb", "paint_keys", "sequence_paint", "paint_groups",
+           "svg_paint_attributes"]
 
 #: SVG's initial fill: opaque black
 DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
@@ -157,3 +158,140 @@ def lerp_paint(a, b, times):
                 opacity=opacity[k],
             ))
     return out
+
+
+def paint_keys(shapes, times):
+    """Paint of key shapes, JSON-ready, for ``Sequence.info['paint']``.
+
+    Parameters
+    ----------
+    shapes : list of Shape
+        Key shapes with the same paths (source and target, or keyframes).
+    times : (K,) array_like of float
+        Time of every key shape, increasing.
+
+    Returns
+    -------
+    dict
+        ``{'paint': {'times': [...], 'keys': [[paint dict per path] per key],
+        'regions': regions}}``, or ``{}`` when no key shape has paint. A key
+        shape without paint (or with another number of paths) takes the paint
+        of the first one that has it.
+    """
+    painted = [s for s in shapes if s.paint is not None]
+    if not painted:
+        return {}
+    base = painted[0]
+    keys = [
+        [p.to_dict() for p in (s.paint if s.paint is not None and len(s.paint) == len(base.paint) else base.paint)]
+        for s in shapes
+    ]
+    return {"paint": {"times": [float(t) for t in times], "keys": keys, "regions": base.regions}}
+
+
+def sequence_paint(seq):
+    """Paint of every frame of a sequence, interpolated between its key shapes.
+
+    The keys come from ``seq.info['paint']`` (see `paint_keys`; kept by
+    sequence files), else the shape's own ``paint`` holds for every frame.
+    Between two keys every path's paint is blended with `lerp_paint` (Oklab).
+
+    Parameters
+    ----------
+    seq : Sequence
+
+    Returns
+    -------
+    regions : list of list of int or None
+        Filled regions (see `Shape`); None: every closed path, one region
+        filled by the even-odd rule.
+    paints : list of list of Paint, or None
+        ``paints[k][p]`` is the paint of path ``p`` in frame ``k``; None when
+        the sequence has no paint.
+    """
+    info = (getattr(seq, "info", None) or {}).get("paint")
+    shape = seq.shape
+    if not info:
+        if shape.paint is None:
+            return shape.regions, None
+        return shape.regions, [list(shape.paint)] * len(seq)
+    try:
+        key_times = np.asarray(info["times"], dtype=np.float64)
+        keys = [[Paint.from_dict(p) for p in key] for key in info["keys"]]
+        regions = info.get("regions", shape.regions)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ParameterError(f"malformed paint in the sequence's info: {exc}") from None
+    n_paths = len(shape.paths or [])
+    if len(keys) != len(key_times) or not keys or any(len(k) != n_paths for k in keys):
+        raise ParameterError(f"the sequence's paint must give one paint per path ({n_paths}) for each key time")
+    times = np.clip(np.asarray(seq.times, dtype=np.float64), key_times[0], key_times[-1])
+    seg = np.clip(np.searchsorted(key_times, times, side="right") - 1, 0, max(len(key_times) - 2, 0))
+    out = [[None] * n_paths for _ in times]
+    if len(keys) == 1:
+        return regions, [list(keys[0]) for _ in times]
+    for s in np.unique(seg):
+        frames = np.flatnonzero(seg == s)
+        span = key_times[s + 1] - key_times[s]
+        u = (times[frames] - key_times[s]) / span if span > 0 else np.ones(len(frames))
+        for p in range(n_paths):
+            for k, value in zip(frames, lerp_paint(keys[s][p], keys[s + 1][p], u)):
+                out[k][p] = value
+    return regions, out
+
+
+def paint_groups(shape):
+    """What a painted shape draws, in order: ``(path indices, paint)`` groups.
+
+    Each region (outer ring then holes, filled together by the even-odd rule)
+    is one group; every path in no region is a group of its own. Without
+    ``shape.regions`` all closed paths form one region. Groups come in the
+    order of their first path (document order for shapes read from SVG); a
+    group takes the paint of its first path.
+
+    Parameters
+    ----------
+    shape : Shape
+        With ``paths`` and ``paint``.
+
+    Returns
+    -------
+    list of (list of int, Paint)
+    """
+    paths = shape.paths or []
+    regions = shape.regions
+    if regions is None:
+        closed = [i for i, (_, c) in enumerate(paths) if c]
+        regions = [closed] if closed else []
+    used = {i for r in regions for i in r}
+    groups = [list(r) for r in regions] + [[i] for i in range(len(paths)) if i not in used]
+    groups.sort(key=min)
+    return [(g, shape.paint[g[0]]) for g in groups]
+
+
+def _hex(colour):
+    r, g, b = (int(round(255 * c)) for c in colour[:3])
+    return f"#{r:02x}{g:02x}{b:02x}"
+
+
+def svg_paint_attributes(paint):
+    """SVG presentation attributes of a paint (stroke width in user units).
+
+    Parameters
+    ----------
+    paint : Paint
+
+    Returns
+    -------
+    dict
+        ``fill``, ``fill-opacity``, ``stroke``, ``stroke-opacity``,
+        ``stroke-width`` as strings (all five, so that they can be animated);
+        the path opacity is folded into the two alphas.
+    """
+    fill, stroke = paint.fill, paint.stroke
+    return {
+        "fill": "none" if fill is None else _hex(fill),
+        "fill-opacity": "0" if fill is None else f"{fill[3] * paint.opacity:.4g}",
+        "stroke": "none" if stroke is None else _hex(stroke),
+        "stroke-opacity": "0" if stroke is None else f"{stroke[3] * paint.opacity:.4g}",
+        "stroke-width": "0" if stroke is None else f"{paint.stroke_width:.6g}",
+    }

@@ -20,7 +20,7 @@ class _Group(click.Group):
             sys.exit(2)
 
 
-@click.group(cls=_Group)
+@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(version=__version__, prog_name="isotween")
 def main():
     """As-isometric-as-possible interpolation of planar shapes."""

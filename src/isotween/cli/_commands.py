@@ -5,3 +5,4 @@ from . import info  # noqa: F401
 from . import interpolate  # noqa: F401
 from . import motion  # noqa: F401
 from . import prepare  # noqa: F401
+from . import render  # noqa: F401

@@ -6,8 +6,8 @@ import click
 
 from ..errors import FileFormatError, MissingDependencyError, ParameterError
 from . import main
-from ..io import write_output
-from .options import SOLVER_KEYS, progress, summary, timer
+from ..outputs import with_paint, write_output
+from .options import SOLVER_KEYS, progress, render_options, summary, timer
 
 
 @main.command("demo")
@@ -17,7 +17,8 @@ from .options import SOLVER_KEYS, progress, summary, timer
 @click.option("--list", "list_names", is_flag=True,
               help="List the built-in examples (name and what it shows) and exit.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
-def demo_command(name, outdir, list_names, quiet):
+@render_options
+def demo_command(name, outdir, list_names, quiet, fill, stroke, stroke_width, **render):
     """Interpolate the built-in example NAME (default: the first one).
 
     Writes OUTDIR/NAME.gif and OUTDIR/NAME.html.
@@ -48,19 +49,21 @@ def demo_command(name, outdir, list_names, quiet):
     source, target, options = examples.load_example(name)
     kwargs = {k: options[k] for k in SOLVER_KEYS if k in options}
     texture = options.get("texture")
-    with progress(quiet, total=kwargs.get("max_iter", 100)) as callback:
+    with progress(quiet) as callback:
         seq = interpolate(source, target, callback=callback, **kwargs)
-    seconds = elapsed()
+    colours = {k: v for k, v in (("fill", fill), ("stroke", stroke), ("stroke_width", stroke_width)) if v is not None}
+    seq = with_paint(seq, **(colours or examples.example_paint(name)))
+    render["title"] = render["title"] or f"isotween demo: {name}"
     created = not folder.exists()
     folder.mkdir(exist_ok=True)
     written = []
     try:
         for out in (folder / f"{name}.gif", folder / f"{name}.html"):
-            written += write_output(seq, out, texture=texture, quiet=quiet)
+            written += write_output(seq, out, texture=texture, quiet=quiet, **render)
     except BaseException:
         for p in written:
             p.unlink(missing_ok=True)
         if created and not any(folder.iterdir()):
             folder.rmdir()
         raise
-    click.echo(summary(seq, seconds, written))
+    click.echo(summary(seq, elapsed(), written))

@@ -3,6 +3,7 @@
 import click
 import numpy as np
 
+from ..paint import sequence_paint
 from . import main
 
 
@@ -26,7 +27,14 @@ def shape_lines(shape):
         lines.append(f"paths: {len(shape.paths)} ({closed} closed, {len(shape.paths) - closed} open)")
     if shape.uv is not None:
         lines.append("uv: yes")
+    if shape.paint is not None:
+        fills = sorted({_hex(p.fill) for p in shape.paint if p.fill is not None})
+        lines.append(f"paint: {len(shape.regions or [])} region(s), fills {', '.join(fills) or 'none'}")
     return lines
+
+
+def _hex(colour):
+    return "#" + "".join(f"{round(255 * c):02x}" for c in colour[:3])
 
 
 def sequence_lines(seq):
@@ -40,6 +48,10 @@ def sequence_lines(seq):
         f"converged: {'yes' if seq.converged else 'no'}",
         f"energy: {energy}",
     ]
+    _, paints = sequence_paint(seq)
+    if paints is not None and len(paints):
+        ends = [sorted({_hex(p.fill) for p in frame if p.fill is not None}) for frame in (paints[0], paints[-1])]
+        lines.append(f"paint: fills {', '.join(ends[0]) or 'none'} -> {', '.join(ends[1]) or 'none'} (Oklab blend)")
     frames = seq.frames.reshape(-1, 2) if seq.frames.size else np.zeros((0, 2))
     lines += shape_lines(seq[0]) if len(seq) else []
     if len(frames):

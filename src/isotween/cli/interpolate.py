@@ -42,6 +42,6 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, **par
     options = correspondence_kwargs(params)
     src, tgt = make_compatible(load(source), load(target), source, target, quiet=quiet, **options)
     kwargs = solver_kwargs(params)
-    with progress(quiet, total=kwargs.get("max_iter")) as callback:
+    with progress(quiet) as callback:
         seq = interpolate(src, tgt, callback=callback, **kwargs)
     emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())

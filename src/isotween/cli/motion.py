@@ -3,14 +3,9 @@
 import click
 
 from . import main
-from .options import check_outputs, emit, frames_option, output_options, progress, timer
+from .options import (check_outputs, emit, frames_option, output_options, progress, solver_kwargs,
+                      solver_options, solver_options_for, timer)
 from .prepare import correspondence_kwargs, make_keys_compatible, outline_correspondence_options
-
-_scheme = click.option("--scheme", type=click.Choice(["midpoint", "paper"]), default="midpoint",
-                       show_default=True, help="Time discretisation of the energy (Eq. 6).")
-_tol = click.option("--tol", type=float, default=5e-4, show_default=True,
-                    help="Stop when no vertex moves more than tol x bounding-box diagonal (Eq. 11).")
-_max_iter = click.option("--max-iter", type=int, default=100, show_default=True, help="Iteration limit.")
 
 
 @main.command("transfer")
@@ -18,13 +13,10 @@ _max_iter = click.option("--max-iter", type=int, default=100, show_default=True,
 @click.argument("source_end")
 @click.argument("target_start")
 @frames_option
-@_scheme
-@_tol
-@_max_iter
+@solver_options
 @outline_correspondence_options
 @output_options
-def transfer_command(source_start, source_end, target_start, frames, scheme, tol, max_iter,
-                     output, fmt, texture, plot, quiet, **params):
+def transfer_command(source_start, source_end, target_start, output, fmt, texture, plot, quiet, **params):
     """Move TARGET_START the way SOURCE_START moves into SOURCE_END (Sec. 5.1).
 
     Shapes that do not share connectivity are first put in correspondence
@@ -38,9 +30,8 @@ def transfer_command(source_start, source_end, target_start, frames, scheme, tol
     paths = (source_start, source_end, target_start)
     shapes = make_keys_compatible([load(p) for p in paths], paths, quiet=quiet, role="input",
                                   **correspondence_kwargs(params))
-    with progress(quiet, total=max_iter) as callback:
-        seq = transfer(*shapes, frames=frames, scheme=scheme, tol=tol, max_iter=max_iter,
-                       callback=callback)
+    with progress(quiet) as callback:
+        seq = transfer(*shapes, callback=callback, **solver_kwargs(params))
     emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())
 
 
@@ -53,7 +44,7 @@ def transfer_command(source_start, source_end, target_start, frames, scheme, tol
 @click.option("--free-ends", is_flag=True,
               help="Let the first and last frames change too (the paper's procedure).")
 @output_options
-def edit_command(sequence, frames, shapes, free_ends, output, fmt, texture, plot, quiet):
+def edit_command(sequence, frames, shapes, free_ends, output, fmt, texture, plot, quiet, **render):
     """Replace frames of SEQUENCE (.npz/.json or a folder of frames) and carry
     the change through its motion (Sec. 5.2)."""
     from .. import edit
@@ -78,12 +69,10 @@ def edit_command(sequence, frames, shapes, free_ends, output, fmt, texture, plot
               default="linear", show_default=True, help="Spacing of the frames in time.")
 @click.option("--smooth", type=float, default=1.0, show_default=True,
               help="How strongly velocities turn smoothly through interior keyframes.")
-@_scheme
-@_tol
-@_max_iter
+@solver_options_for("init", "scheme", "tol", "max_iter")
 @outline_correspondence_options
 @output_options
-def keyframes_command(keyframes, frames, times, easing, smooth, scheme, tol, max_iter,
+def keyframes_command(keyframes, frames, times, easing, smooth, init, scheme, tol, max_iter,
                       output, fmt, texture, plot, quiet, **params):
     """AIAP through every KEYFRAME file at once (at least two).
 
@@ -104,7 +93,7 @@ def keyframes_command(keyframes, frames, times, easing, smooth, scheme, tol, max
             raise ParameterError(f"--times must be numbers separated by commas, got {times!r}") from None
     shapes = make_keys_compatible([load(p) for p in keyframes], keyframes, quiet=quiet,
                                   **correspondence_kwargs(params))
-    with progress(quiet, total=max_iter) as callback:
+    with progress(quiet) as callback:
         seq = interpolate_keyframes(shapes, times=times, frames=frames, easing=easing, smooth=smooth,
-                                    scheme=scheme, tol=tol, max_iter=max_iter, callback=callback)
+                                    init=init, scheme=scheme, tol=tol, max_iter=max_iter, callback=callback)
     emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())

@@ -6,11 +6,12 @@ Use as decorators on a click command::
     @frames_option
     @solver_options
     @output_options
-    def cmd(frames, solver, init, scheme, tol, max_iter, method,
-            output, fmt, texture, plot, quiet): ...
+    def cmd(output, fmt, texture, plot, quiet, **params): ...
 
 and call `check_outputs` before any work, `progress` around the solve, and
-`emit` at the end.
+`emit` at the end; `emit` reads the rendering controls (`render_options`)
+from the command's parameters. Choices and defaults come from the library's
+constants (`isotween.interpolate.SOLVERS`, `isotween.render.defaults`, ...).
 """
 
 import math
@@ -22,12 +23,14 @@ from pathlib import Path
 import click
 
 from ..errors import FileFormatError, IncompatibleShapesError, require
-from ..io import FRAME_FORMATS, output_kind, write_output
-from ..io._files import atomic_path
+from ..outputs import FORMATS, output_kind, with_paint, write_output
+from ..render.defaults import BACKGROUND, FPS, SIZE
 
 __all__ = [
     "frames_option",
     "solver_options",
+    "solver_options_for",
+    "render_options",
     "output_options",
     "solver_kwargs",
     "check_outputs",
@@ -38,7 +41,10 @@ __all__ = [
     "timer",
 ]
 
-SOLVER_KEYS = ("frames", "solver", "init", "scheme", "tol", "max_iter", "method")
+SOLVER_KEYS = ("frames", "solver", "init", "scheme", "tol", "max_iter", "method", "times")
+#: parameters of `render_options`, passed on to `isotween.write_output`
+RENDER_KEYS = ("fps", "size", "hold", "bounce", "loop", "title", "background")
+PAINT_KEYS = ("fill", "stroke", "stroke_width")
 
 
 def _compose(*decorators):
@@ -50,50 +56,149 @@ def _compose(*decorators):
     return apply
 
 
+class SizeType(click.ParamType):
+    """``N`` (longest side) or ``WxH`` in pixels."""
+
+    name = "N|WxH"
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, (int, tuple)):
+            return value
+        text = str(value).lower().strip()
+        try:
+            parts = [int(p) for p in text.split("x")]
+        except ValueError:
+            parts = []
+        if len(parts) not in (1, 2) or min(parts) < 8 or max(parts) > 8192:
+            self.fail(f"{value!r} is not a size: give N or WxH in pixels, each from 8 to 8192", param, ctx)
+        return parts[0] if len(parts) == 1 else tuple(parts)
+
+
+class ColoursType(click.ParamType):
+    """``COLOUR`` or ``START:END`` (names or #rrggbb); one colour only when ``pair`` is False."""
+
+    def __init__(self, pair=True):
+        self.pair = pair
+        self.name = "COLOUR[:COLOUR]" if pair else "COLOUR"
+
+    def convert(self, value, param, ctx):
+        if not isinstance(value, str):
+            return value
+        parts = value.split(":")
+        if len(parts) > (2 if self.pair else 1) or not all(parts):
+            self.fail(f"{value!r}: give one colour{' or START:END' if self.pair else ''}", param, ctx)
+        from matplotlib.colors import is_color_like
+
+        bad = [p for p in parts if not is_color_like(p)]
+        if bad:
+            self.fail(f"{bad[0]!r} is not a colour (use a name like 'red' or '#rrggbb')", param, ctx)
+        return parts[0] if len(parts) == 1 else tuple(parts)
+
+
 frames_option = click.option(
     "--frames", "-n", type=int, default=9, show_default=True,
     help="Number of frames, both inputs included.",
 )
 
-solver_options = _compose(
-    click.option("--solver", type=click.Choice(["local", "global"]), default="local", show_default=True,
-                 help="Per-edge local solver (Alg. 2) or one sparse system per iteration (Alg. 1)."),
-    click.option("--init", type=click.Choice(["edge", "linear"]), default="edge", show_default=True,
-                 help="Initial guess: edge-vector interpolation (Eqs. 12-13) or linear blending."),
-    click.option("--scheme", type=click.Choice(["midpoint", "paper"]), default="midpoint", show_default=True,
-                 help="Time discretisation of the energy (Eq. 6)."),
-    click.option("--tol", type=float, default=5e-4, show_default=True,
-                 help="Stop when no vertex moves more than tol x bounding-box diagonal (Eq. 11)."),
-    click.option("--max-iter", type=int, default=100, show_default=True, help="Iteration limit."),
-    click.option("--method", default="aiap", show_default=True,
-                 help="aiap, or a baseline: linear, intrinsic, arap, arap-baxter, shapespace."),
+
+def _solver_option(key):
+    from ..baselines import METHODS as BASELINES
+    from ..easing import EASINGS
+    from ..initialisation import INITIALISERS
+    from ..interpolate import SOLVERS
+    from ..optimisation.schemes import SCHEMES
+
+    options = {
+        "solver": click.option("--solver", type=click.Choice(SOLVERS), default=SOLVERS[0], show_default=True,
+                               help="Per-edge local solver (Alg. 2) or one sparse system per iteration (Alg. 1)."),
+        "init": click.option("--init", type=click.Choice(INITIALISERS), default=INITIALISERS[0], show_default=True,
+                             help="Initial guess: edge-vector interpolation (Eqs. 12-13) or linear blending."),
+        "scheme": click.option("--scheme", type=click.Choice(tuple(SCHEMES)), default="midpoint", show_default=True,
+                               help="Time discretisation of the energy (Eq. 6)."),
+        "tol": click.option("--tol", type=float, default=5e-4, show_default=True,
+                            help="Stop when no vertex moves more than tol x bounding-box diagonal (Eq. 11)."),
+        "max_iter": click.option("--max-iter", type=int, default=100, show_default=True, help="Iteration limit."),
+        "method": click.option("--method", type=click.Choice(("aiap",) + tuple(BASELINES)), default="aiap",
+                               show_default=True, help="AIAP, or a baseline method to compare with."),
+        "easing": click.option("--easing", type=click.Choice(tuple(EASINGS)), default="linear", show_default=True,
+                               help="Spacing of the frames in time."),
+    }
+    return options[key]
+
+
+def solver_options_for(*keys):
+    """A decorator adding the solver options named by ``keys`` (choices from the library's constants)."""
+    return _compose(*(_solver_option(k) for k in keys))
+
+
+#: every option `isotween.interpolate` takes
+solver_options = solver_options_for("solver", "init", "scheme", "tol", "max_iter", "method", "easing")
+
+render_options = _compose(
+    click.option("--fps", type=click.FloatRange(0, 100, min_open=True), default=None,
+                 help=f"Frames per second of animations [default: {FPS}]."),
+    click.option("--size", type=SizeType(), default=None,
+                 help=f"Picture size: longest side N or WxH in pixels [default: {SIZE}; strip cells 240]."),
+    click.option("--hold", type=click.FloatRange(0, 3600), default=None,
+                 help="Seconds to stay on the first and the last frame [default: 0]."),
+    click.option("--bounce/--no-bounce", default=None, help="Play forward then backward [default: no]."),
+    click.option("--loop/--no-loop", default=None, help="Repeat forever or play once [default: loop]."),
+    click.option("--title", default=None, help="Title of the page, SVG or Lottie [default: the input files]."),
+    click.option("--background", type=ColoursType(pair=False), default=None,
+                 help=f"Colour behind the shape [default: {BACKGROUND}]."),
+    click.option("--fill", type=ColoursType(), default=None,
+                 help="Fill colour, or START:END blended in Oklab (replaces the shapes' own paint)."),
+    click.option("--stroke", type=ColoursType(), default=None, help="Outline colour, or START:END."),
+    click.option("--stroke-width", type=click.FloatRange(0), default=None,
+                 help="Outline width in shape units [default: 0.4 % of the bounding-box diagonal]."),
 )
 
 output_options = _compose(
     click.option("-o", "--output", "output", required=True,
-                 help="Output: .gif .mp4 .svg .html (animation) .png (strip) .npz .json (sequence) or a folder."),
-    click.option("--format", "fmt", type=click.Choice(FRAME_FORMATS), default=None,
-                 help="Write one file per frame in this format into the -o folder."),
+                 help="Output: .gif .webp .apng .mp4 .svg .html .lottie.json (animation), .png (strip), "
+                      ".npz .json (sequence) or a folder of frames."),
+    click.option("--format", "fmt", type=click.Choice(FORMATS), default=None,
+                 help="Write one file per frame in this format into the -o folder (lottie: one Lottie .json)."),
     click.option("--texture", default=None, help="Image mapped through the shape's uv in rendered outputs."),
     click.option("--plot", default=None, help="Also plot the energy per iteration to this image file."),
-    click.option("--quiet", "-q", is_flag=True, help="No progress bar."),
+    click.option("--quiet", "-q", is_flag=True, help="No progress bars."),
+    render_options,
 )
 
 
 def solver_kwargs(params):
-    """The keyword arguments of `isotween.interpolate` among a command's parameters."""
-    return {k: params[k] for k in SOLVER_KEYS if k in params}
+    """The keyword arguments of `isotween.interpolate` among a command's parameters.
+
+    ``easing`` becomes the frame ``times`` (`isotween.easing.frame_times`).
+    """
+    out = {k: params[k] for k in SOLVER_KEYS if k in params and params[k] is not None}
+    easing = params.get("easing")
+    if easing and easing != "linear" and "frames" in out:
+        from ..easing import frame_times
+
+        out["times"] = frame_times(out["frames"], easing)
+    return out
 
 
 def check_outputs(output, fmt=None, texture=None, plot=None):
     """Fail before any computation when an output cannot be written.
+
+    The output kind is remembered for `emit`, so the path is checked once.
+
+    Returns
+    -------
+    str
+        The kind of output (`isotween.outputs.output_kind`).
 
     Raises
     ------
     FileFormatError
         Unknown output kind, missing folder, missing texture image.
     """
-    output_kind(output, fmt)
+    kind = output_kind(output, fmt)
+    ctx = click.get_current_context(silent=True)
+    if ctx is not None:
+        ctx.meta.setdefault("isotween.kinds", {})[(str(output), fmt)] = kind
     if texture is not None and not Path(texture).is_file():
         raise FileFormatError(f"{texture}: no such texture image")
     if plot is not None:
@@ -102,6 +207,7 @@ def check_outputs(output, fmt=None, texture=None, plot=None):
             raise FileFormatError(f"cannot write {plot}: {parent} does not exist")
         if Path(plot).suffix.lower() not in (".png", ".pdf", ".svg"):
             raise FileFormatError(f"{plot}: the energy plot must be a .png, .pdf or .svg file")
+    return kind
 
 
 def ensure_compatible(source, target, source_path, target_path):
@@ -127,15 +233,19 @@ def ensure_compatible(source, target, source_path, target_path):
 def progress(quiet=False, total=None, desc="iterations"):
     """A progress bar on stderr; yields the ``callback(iteration, energy, max_move)``.
 
-    The bar appears only for runs longer than half a second and never with
-    ``quiet``.
+    It counts iterations and shows the energy and the largest vertex move
+    (the convergence measure of Eq. 11), with no time estimate: the solver
+    stops when it converges, usually long before the iteration limit
+    (``total`` is accepted for compatibility and not shown). The bar appears
+    only for runs longer than half a second and never with ``quiet``.
     """
     if quiet:
         yield None
         return
     from tqdm import tqdm
 
-    bar = tqdm(total=total, desc=desc, unit="it", file=sys.stderr, leave=False, delay=0.5)
+    bar = tqdm(desc=desc, unit="it", file=sys.stderr, leave=False, delay=0.5,
+               bar_format="{desc}: {n_fmt} [{elapsed}{postfix}]")
 
     def callback(iteration, energy, max_move):
         bar.set_postfix(energy=f"{energy:.4g}", move=f"{max_move:.2g}", refresh=False)
@@ -148,17 +258,46 @@ def progress(quiet=False, total=None, desc="iterations"):
 
 
 def summary(seq, seconds, written):
-    """One line: frames, vertices, edges, iterations, converged, energy, seconds, outputs."""
-    energy = seq.energy[-1] if len(seq.energy) else math.nan
-    return (
-        f"frames={len(seq)} vertices={seq.shape.n_vertices} edges={seq.shape.n_edges} "
-        f"iterations={seq.iterations} converged={'yes' if seq.converged else 'no'} "
-        f"energy={energy:.4g} seconds={seconds:.3f} -> {', '.join(str(p) for p in written)}"
-    )
+    """One line: frames, vertices, iterations, the written sequence's own metrics, wall time, outputs.
+
+    The metrics (SPEC.md) are measured on ``seq`` itself, so a transferred
+    or edited sequence reports its own numbers, never the solver's of
+    another sequence; a metric that does not apply (no faces, no edges) is
+    left out rather than printed as nan.
+    """
+    from .. import metrics
+
+    parts = [f"frames={len(seq)}", f"vertices={seq.shape.n_vertices}", f"edges={seq.shape.n_edges}",
+             f"iterations={seq.iterations}", f"converged={'yes' if seq.converged else 'no'}"]
+    if seq.shape.n_edges and len(seq) > 1:
+        values = {"energy": metrics.isometric_energy(seq), "edge_dev": metrics.edge_length_deviation(seq)}
+        for name, value in values.items():
+            if math.isfinite(value):
+                parts.append(f"{name}={value:.4g}")
+    if seq.shape.n_faces:
+        parts.append(f"flipped={int(metrics.flipped_faces(seq))}")
+    parts.append(f"seconds={seconds:.3f}")
+    return " ".join(parts) + f" -> {', '.join(str(p) for p in written)}"
+
+
+def _input_names(ctx):
+    """File names (or the example) among the command's arguments, for a default title."""
+    names = []
+    for param in ctx.command.params:
+        if isinstance(param, click.Argument):
+            value = ctx.params.get(param.name)
+            for v in value if isinstance(value, (list, tuple)) else [value]:
+                if v:
+                    names.append(Path(str(v)).name)
+    return names
 
 
 def emit(seq, out, fmt=None, texture=None, quiet=False, plot=None, seconds=None):
     """Write ``seq`` to ``out`` (a path or a list of paths) and print the summary line.
+
+    The rendering controls (`render_options`: fps, size, hold, bounce, loop,
+    title, background, fill, stroke, stroke width) are read from the running
+    command's parameters, so every command with `output_options` takes them.
 
     Parameters
     ----------
@@ -172,20 +311,30 @@ def emit(seq, out, fmt=None, texture=None, quiet=False, plot=None, seconds=None)
     plot : path-like, optional
         Energy plot (`isotween.render.plot_energy`).
     seconds : float, optional
-        Time to report; defaults to the sequence's ``timings['total']``.
+        Wall time to report (measured from the command's start); defaults
+        to the sequence's ``timings['total']``. The time spent writing is
+        added.
     """
+    started = time.perf_counter()
+    ctx = click.get_current_context(silent=True)
+    params = ctx.params if ctx is not None else {}
+    options = {k: params.get(k) for k in RENDER_KEYS}
+    if options["title"] is None and ctx is not None:
+        names = _input_names(ctx)
+        options["title"] = " \u2192 ".join(names) if names else None
+    seq = with_paint(seq, **{k: params.get(k) for k in PAINT_KEYS})
+    kinds = ctx.meta.get("isotween.kinds", {}) if ctx is not None else {}
     outs = out if isinstance(out, (list, tuple)) else [out]
     written = []
     for o in outs:
-        written += write_output(seq, o, format=fmt, texture=texture, quiet=quiet)
+        written += write_output(seq, o, format=fmt, texture=texture, quiet=quiet, kind=kinds.get((str(o), fmt)),
+                                **options)
     if plot is not None:
-        render = require("isotween.render", "cli")
-        with atomic_path(plot) as tmp:
-            render.plot_energy(seq, tmp)
+        require("isotween.render", "cli").plot_energy(seq, plot)  # atomic itself
         written.append(Path(plot))
     if seconds is None:
-        seconds = float(seq.timings.get("total", math.nan))
-    click.echo(summary(seq, seconds, written))
+        seconds = float(seq.timings.get("total", 0.0))
+    click.echo(summary(seq, seconds + time.perf_counter() - started, written))
     return written
 
 

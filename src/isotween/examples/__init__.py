@@ -12,7 +12,7 @@ from pathlib import Path
 
 from ..errors import ParameterError
 
-__all__ = ["names", "describe", "load_example"]
+__all__ = ["names", "describe", "load_example", "example_paint"]
 
 DATA = Path(__file__).with_name("data")
 
@@ -52,6 +52,11 @@ def describe(name):
     True
     """
     return _entry(name)["description"]
+
+
+def example_paint(name):
+    """Colours an example is drawn in: keyword arguments of `isotween.outputs.with_paint` (dict, maybe empty)."""
+    return dict(_entry(name).get("paint", {}))
 
 
 def load_example(name):

@@ -1,12 +1,13 @@
-"""Files: shapes (.obj .off .svg .json .npz), sequences (.npz .json, frame folders), outputs.
+"""Files: shapes (.obj .off .svg .json .npz), sequences (.npz .json, frame folders).
 
 Formats are described in docs/formats.md. Every reader raises
 `isotween.errors.FileFormatError` naming the file and the line or element at
-fault; every writer writes atomically (temporary file, then rename).
+fault; every writer writes atomically (temporary file, then rename: `atomic_path`,
+`atomic_dir`). Rendered outputs (animations, pictures) are written by `isotween.outputs`.
 """
 
+from ._files import atomic_dir, atomic_path, write_text
 from .frames import FRAME_FORMATS, write_frames
-from .output import OUTPUT_KINDS, output_kind, write_output
 from .sequence_file import is_sequence_file, load_sequence, save_sequence
 from .shapes import SHAPE_FORMATS, load, save
 
@@ -17,9 +18,9 @@ __all__ = [
     "save_sequence",
     "is_sequence_file",
     "write_frames",
-    "write_output",
-    "output_kind",
+    "atomic_path",
+    "atomic_dir",
+    "write_text",
     "SHAPE_FORMATS",
     "FRAME_FORMATS",
-    "OUTPUT_KINDS",
 ]

@@ -5,7 +5,7 @@ import numpy as np
 from ..errors import FileFormatError, ShapeError
 from ..shape import Shape
 
-__all__ = ["fan", "assemble", "chains", "face_edges", "edges_need_listing", "planar"]
+__all__ = ["fan", "assemble", "chains", "face_edges", "edges_need_listing", "planar", "y_up_vertices"]
 
 
 def planar(path, xyz, lines, base=1):
@@ -18,6 +18,15 @@ def planar(path, xyz, lines, base=1):
             "planar shapes, so z must be 0 (or absent) everywhere"
         )
     return xyz[:, :2]
+
+
+def y_up_vertices(shape):
+    """(n, 2) vertices as drawn with y up: y negated for a ``y_down`` shape.
+
+    Formats without an orientation flag (OBJ, OFF) are y-up by convention;
+    writing these coordinates keeps a y-down shape looking as it did.
+    """
+    return shape.vertices * np.array([1.0, -1.0]) + 0.0 if shape.y_down else shape.vertices  # + 0.0: no -0.0
 
 
 def fan(polygon):

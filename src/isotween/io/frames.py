@@ -3,13 +3,15 @@
 import re
 from pathlib import Path
 
-from ..errors import FileFormatError, ParameterError, require
+from ..errors import FileFormatError, ParameterError
+from ..paint import sequence_paint
 from ._files import atomic_dir
 
-__all__ = ["write_frames", "FRAME_FORMATS"]
+__all__ = ["write_frames", "write_frame_files", "frame_names", "DATA_FRAME_FORMATS", "FRAME_FORMATS"]
 
-#: formats `write_frames` accepts
-FRAME_FORMATS = ("obj", "off", "svg", "json", "npz", "png")
+#: shape formats `write_frames` writes (pictures of frames: `isotween.outputs`)
+DATA_FRAME_FORMATS = ("obj", "off", "svg", "json", "npz")
+FRAME_FORMATS = DATA_FRAME_FORMATS
 
 
 def frame_names(count, fmt):
@@ -18,19 +20,19 @@ def frame_names(count, fmt):
     return [f"frame_{k:0{width}d}.{fmt}" for k in range(count)]
 
 
-def write_frames(seq, directory, format="obj", texture=None, progress=False):
-    """Write every frame of a sequence to its own file in ``directory``.
+def write_frame_files(count, directory, ext, writer, progress=False):
+    """Write ``count`` files ``frame_NNNN.<ext>`` into ``directory``, all or none.
 
     Parameters
     ----------
-    seq : Sequence
+    count : int
     directory : path-like
         Created when missing (its parent must exist).
-    format : {'obj', 'off', 'svg', 'json', 'npz', 'png'}
-        File format of every frame; ``png`` draws the frame with
-        `isotween.render.write_frame_png` (textured when ``texture`` is given).
-    texture : path-like, optional
-        Image for ``png`` frames.
+    ext : str
+        File extension without the dot.
+    writer : callable
+        ``writer(k, path)`` writes frame ``k`` to ``path`` (a plain file in
+        a temporary folder: the folder is what makes the set atomic).
     progress : bool
         Show a progress bar on stderr.
 
@@ -59,32 +61,17 @@ def write_frames(seq, directory, format="obj", texture=None, progress=False):
     ...     isotween.load_sequence(os.path.join(d, "frames")).equals(seq, atol=1e-12)
     True
     """
-    fmt = str(format).lower().lstrip(".")
-    if fmt not in FRAME_FORMATS:
-        raise ParameterError(f"unknown frame format '{format}'; use one of {', '.join(FRAME_FORMATS)}")
-    if fmt == "png":
-        render = require("isotween.render", "cli")
-        points = seq.frames.reshape(-1, 2)
-        # one view for every frame, so that the images line up
-        bbox = (*points.min(axis=0).tolist(), *points.max(axis=0).tolist())
-
-        def writer(shape, path):
-            render.write_frame_png(shape, path, texture=texture, bbox=bbox)
-    else:
-        from .shapes import SHAPE_FORMATS
-
-        writer = SHAPE_FORMATS[f".{fmt}"][1]
     directory = Path(directory)
-    names = frame_names(len(seq), fmt)
-    indices = range(len(seq))
+    names = frame_names(count, ext)
+    indices = range(count)
     if progress:
         from tqdm import tqdm
 
         indices = tqdm(indices, desc="frames", unit="frame", leave=False, delay=0.5)
     with atomic_dir(directory) as tmp:
         for k in indices:
-            writer(seq[k], tmp / names[k])
-    pattern = re.compile(rf"frame_\d{{4,}}\.{fmt}")
+            writer(k, tmp / names[k])
+    pattern = re.compile(rf"frame_\d{{4,}}\.{ext}")
     keep = set(names)
     for old in directory.iterdir():
         if old.name not in keep and pattern.fullmatch(old.name) and old.is_file():
@@ -93,3 +80,42 @@ def write_frames(seq, directory, format="obj", texture=None, progress=False):
             except OSError as exc:
                 raise FileFormatError(f"cannot remove the old frame {old}: {exc.strerror or exc}") from exc
     return [directory / name for name in names]
+
+
+def write_frames(seq, directory, format="obj", progress=False):
+    """Write every frame of a sequence to its own shape file in ``directory``.
+
+    Parameters
+    ----------
+    seq : Sequence
+    directory : path-like
+        Created when missing (its parent must exist).
+    format : {'obj', 'off', 'svg', 'json', 'npz'}
+        File format of every frame (pictures: ``isotween.outputs.write_output``
+        with ``format='png'``).
+    progress : bool
+        Show a progress bar on stderr.
+
+    Returns
+    -------
+    list of Path
+        The files written, in frame order (see `write_frame_files`). Each
+        frame carries its own paint (`isotween.paint.sequence_paint`), which
+        the SVG format writes.
+    """
+    from .shapes import SHAPE_FORMATS
+
+    fmt = str(format).lower().lstrip(".")
+    if fmt not in DATA_FRAME_FORMATS:
+        raise ParameterError(f"unknown frame format '{format}'; use one of {', '.join(DATA_FRAME_FORMATS)} "
+                             "(png frames: isotween.write_output)")
+    save = SHAPE_FORMATS[f".{fmt}"][1]
+    regions, paints = sequence_paint(seq)
+
+    def frame(k):  # frame k with its own (interpolated) paint
+        shape = seq[k]
+        if paints is not None:
+            shape.regions, shape.paint = regions, paints[k]
+        return shape
+
+    return write_frame_files(len(seq), directory, fmt, lambda k, path: save(frame(k), path), progress=progress)

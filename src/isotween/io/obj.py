@@ -4,7 +4,7 @@ import numpy as np
 
 from ..errors import FileFormatError
 from ._files import read_text, write_text
-from ._mesh import assemble, chains, edges_need_listing, fan, planar
+from ._mesh import assemble, chains, edges_need_listing, fan, planar, y_up_vertices
 
 __all__ = ["read_obj", "write_obj"]
 
@@ -154,9 +154,13 @@ def write_obj(shape, path):
     Vertices are written with z = 0 and shortest round-trip decimals; ``uv``
     as one ``vt`` per vertex (references ``i/i``). Edges are written as ``l``
     chains unless they are exactly the face sides in the default order.
+    OBJ is y-up: a ``y_down`` shape (read from SVG) is written with y negated,
+    so that it reads back as a y-up shape that is drawn the same way.
     """
     lines = [f"# isotween shape: {shape.n_vertices} vertices, {shape.n_edges} edges, {shape.n_faces} faces"]
-    lines += [f"v {_num(x)} {_num(y)} 0" for x, y in shape.vertices.tolist()]
+    if shape.y_down:
+        lines.append("# y negated from the y-down (SVG) original, so that up is up")
+    lines += [f"v {_num(x)} {_num(y)} 0" for x, y in y_up_vertices(shape).tolist()]
     has_uv = shape.uv is not None
     if has_uv:
         lines += [f"vt {_num(u)} {_num(v)}" for u, v in shape.uv.tolist()]

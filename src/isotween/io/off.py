@@ -4,7 +4,7 @@ import numpy as np
 
 from ..errors import FileFormatError
 from ._files import read_text, write_text
-from ._mesh import assemble, chains, edges_need_listing, fan, planar
+from ._mesh import assemble, chains, edges_need_listing, fan, planar, y_up_vertices
 
 __all__ = ["read_off", "write_off"]
 
@@ -121,15 +121,17 @@ def write_off(shape, path):
     """Write a shape as OFF (STOFF when it has uv) that `read_off` restores exactly.
 
     Triangles are written as faces; the edges are added as two-vertex faces
-    unless they are exactly the triangle sides in the default order.
+    unless they are exactly the triangle sides in the default order. OFF is
+    y-up: a ``y_down`` shape is written with y negated (drawn the same way).
     """
+    vertices = y_up_vertices(shape)
     faces = shape.faces if shape.faces is not None else np.zeros((0, 3), dtype=np.int64)
     edges = shape.edges if edges_need_listing(shape) else np.zeros((0, 2), dtype=np.int64)
     lines = ["STOFF" if shape.uv is not None else "OFF", f"{shape.n_vertices} {len(faces) + len(edges)} {shape.n_edges}"]
     if shape.uv is not None:
-        lines += [f"{_num(x)} {_num(y)} 0 {_num(u)} {_num(v)}" for (x, y), (u, v) in zip(shape.vertices.tolist(), shape.uv.tolist())]
+        lines += [f"{_num(x)} {_num(y)} 0 {_num(u)} {_num(v)}" for (x, y), (u, v) in zip(vertices.tolist(), shape.uv.tolist())]
     else:
-        lines += [f"{_num(x)} {_num(y)} 0" for x, y in shape.vertices.tolist()]
+        lines += [f"{_num(x)} {_num(y)} 0" for x, y in vertices.tolist()]
     lines += [f"3 {a} {b} {c}" for a, b, c in faces.tolist()]
     lines += [f"2 {i} {j}" for i, j in edges.tolist()]
     write_text(path, "\n".join(lines) + "\n")

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..correspondence.regions import fill_regions
 from ..errors import FileFormatError, ParameterError, ShapeError, require
-from ..paint import Paint
+from ..paint import Paint, paint_groups, svg_paint_attributes
 from ..shape import Shape
 from ._files import check_readable, write_text
 from ._mesh import chains
@@ -254,19 +254,19 @@ def _subpath_data(points, closed):
 def write_svg(shape, path):
     """Write the outline of a shape as SVG.
 
-    Each shape path becomes one ``<path>`` element (``Z`` for a closed ring),
-    except that each filled region (``shape.regions``) is one element with
-    its outer ring and holes, ``fill-rule="evenodd"``, where its outer ring
-    comes in path order; the ``paint`` of every path is written as its fill,
-    stroke, stroke width and opacity. Edges outside every path (triangle
-    sides, edge soups) are drawn as chains in one more ``<path id="edges">``.
-    Numbers are shortest round-trip decimals in user units (y down, no flip),
-    so a shape whose edges are its paths, listing the vertices in order (what
-    `read_svg` returns), reads back identically, regions and paint included
-    (colours to 8 bits) when each region's holes follow its outer ring.
-    uv and faces are not stored.
+    Each shape path becomes one ``<path>`` element (``Z`` for a closed ring);
+    edges outside every path (triangle sides, edge soups) are drawn as chains
+    in one more ``<path id="edges">``. Numbers are shortest round-trip
+    decimals in user units, so a shape whose edges are its paths, listing the
+    vertices in order (what `read_svg` returns), reads back identically. SVG
+    is y-down: a y-down shape is written as it is, a y-up shape with y
+    negated, so that the file shows it upright (it reads back as the y-down
+    shape ``(x, -y)``). A shape with ``paint`` is written in its colours, one
+    ``<path>`` per region (holes cut by the even-odd rule) or lone path, so
+    regions and paint read back (colours to 8 bits). uv and faces are not
+    stored.
     """
-    v = shape.vertices
+    v = shape.vertices if shape.y_down else shape.vertices * np.array([1.0, -1.0]) + 0.0  # no -0.0
     lo, hi = (v.min(axis=0), v.max(axis=0)) if len(v) else (np.zeros(2), np.ones(2))
     size = np.maximum(hi - lo, 1e-9 * max(float(np.abs(v).max(initial=1.0)), 1.0))
     pad = 0.05 * float(size.max())
@@ -276,17 +276,14 @@ def write_svg(shape, path):
     elements = []
     covered = np.zeros(0, dtype=np.int64)
     paths = shape.paths or []
-    region_of = {k: r for r, ring_ids in enumerate(shape.regions or []) for k in ring_ids}
-    paint = shape.paint or [None] * len(paths)
-    for k, (idx, closed) in enumerate(paths):
-        if k not in region_of:
-            elements.append(f'  <path id="path{k}" d="{_subpath_data(v[idx], closed)}"{_paint_attributes(paint[k])}/>')
-        elif shape.regions[region_of[k]][0] == k:
-            ring_ids = shape.regions[region_of[k]]
-            d = " ".join(_subpath_data(v[paths[j][0]], True) for j in ring_ids)
-            filled = paint[k] if paint[k] is not None else Paint()
-            elements.append(f'  <path id="region{region_of[k]}" d="{d}" fill-rule="evenodd"'
-                            f'{_paint_attributes(filled)}/>')
+    if shape.paint is None:
+        for k, (idx, closed) in enumerate(paths):
+            elements.append(f'  <path id="path{k}" d="{_subpath_data(v[idx], closed)}"/>')
+    else:  # one element per region (holes cut by the even-odd rule) or lone path, in its paint
+        for group, paint in paint_groups(shape):
+            d = " ".join(_subpath_data(v[paths[i][0]], paths[i][1]) for i in group)
+            attrs = " ".join(f'{k}="{a}"' for k, a in svg_paint_attributes(paint).items())
+            elements.append(f'  <path id="path{group[0]}" d="{d}" fill-rule="evenodd" {attrs}/>')
     if paths:
         pe = np.vstack([np.column_stack([p, np.roll(p, -1)] if c else [p[:-1], p[1:]]) for p, c in paths])
         covered = np.unique(np.sort(pe, axis=1), axis=0)

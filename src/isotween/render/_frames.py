@@ -3,6 +3,7 @@
 import numpy as np
 
 from ..errors import ParameterError, ShapeError
+from ..paint import sequence_paint
 from ._view import bbox_of, check_frames, image_size
 from .frame import FramePainter
 from .texture import load_texture
@@ -38,25 +39,36 @@ class SequenceRenderer:
     even : bool
         Round the pixel size to even numbers (video).
     dpi : float
+    background : matplotlib colour
+        Colour behind the shape.
     """
 
-    def __init__(self, seq, size, texture=None, style="auto", even=False, dpi=100):
+    def __init__(self, seq, size, texture=None, style="auto", even=False, dpi=100, background="white"):
         self.seq = seq
         self.frames = sequence_frames(seq)
+        self.regions, self.paints = sequence_paint(seq)
         self.bbox = bbox_of(self.frames)
         self.width, self.height = image_size(self.bbox, size, even=even)
         self.texture = None if texture is None else load_texture(texture)
         self.style = style
-        self.painter = FramePainter(self.width, self.height, self.bbox, dpi=dpi, y_down=seq.shape.y_down)
+        self.painter = FramePainter(self.width, self.height, self.bbox, dpi=dpi, y_down=seq.shape.y_down,
+                                    background=background)
 
     def __len__(self):
         return len(self.frames)
+
+    def frame(self, k):
+        """Shape of frame ``k`` with its paint (interpolated, `sequence_paint`)."""
+        shape = self.seq.shape.with_vertices(self.frames[k])
+        if self.paints is not None:
+            shape.regions, shape.paint = self.regions, self.paints[k]
+        return shape
 
     def image(self, k, label=None):
         """(H, W, 3) uint8 image of frame ``k``."""
         shape = self.seq.shape
         return self.painter.render(
-            shape.with_vertices(self.frames[k]),
+            self.frame(k),
             texture=self.texture,
             uv=shape.uv,
             style=self.style,

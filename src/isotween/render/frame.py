@@ -7,7 +7,8 @@ from matplotlib.patches import PathPatch
 from matplotlib.path import Path
 
 from ..errors import ParameterError
-from ..io._files import atomic_path
+from ..paint import paint_groups
+from ..io import atomic_path
 from ._view import bbox_of, check_frames, fit_view, image_size
 from .texture import load_texture, render_texture, texture_uv
 
@@ -58,6 +59,60 @@ def _rings_path(vertices, rings):
     return Path(np.vstack(parts), np.concatenate(codes))
 
 
+def check_colour(colour, what="background"):
+    """(4,) RGBA in [0, 1] of a matplotlib colour (name, '#rrggbb', tuple).
+
+    Raises
+    ------
+    ParameterError
+        Naming ``what`` and the value that is not a colour.
+    """
+    from matplotlib.colors import to_rgba
+
+    try:
+        return to_rgba(colour)
+    except (ValueError, TypeError):
+        raise ParameterError(f"{what}: {colour!r} is not a colour (use a name like 'red' or '#rrggbb')") from None
+
+
+def rgba_of(colour, opacity):
+    """(4,) RGBA with the alpha multiplied by ``opacity``."""
+    r, g, b, a = colour
+    return (r, g, b, a * opacity)
+
+
+def _draw_painted(ax, shape, v):
+    """Fill and stroke every region and path with its own paint (no default colours)."""
+    artists, strokes = [], []
+    paths = shape.paths
+    for z, (group, paint) in enumerate(paint_groups(shape)):
+        rings = [paths[i][0] for i in group if paths[i][1] and len(paths[i][0]) >= 3]
+        if paint.fill is not None and rings and paint.opacity > 0:
+            patch = PathPatch(_rings_path(v, rings), facecolor=rgba_of(paint.fill, paint.opacity),
+                              edgecolor="none", zorder=1 + 2 * z)
+            artists.append(ax.add_artist(patch))
+        if paint.stroke is not None and paint.stroke_width > 0 and paint.opacity > 0:
+            strokes.append((group, paint, 2 + 2 * z))
+    ax.update_datalim(v)
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    if strokes:
+        # stroke widths are in shape units: points per unit from the axes' current scale
+        (x0, x1), width_px = ax.get_xlim(), ax.bbox.width
+        points_per_unit = abs(width_px / (x1 - x0)) * 72.0 / ax.figure.dpi
+        for group, paint, z in strokes:
+            parts = []
+            for i in group:
+                idx, closed = paths[i]
+                idx = np.append(idx, idx[0]) if closed else idx
+                parts += [v[idx], np.full((1, 2), np.nan)]
+            xy = np.concatenate(parts)
+            artists.extend(ax.plot(xy[:, 0], xy[:, 1], color=rgba_of(paint.stroke, paint.opacity),
+                                   lw=paint.stroke_width * points_per_unit, zorder=z,
+                                   solid_capstyle="round", solid_joinstyle="round"))
+    return artists
+
+
 def _resolve_style(shape, style, has_texture):
     if style not in STYLES:
         raise ParameterError(f"style must be one of {', '.join(STYLES)}, got {style!r}")
@@ -86,7 +141,9 @@ def draw_frame(ax, shape, texture=None, uv=None, style="auto", *, source=None, c
         'wire': every edge as a line. 'fill': triangles (or closed rings, with
         holes by the even-odd rule) filled, edges drawn thin on top. 'texture':
         the texture image. 'auto' picks texture when given, else fill for
-        meshes and closed polygons, else wire (edge soups, polylines).
+        meshes and closed polygons, else wire (edge soups, polylines). A
+        shape with ``paint`` is drawn with it under 'auto' and 'fill': each
+        region filled and stroked in its own colours (see `paint_groups`).
     source : (n, 2) array_like, optional
         Geometry that defines the default texture coordinates.
     color : matplotlib colour, optional
@@ -99,8 +156,14 @@ def draw_frame(ax, shape, texture=None, uv=None, style="auto", *, source=None, c
     list of matplotlib artists
     """
     v = check_frames(shape.vertices)
+    painted = shape.paint is not None and style in ("fill", "auto") and texture is None and color is None
     style = _resolve_style(shape, style, texture is not None)
     artists = []
+    if painted:
+        artists = _draw_painted(ax, shape, v)
+        if shape.y_down and not ax.yaxis_inverted():
+            ax.invert_yaxis()
+        return artists
     if style == "texture":
         tex = texture if _is_loaded(texture) else load_texture(texture)
         tuv = texture_uv(shape, uv, source)
@@ -158,13 +221,15 @@ class FramePainter:
         thicker lines relative to the image.
     y_down : bool
         Draw y growing downwards (shapes read from SVG, see `Shape.y_down`).
+    background : matplotlib colour
+        Colour behind the shape (opaque).
     """
 
-    def __init__(self, width, height, bbox, dpi=100, y_down=False):
+    def __init__(self, width, height, bbox, dpi=100, y_down=False, background="white"):
         self.width, self.height = int(width), int(height)
         x0, x1, y0, y1 = fit_view(bbox, self.width, self.height)
         self.view = (x0, x1, y1, y0) if y_down else (x0, x1, y0, y1)
-        self.figure = Figure(figsize=(self.width / dpi, self.height / dpi), dpi=dpi, facecolor="white")
+        self.figure = Figure(figsize=(self.width / dpi, self.height / dpi), dpi=dpi, facecolor=check_colour(background))
         self.canvas = FigureCanvasAgg(self.figure)
         self.ax = self.figure.add_axes([0, 0, 1, 1])
         self.ax.set_axis_off()

@@ -6,14 +6,21 @@ import io
 import json
 import math
 import re
+import tempfile
+import zlib
 from importlib import resources
+from pathlib import Path
 
 import numpy as np
 
-from ..io._files import atomic_path
+from ..io import atomic_path
+from ..paint import paint_groups, sequence_paint
 from ._framestats import frame_stats
 from ._frames import sequence_frames
 from ._view import bbox_of
+from .defaults import FPS
+from .frame import check_colour
+from .outline import mesh_boundary
 from .texture import load_texture, texture_uv
 
 __all__ = ["write_html", "page_html"]
@@ -37,8 +44,90 @@ def _png_data_url(tex, max_side=1024):
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
 
 
-def page_data(seq, texture=None, title=None, fps=12):
+def _css(colour, opacity):
+    if colour is None:
+        return None
+    r, g, b, a = colour
+    return f"rgba({round(255 * r)},{round(255 * g)},{round(255 * b)},{a * opacity:.4g})"
+
+
+def paint_data(seq):
+    """The sequence's paint for the page: one entry per drawn group, values per frame.
+
+    Returns
+    -------
+    list of dict or None
+        ``paths`` ([indices, closed] of each path of the group), ``fill`` and
+        ``stroke`` (F,) CSS colours or None, ``width`` (F,) stroke widths in
+        shape units; None without paint.
+    """
+    regions, paints = sequence_paint(seq)
+    if paints is None:
+        return None
+    shape = seq.shape
+    first = shape.with_vertices(shape.vertices)
+    first.regions, first.paint = regions, paints[0]
+    out = []
+    for group, _ in paint_groups(first):
+        track = [frame[group[0]] for frame in paints]
+        out.append({
+            "paths": [[shape.paths[i][0].tolist(), bool(shape.paths[i][1])] for i in group],
+            "fill": [_css(p.fill, p.opacity) for p in track],
+            "stroke": [_css(p.stroke, p.opacity) for p in track],
+            "width": [round(p.stroke_width, 6) for p in track],
+        })
+    return out
+
+
+def _packed(array):
+    """Little-endian bytes of an array, zlib-compressed, base64 text (the page inflates them)."""
+    raw = np.ascontiguousarray(array).astype(array.dtype.newbyteorder("<"), copy=False).tobytes()
+    return base64.b64encode(zlib.compress(raw, 6)).decode("ascii")
+
+
+def encode_frames(frames):
+    """Frames as quantised 16-bit integers, differenced over time (compact and exact to the step).
+
+    Parameters
+    ----------
+    frames : (F, n, 2) float array
+
+    Returns
+    -------
+    dict
+        ``origin`` (2,), ``step`` (float, data units per integer step: the
+        bounding box's longer side / 65000), ``data``: `_packed` int16 array
+        (F, n, 2) holding frame 0 and then each frame minus the previous one
+        (wrapping arithmetic: a running sum modulo 2^16 restores the levels).
+    """
+    lo = frames.reshape(-1, 2).min(axis=0)
+    side = float(np.ptp(frames.reshape(-1, 2), axis=0).max()) or 1.0
+    step = side / 65000.0
+    levels = np.round((frames - lo) / step).astype(np.int64) - 32500  # in [-32500, 32500]
+    delta = np.diff(levels, axis=0, prepend=np.zeros((1,) + levels.shape[1:], np.int64))
+    return {"origin": lo.tolist(), "step": step, "data": _packed(delta.astype(np.int16)), "offset": -32500}
+
+
+def decode_frames(encoded, shape):
+    """Inverse of `encode_frames`: (F, n, 2) float array (within half a step of the input)."""
+    raw = zlib.decompress(base64.b64decode(encoded["data"]))
+    delta = np.frombuffer(raw, dtype="<i2").reshape(shape).astype(np.int64)
+    levels = (np.cumsum(delta, axis=0) + 32768) % 65536 - 32768  # the encoder's int16 wrap undone
+    return np.asarray(encoded["origin"]) + (levels - encoded["offset"]) * encoded["step"]
+
+
+def _indices(array):
+    """Index array packed as uint16 (below 65536 vertices) or uint32."""
+    array = np.asarray(array, dtype=np.int64).ravel()
+    kind = "u2" if array.size == 0 or array.max() < 65536 else "u4"
+    return {"type": kind, "data": _packed(array.astype(kind))}
+
+
+def page_data(seq, texture=None, title=None, fps=FPS, bounce=False, background="white", downloads=None):
     """Everything the viewer needs, as JSON-ready Python values.
+
+    Frames and connectivity are binary (`encode_frames`, `_indices`):
+    zlib-compressed, base64, inflated by the browser's DecompressionStream.
 
     Parameters
     ----------
@@ -47,6 +136,13 @@ def page_data(seq, texture=None, title=None, fps=12):
     title : str, optional
     fps : float
         Playback rate at speed 1x.
+    bounce : bool
+        Whether the bounce box starts ticked.
+    background : matplotlib colour
+        Colour behind the shape.
+    downloads : dict, optional
+        ``{'lottie': text, 'svg': text}`` files offered by the page's
+        download buttons (compressed into the page).
 
     Returns
     -------
@@ -55,8 +151,9 @@ def page_data(seq, texture=None, title=None, fps=12):
     frames = sequence_frames(seq)
     shape = seq.shape
     stats = frame_stats(seq)
-    digits = _decimals(frames)
     flipped = stats["flipped"] if shape.n_faces else np.zeros((len(frames), 0), bool)
+    info = getattr(seq, "info", None) or {}
+    keyframes = sorted({0, len(frames) - 1, *[int(k) for k in info.get("keyframe_indices", [])]})
     data = {
         "title": title or "isotween sequence",
         "method": str(getattr(seq, "method", "")),
@@ -64,14 +161,20 @@ def page_data(seq, texture=None, title=None, fps=12):
         "converged": bool(getattr(seq, "converged", True)),
         "energy": [float(e) for e in np.asarray(getattr(seq, "energy", []), dtype=np.float64).ravel()],
         "fps": float(fps),
+        "bounce": bool(bounce),
+        "background": _css(check_colour(background), 1.0),
         "nVertices": int(shape.n_vertices),
-        "frames": np.round(frames.reshape(len(frames), -1), digits).tolist(),
+        "nFrames": len(frames),
+        "frames": encode_frames(frames),
+        "keyframes": keyframes,
         "times": np.round(np.asarray(seq.times, dtype=np.float64), 6).tolist(),
         "bbox": [float(x) for x in bbox_of(frames)],
         "yDown": bool(getattr(shape, "y_down", False)),
-        "edges": shape.edges.ravel().tolist(),
-        "faces": [] if not shape.n_faces else shape.faces.ravel().tolist(),
+        "edges": _indices(shape.edges),
+        "faces": _indices(shape.faces if shape.n_faces else np.zeros((0, 3), np.int64)),
         "rings": [idx.tolist() for idx, closed in (shape.paths or []) if closed],
+        # a mesh's outline: the filled view fills it instead of every triangle (far faster)
+        "boundary": [loop.tolist() for loop in mesh_boundary(shape.faces)] if shape.n_faces else [],
         "stats": {
             "edge": np.round(stats["edge_length_deviation"], 7).tolist(),
             "area": np.round(stats["area_deviation"], 7).tolist(),
@@ -80,7 +183,10 @@ def page_data(seq, texture=None, title=None, fps=12):
         "flippedFaces": [np.flatnonzero(row).tolist() for row in flipped],
         "uv": [],
         "texture": None,
+        "downloads": {k: base64.b64encode(zlib.compress(v.encode("utf-8"), 9)).decode("ascii")
+                      for k, v in (downloads or {}).items()},
     }
+    data["paint"] = paint_data(seq)
     if texture is not None:
         tex = load_texture(texture)
         data["uv"] = np.round(texture_uv(shape, shape.uv, shape.vertices), 6).ravel().tolist()
@@ -88,15 +194,39 @@ def page_data(seq, texture=None, title=None, fps=12):
     return data
 
 
-def write_html(seq, path, texture=None, title=None, fps=12):
+#: largest animation (SVG or Lottie text, bytes) the page embeds for its download buttons
+EMBED_LIMIT = 4_000_000
+
+
+def _embedded_animations(seq, fps, bounce, title, background):
+    """The animated SVG and the Lottie of ``seq`` as text, each when small enough to embed."""
+    from .lottie import lottie_data
+    from .svg_animation import write_svg_animation
+
+    out = {}
+    # a cheap size estimate first: both hold every vertex of every frame as text, ~12 bytes a number
+    if seq.frames.size * 12 * (1 + (seq.shape.n_faces > 0)) > EMBED_LIMIT:
+        return out
+    out["lottie"] = json.dumps(lottie_data(seq, fps=fps, bounce=bounce, title=title, background=None),
+                               separators=(",", ":"), allow_nan=False)
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "a.svg"
+        write_svg_animation(seq, path, fps=fps, bounce=bounce, title=title)
+        out["svg"] = path.read_text(encoding="utf-8")
+    return {k: v for k, v in out.items() if len(v) <= EMBED_LIMIT}
+
+
+def write_html(seq, path, texture=None, title=None, fps=FPS, bounce=False, background="white", downloads=True):
     """Write an interactive viewer of a sequence as one self-contained HTML file.
 
-    The page embeds all frames (rounded to about 1e-5 of the shape's size), the
-    per-frame distortion numbers and, optionally, the texture as a base64 PNG.
-    It draws on a ``<canvas>`` with a frame slider, play/pause, speed, bounce,
-    and a wireframe / filled / texture switch; the texture is mapped with one
-    affine transform and clip per triangle. It needs no network and no server,
-    and exposes ``window.isotween = {setFrame(k), frame(), nFrames}``.
+    The page embeds all frames (16-bit, 1/65000 of the shape's size, compressed),
+    the per-frame distortion numbers and, optionally, the texture as a base64 PNG.
+    It draws on a ``<canvas>`` with a frame slider (keyframes marked),
+    play/pause, speed, bounce, onion skin (ghosts of the first, last and key
+    frames), zoom (wheel) and pan (drag), a wireframe / filled / colours /
+    texture switch, and download buttons (the frame as PNG and SVG, the
+    animation as Lottie and animated SVG). It needs no network and no server,
+    and exposes ``window.isotween = {ready, setFrame(k), frame(), nFrames}``.
 
     Parameters
     ----------
@@ -107,29 +237,33 @@ def write_html(seq, path, texture=None, title=None, fps=12):
     title : str, optional
     fps : float
         Playback rate at speed 1x.
+    bounce : bool
+        Whether the page starts in bounce mode.
+    background : matplotlib colour
+    downloads : bool
+        Embed the animated SVG and Lottie for the download buttons (each
+        only up to `EMBED_LIMIT` bytes; larger ones: ``isotween render``).
     """
-    page = page_html(seq, texture=texture, title=title, fps=fps)
+    page = page_html(seq, texture=texture, title=title, fps=fps, bounce=bounce, background=background,
+                     downloads=downloads)
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as fh:
             fh.write(page)
 
 
-def page_html(seq, texture=None, title=None, fps=12):
+def page_html(seq, texture=None, title=None, fps=FPS, bounce=False, background="white", downloads=True):
     """The viewer page of `write_html` as a string (also shown inline by ``Sequence._repr_html_``).
 
-    Parameters
-    ----------
-    seq : Sequence
-    texture : path or (H, W, 3|4) array, optional
-    title : str, optional
-    fps : float
+    Parameters are those of `write_html` but ``path``.
 
     Returns
     -------
     str
         A complete, self-contained HTML document.
     """
-    data = page_data(seq, texture=texture, title=title, fps=fps)
+    embedded = _embedded_animations(seq, fps, bounce, title, background) if downloads else {}
+    data = page_data(seq, texture=texture, title=title, fps=fps, bounce=bounce, background=background,
+                     downloads=embedded)
     payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
     template = resources.files(__package__).joinpath("page.html").read_text(encoding="utf-8")
     values = {"TITLE": html.escape(data["title"]), "DATA": payload}

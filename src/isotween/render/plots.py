@@ -7,7 +7,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from ..errors import ParameterError
-from ..io._files import atomic_path
+from ..io import atomic_path
 from ._framestats import frame_stats
 
 __all__ = ["plot_energy"]

@@ -22,7 +22,7 @@ def _pick(n, frames):
     return picked
 
 
-def write_strip(seq, path, columns=None, frames=None, texture=None, cell=240, style="auto"):
+def write_strip(seq, path, columns=None, frames=None, texture=None, cell=240, style="auto", background="white"):
     """Write selected frames of a sequence side by side as one PNG.
 
     Every cell shows the same window (the bounding box of all frames), so sizes
@@ -42,13 +42,15 @@ def write_strip(seq, path, columns=None, frames=None, texture=None, cell=240, st
         Longest side of one cell in pixels, or its ``(width, height)``.
     style : str
         See `draw_frame`.
+    background : matplotlib colour
+        Colour behind the shapes.
 
     Returns
     -------
     (width, height) : tuple of int
         Size of the written image: ``(columns * cell_w, rows * cell_h)``.
     """
-    renderer = SequenceRenderer(seq, cell, texture=texture, style=style)
+    renderer = SequenceRenderer(seq, cell, texture=texture, style=style, background=background)
     picked = _pick(len(renderer), frames)
     cols = len(picked) if columns is None else columns
     if int(cols) != cols or cols < 1:

@@ -6,15 +6,16 @@ orientation: y-down shapes (read from SVG) are written as they are, y-up
 shapes are mirrored so that they look as in every other isotween output.
 """
 
-from xml.sax.saxutils import quoteattr
+from xml.sax.saxutils import escape
 
 import numpy as np
 
-from ..io._files import write_text
+from ..io import write_text
+from ..paint import paint_groups, sequence_paint, svg_paint_attributes
 from ._frames import sequence_frames
 from ._view import PAD, bbox_of
-from .animation import _check_fps
-from .frame import FILL, FILL_EDGE, WIRE
+from .animation import FPS, playback_order
+from .frame import FILL, FILL_EDGE, WIRE, check_colour
 from .html import _decimals
 
 __all__ = ["write_svg_animation", "path_data"]
@@ -64,7 +65,15 @@ def path_data(runs, frames, digits):
     return [template.format(*xy) for xy in frames[:, order].reshape(len(frames), -1).tolist()]
 
 
-def write_svg_animation(seq, path, fps=12, bounce=False):
+def _values(attr, seq_values):
+    """One SMIL ``<animate>`` of ``attr`` when its values change, else nothing."""
+    if len(set(seq_values)) <= 1:
+        return ""
+    return f'\n    <animate attributeName="{attr}" values="{";".join(seq_values)}" @@TIMING@@/>'
+
+
+def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=480, title=None,
+                        background=None):
     """Write a sequence as one animated SVG file.
 
     Parameters
@@ -74,40 +83,76 @@ def write_svg_animation(seq, path, fps=12, bounce=False):
     fps : float
         Frames per second.
     bounce : bool
-        Play forward then backward (``2 F - 2`` frames) instead of jumping back.
+        Play forward then backward instead of jumping back.
+    hold : float
+        Seconds to stay on the first and the last frame.
+    loop : bool
+        Repeat forever; otherwise play once and stay on the last frame.
+    size : int or (2,) int
+        Longest side of the drawing in px, or ``(width, height)``.
+    title : str, optional
+        Document title (default: frames, vertices and method).
+    background : matplotlib colour, optional
+        Fills the view box; transparent when None.
+
+    Notes
+    -----
+    A sequence with paint (`isotween.paint.sequence_paint`) draws one path
+    per region in its colours, animating fill, stroke, opacity and stroke
+    width with the shape; without paint it keeps isotween's default look.
     """
-    _check_fps(fps)
+    order = playback_order(len(seq), fps, hold, bounce)
     frames = sequence_frames(seq).copy()
     shape = seq.shape
     if not shape.y_down:
         frames[..., 1] *= -1.0
-    if bounce and len(frames) > 2:
-        frames = np.concatenate([frames, frames[-2:0:-1]])
+    regions, paints = sequence_paint(seq)
     x0, y0, x1, y1 = bbox_of(frames)
     pad = PAD * max(x1 - x0, y1 - y0, 1e-12)
     box = (x0 - pad, y0 - pad, x1 - x0 + 2 * pad, y1 - y0 + 2 * pad)
     digits = max(_decimals(frames) - 1, 0)  # 1e-4 of the size: below a pixel at any display size
-    fill, line = _pieces(shape)
-    styles = (
-        (fill, f'fill="{FILL}" fill-rule="evenodd" stroke="{FILL_EDGE}" stroke-width="0.5" stroke-linejoin="round"'),
-        (line, f'fill="none" stroke="{WIRE}" stroke-width="1.5" stroke-linecap="round" stroke-linejoin="round"'),
-    )
-    seconds = len(frames) / fps
+    frames = frames[order]
+    seconds = len(order) / fps
+    timing = (f'dur="{seconds:.6g}s" repeatCount="indefinite"' if loop else f'dur="{seconds:.6g}s" fill="freeze"')
+    timing += ' calcMode="linear"'
     body = []
-    for runs, style in styles:
-        d = path_data(runs, frames, digits)
-        if d:
-            body.append(
-                f'  <path d="{d[0]}" {style} vector-effect="non-scaling-stroke">\n'
-                f'    <animate attributeName="d" dur="{seconds:.6g}s" repeatCount="indefinite" '
-                f'calcMode="linear" values="{";".join(d)}"/>\n  </path>'
-            )
+    if paints is None:
+        fill, line = _pieces(shape)
+        styles = (
+            (fill, f'fill="{FILL}" fill-rule="evenodd" stroke="{FILL_EDGE}" stroke-width="0.5" stroke-linejoin="round" '
+                   'vector-effect="non-scaling-stroke"'),
+            (line, f'fill="none" stroke="{WIRE}" stroke-width="1.5" stroke-linecap="round" stroke-linejoin="round" '
+                   'vector-effect="non-scaling-stroke"'),
+        )
+        for runs, style in styles:
+            d = path_data(runs, frames, digits)
+            if d:
+                body.append(f'  <path d="{d[0]}" {style}>' + _values("d", d) + "\n  </path>")
+    else:
+        painted = shape.with_vertices(shape.vertices)
+        painted.regions, painted.paint = regions, paints[0]
+        for group, _ in paint_groups(painted):
+            runs = [shape.paths[i] for i in group]
+            d = path_data(runs, frames, digits)
+            attrs = [svg_paint_attributes(paints[int(k)][group[0]]) for k in order]
+            first = " ".join(f'{key}="{value}"' for key, value in attrs[0].items())
+            anim = _values("d", d) + "".join(_values(key, [a[key] for a in attrs]) for key in attrs[0])
+            body.append(f'  <path d="{d[0]}" fill-rule="evenodd" stroke-linejoin="round" stroke-linecap="round" '
+                        f'{first}>{anim}\n  </path>')
     view = " ".join(f"{v:.{digits}f}" for v in box)
-    width, height = (480, 480 * box[3] / box[2]) if box[2] >= box[3] else (480 * box[2] / box[3], 480)
-    title = quoteattr(f"isotween: {len(seq)} frames, {shape.n_vertices} vertices, method {seq.method}")
+    if np.ndim(size) == 0:
+        width, height = (size, size * box[3] / box[2]) if box[2] >= box[3] else (size * box[2] / box[3], size)
+    else:
+        width, height = (float(v) for v in np.ravel(size))
+    title = title or f"isotween: {len(seq)} frames, {shape.n_vertices} vertices, method {seq.method}"
+    back = ""
+    if background is not None:
+        r, g, b, a = check_colour(background)
+        back = (f'  <rect x="{box[0]:.{digits}f}" y="{box[1]:.{digits}f}" width="{box[2]:.{digits}f}" '
+                f'height="{box[3]:.{digits}f}" fill="#{round(255 * r):02x}{round(255 * g):02x}{round(255 * b):02x}"/>\n')
     text = (
         '<?xml version="1.0" encoding="UTF-8"?>\n'
         f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{view}" width="{width:.0f}" height="{height:.0f}">\n'
-        f"  <title>{title[1:-1]}</title>\n" + "\n".join(body) + "\n</svg>\n"
+        f"  <title>{escape(title)}</title>\n" + back + "\n".join(body).replace("@@TIMING@@", timing) + "\n</svg>\n"
     )
     write_text(path, text)
