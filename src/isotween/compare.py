@@ -14,7 +14,6 @@ import io
 import math
 from typing import TYPE_CHECKING
 
-import numpy as np
 
 from . import metrics
 from .baselines import METHODS as BASELINES

@@ -308,26 +308,6 @@ def write_svg(shape, path):
     write_text(path, text)
 
 
-def _hex(colour):
-    return "#" + "".join(f"{round(255 * c):02x}" for c in colour[:3])
-
-
-def _paint_attributes(paint):
-    """SVG presentation attributes of a `Paint` (empty for None: the group's style)."""
-    if paint is None:
-        return ""
-    out = f' fill="{_hex(paint.fill)}"' if paint.fill is not None else ' fill="none"'
-    if paint.fill is not None and paint.fill[3] < 1:
-        out += f' fill-opacity="{paint.fill[3]!r}"'
-    out += f' stroke="{_hex(paint.stroke)}"' if paint.stroke is not None else ' stroke="none"'
-    if paint.stroke is not None and paint.stroke[3] < 1:
-        out += f' stroke-opacity="{paint.stroke[3]!r}"'
-    out += f' stroke-width="{paint.stroke_width!r}"'
-    if paint.opacity < 1:
-        out += f' opacity="{paint.opacity!r}"'
-    return out
-
-
 def _member(rows, table):
     """Whether each row of ``rows`` (k, 2) occurs in the sorted unique ``table`` (m, 2)."""
     view = np.dtype((np.void, rows.dtype.itemsize * 2))
