@@ -35,7 +35,8 @@ correspondence_options = _compose(*_outline_options, click.option(
     "--outline", is_flag=True, help="Morph outlines only (no triangle meshes for filled regions).",
 ), click.option(
     "--mesh-size", type=float, default=None, metavar="LENGTH",
-    help="Target triangle edge length of the filled regions' meshes [default: the outline's spacing].",
+    help="Target triangle edge length of the filled regions' meshes [default: the outline's spacing, "
+         "at least 1/60 of the drawings' diagonal].",
 ), click.option(
     "--resample", "resample_points", type=int, default=None, metavar="N",
     help="Older form: resample the outlines to N vertices in all, rings paired in order.",

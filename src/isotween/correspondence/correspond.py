@@ -27,6 +27,9 @@ __all__ = ["Correspondence", "CorrespondenceReport", "correspond", "correspond_k
 #: meshes estimated to need more triangles than this (all regions together) are refused
 MAX_TRIANGLES = 2_000_000
 
+#: default mesh size: at least this fraction of the drawings' bounding-box diagonal
+MESH_FRACTION = 1 / 60
+
 
 @dataclass
 class CorrespondenceReport:
@@ -132,9 +135,10 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
     outline : bool
         Keep outlines only (no triangle meshes for filled regions).
     mesh_size : float, optional
-        Target triangle edge length of the meshes (largest triangle area
-        sqrt(3)/4 mesh_size^2). Default: triangles grow from the outline's
-        spacing inwards.
+        Target edge length of the meshes' interior triangles. Default, per
+        region: the larger of its source outline's mean spacing and 1/60 of
+        the bounding-box diagonal of both drawings (a densely sampled
+        drawing is not meshed more finely than that).
     unmatched : {'grow', 'split'}
         An item with no partner grows from (shrinks to) a small copy at its
         own centroid (``'grow'``), or splits off from (merges into) the
@@ -420,10 +424,16 @@ def _solids(shapes, report, mesh_size):
     def ring_xy(shape, p):
         return shape.vertices[shape.paths[p][0]]
 
+    both = np.vstack([src.vertices, tgt.vertices])
+    coarsest = MESH_FRACTION * float(np.hypot(*np.ptp(both, axis=0)))
     for r in src.regions:
         rs, rt = [ring_xy(src, p) for p in r], [ring_xy(tgt, p) for p in r]
+        size = mesh_size
+        if size is None:
+            spacing = np.mean(np.concatenate([np.hypot(*(np.roll(x, -1, axis=0) - x).T) for x in rs]))
+            size = max(float(spacing), coarsest)
         try:
-            ms, mt, flipped = _mesh_region(rs, rt, mesh_size)
+            ms, mt, flipped = _mesh_region(rs, rt, size)
         except (ShapeError, IncompatibleShapesError) as exc:
             report.outlines.append(f"region {len(regions)}: {exc}")
             ms, mt, flipped = Shape.from_polygon(rs), Shape.from_polygon(rt), 0
