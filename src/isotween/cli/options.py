@@ -112,7 +112,9 @@ def ensure_compatible(source, target, source_path, target_path):
     IncompatibleShapesError
     """
     from ..correspondence import check_compatible
+    from ..interpolate import check_movable
 
+    check_movable(source, str(source_path))
     try:
         check_compatible(source, target, names=[str(source_path), str(target_path)])
     except IncompatibleShapesError as exc:
@@ -148,8 +150,14 @@ def progress(quiet=False, total=None, desc="iterations"):
 
 
 def summary(seq, seconds, written):
-    """One line: frames, vertices, edges, iterations, converged, energy, seconds, outputs."""
-    energy = seq.energy[-1] if len(seq.energy) else math.nan
+    """One line: frames, vertices, edges, iterations, converged, energy, seconds, outputs.
+
+    The energy is measured on the frames written (`isotween.metrics.isometric_energy`),
+    whatever method made them.
+    """
+    from ..metrics import isometric_energy
+
+    energy = isometric_energy(seq) if len(seq) >= 2 else math.nan
     return (
         f"frames={len(seq)} vertices={seq.shape.n_vertices} edges={seq.shape.n_edges} "
         f"iterations={seq.iterations} converged={'yes' if seq.converged else 'no'} "

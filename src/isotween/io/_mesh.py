@@ -3,13 +3,21 @@
 import numpy as np
 
 from ..errors import FileFormatError, ShapeError
-from ..shape import Shape
+from ..shape import MAX_COORDINATE, Shape
 
 __all__ = ["fan", "assemble", "chains", "face_edges", "edges_need_listing", "planar"]
 
 
 def planar(path, xyz, lines, base=1):
-    """Drop the z column of an (n, 3) array; a non-zero z raises, naming its line."""
+    """Drop the z column of an (n, 3) array; a non-zero z raises, naming its line.
+
+    So does a non-finite coordinate or one beyond `isotween.shape.MAX_COORDINATE`.
+    """
+    wild = np.flatnonzero(~np.all(np.isfinite(xyz[:, :2]) & (np.abs(xyz[:, :2]) <= MAX_COORDINATE), axis=1))
+    if wild.size:
+        k = int(wild[0])
+        what = "a non-finite coordinate" if not np.all(np.isfinite(xyz[k, :2])) else f"a coordinate beyond +-{MAX_COORDINATE:g}"
+        raise FileFormatError(f"{path}, line {lines[k]}: vertex {k + base} has {what}: {xyz[k, :2].tolist()}")
     bad = np.flatnonzero(xyz[:, 2] != 0)
     if bad.size:
         k = int(bad[0])

@@ -8,6 +8,8 @@ from ._mesh import assemble, chains, edges_need_listing, fan, planar
 
 __all__ = ["read_obj", "write_obj"]
 
+_MAX_INDEX = 2**62  # beyond any real file; keeps indices in int64
+
 
 def _float(path, lineno, token):
     try:
@@ -32,6 +34,8 @@ def _refs(path, lineno, tokens, n_v, n_vt):
                 raise FileFormatError(f"{path}, line {lineno}: '{tok}' is not a vertex reference") from None
             if k == 0:
                 raise FileFormatError(f"{path}, line {lineno}: {what} index 0 (OBJ counts from 1)")
+            if abs(k) > _MAX_INDEX:
+                raise FileFormatError(f"{path}, line {lineno}: {what} index {k} is out of range")
             # negative indices count back from the last element read so far
             idx.append(k - 1 if k > 0 else count + k)
             if idx[-1] < 0:

@@ -9,12 +9,20 @@ from ._mesh import assemble, chains, edges_need_listing, fan, planar
 __all__ = ["read_off", "write_off"]
 
 
+_MAX_INDEX = 2**62  # beyond any real file; keeps counts and indices in int64
+
+
 def _numbers(path, lineno, tokens, kind):
     try:
-        return [kind(t) for t in tokens]
+        values = [kind(t) for t in tokens]
     except ValueError:
         bad = next(t for t in tokens if not _is(kind, t))
         raise FileFormatError(f"{path}, line {lineno}: '{bad}' is not {'an integer' if kind is int else 'a number'}") from None
+    if kind is int:
+        big = [t for t, v in zip(tokens, values) if abs(v) > _MAX_INDEX]
+        if big:
+            raise FileFormatError(f"{path}, line {lineno}: '{big[0]:.40}' is out of range")
+    return values
 
 
 def _is(kind, token):

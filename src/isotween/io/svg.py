@@ -9,13 +9,16 @@ one Shape. Coordinates stay in the root's user units with y pointing down
 """
 
 import io
+import numbers
 import re
+import warnings
 import xml.etree.ElementTree as ET
+from xml.parsers import expat
 
 import numpy as np
 
-from ..errors import FileFormatError, ShapeError, require
-from ..shape import Shape
+from ..errors import FileFormatError, ParameterError, ShapeError, require
+from ..shape import MAX_COORDINATE, Shape
 from ._files import check_readable, write_text
 from ._mesh import chains
 
@@ -120,8 +123,8 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
     """
     se = require("svgelements", "cli")
     path = check_readable(path)
-    if curve_segments < 1:
-        raise FileFormatError(f"{path}: curve_segments must be at least 1, got {curve_segments}")
+    _check_curve_segments(curve_segments)
+    _check_xml_safety(path)
     try:
         root = ET.parse(path).getroot()
     except ET.ParseError as exc:
@@ -134,10 +137,18 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
     # keep user coordinates: no viewBox-to-viewport scaling
     for attr in ("viewBox", "width", "height", "preserveAspectRatio"):
         root.attrib.pop(attr, None)
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # overflowing numbers are refused below
+        return _read_root(path, se, root, curve_segments)
+
+
+def _read_root(path, se, root, curve_segments):
+    """The Shape of a parsed, checked ``<svg>`` root (see `read_svg`)."""
     try:
         document = se.SVG.parse(io.BytesIO(ET.tostring(root)), reify=True)
-    except (ValueError, TypeError, ZeroDivisionError) as exc:
-        raise FileFormatError(f"{path}: cannot interpret the drawing ({exc})") from None
+    except (ValueError, TypeError, ZeroDivisionError, OverflowError, IndexError, KeyError,
+            AttributeError, RecursionError) as exc:
+        raise FileFormatError(f"{path}: cannot interpret the drawing ({str(exc)[:120]})") from None
     rings, counts = [], {}
     for el in document.elements():
         if not isinstance(el, se.Shape):
@@ -147,9 +158,8 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
         label = _label(tag, el.id, counts[tag])
         _check_attributes(path, se, el, tag, label)
         for k, (points, closed) in enumerate(_subpaths(se, el, curve_segments)):
+            _check_numbers(path, label, k, points)
             points = _clean(points, closed)
-            if not np.all(np.isfinite(points)):
-                raise FileFormatError(f"{path}: {label}: subpath {k} has a non-finite coordinate")
             need = 3 if closed else 2
             if len(points) < need:
                 kind = "closed subpath" if closed else "open subpath"
@@ -162,6 +172,85 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
             f"{path}: nothing to read (no path, polygon, polyline, rect, circle, ellipse or line)"
         )
     return _shape_of_rings(path, rings)
+
+
+def _check_curve_segments(curve_segments):
+    """Refuse a ``curve_segments`` that is not an integer from 1 to 10,000."""
+    if isinstance(curve_segments, bool) or not isinstance(curve_segments, numbers.Integral) \
+            or not 1 <= curve_segments <= 10_000:
+        raise ParameterError(f"curve_segments must be an integer from 1 to 10000, got {curve_segments!r}")
+
+
+def _check_numbers(path, label, k, points):
+    """Refuse non-finite coordinates and ones beyond `isotween.shape.MAX_COORDINATE`."""
+    bad = ~np.all(np.isfinite(points), axis=1)
+    if bad.any():
+        raise FileFormatError(f"{path}: {label}: subpath {k} has a non-finite coordinate (point {int(np.argmax(bad))})")
+    big = np.any(np.abs(points) > MAX_COORDINATE, axis=1)
+    if big.any():
+        raise FileFormatError(
+            f"{path}: {label}: subpath {k} has a coordinate beyond +-{MAX_COORDINATE:g} "
+            f"(point {int(np.argmax(big))}); scale the drawing down"
+        )
+
+
+class _Unsafe(Exception):
+    """Raised inside the expat handlers of `_check_xml_safety`."""
+
+
+def _check_xml_safety(path):
+    """Refuse what could make reading an SVG reach outside the file or blow up.
+
+    Entity declarations (internal ones can expand exponentially, external
+    ones read files or URLs), external DTDs and ``<use>`` elements that refer
+    to other files are refused before any XML parser resolves them; this is
+    what ``defusedxml`` does with ``forbid_entities`` and ``forbid_external``.
+    Links of other elements (``<image>``, ``<a>``) are never followed.
+
+    Raises
+    ------
+    FileFormatError
+        Naming the file, the line and what was refused.
+    """
+    parser = expat.ParserCreate()
+    parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
+
+    def entity(name, *args):
+        raise _Unsafe(f"declares the entity '{name}'; entities are not expanded (remove the DOCTYPE)")
+
+    def external(context, base, system_id, public_id):
+        raise _Unsafe(f"refers to the external entity '{system_id}'; it is not read")
+
+    def doctype(name, system_id, public_id, has_internal_subset):
+        if system_id and not _KNOWN_DTD.match(system_id):
+            raise _Unsafe(f"names the external DTD '{system_id}'; it is not read")
+
+    def start(tag, attrs):
+        if tag.rsplit(":", 1)[-1].rsplit("}", 1)[-1] != "use":
+            return
+        for name, value in attrs.items():
+            if name.rsplit(":", 1)[-1] == "href" and not str(value).lstrip().startswith("#"):
+                raise _Unsafe(f"<use> refers to '{str(value)[:80]}' outside this file; external references "
+                              "are not followed (copy the element into the file)")
+
+    parser.EntityDeclHandler = entity
+    parser.UnparsedEntityDeclHandler = entity
+    parser.ExternalEntityRefHandler = external
+    parser.StartDoctypeDeclHandler = doctype
+    parser.StartElementHandler = start
+    try:
+        with open(path, "rb") as fh:
+            parser.ParseFile(fh)
+    except _Unsafe as exc:
+        raise FileFormatError(f"{path}, line {parser.CurrentLineNumber}: {exc}") from None
+    except expat.ExpatError as exc:
+        raise FileFormatError(f"{path}, line {exc.lineno}: malformed XML ({expat.ErrorString(exc.code)})") from None
+    except OSError as exc:
+        raise FileFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
+
+
+#: the SVG 1.0/1.1 DTDs that editors name in their DOCTYPE (never fetched)
+_KNOWN_DTD = re.compile(r"^https?://www\.w3\.org/(Graphics/SVG/1\.1/DTD/svg11|TR/2001/REC-SVG-20010904/DTD/svg10)\.dtd$")
 
 
 def _shape_of_rings(path, rings):
