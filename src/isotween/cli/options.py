@@ -14,6 +14,7 @@ and call `check_outputs` before any work, `progress` around the solve, and
 """
 
 import math
+import os
 import sys
 import time
 from contextlib import contextmanager
@@ -31,6 +32,9 @@ __all__ = [
     "output_options",
     "solver_kwargs",
     "check_outputs",
+    "check_paths",
+    "check_texture",
+    "probe_writable",
     "ensure_compatible",
     "progress",
     "emit",
@@ -93,15 +97,100 @@ def check_outputs(output, fmt=None, texture=None, plot=None):
     FileFormatError
         Unknown output kind, missing folder, missing texture image.
     """
-    output_kind(output, fmt)
-    if texture is not None and not Path(texture).is_file():
-        raise FileFormatError(f"{texture}: no such texture image")
+    kind = output_kind(output, fmt)
+    probe_writable(output if kind == "frames" and Path(output).is_dir() else Path(output).parent, output)
+    if texture is not None:
+        check_texture(texture)
     if plot is not None:
         parent = Path(plot).parent
         if not parent.is_dir():
             raise FileFormatError(f"cannot write {plot}: {parent} does not exist")
         if Path(plot).suffix.lower() not in (".png", ".pdf", ".svg"):
             raise FileFormatError(f"{plot}: the energy plot must be a .png, .pdf or .svg file")
+        probe_writable(parent, plot)
+
+
+# ---------------------------------------------------------------- early path checks
+
+
+def probe_writable(folder, target=None):
+    """Fail unless a file can be created in ``folder`` (tried, then removed).
+
+    Permission bits do not tell (root, read-only mounts, /proc), so a
+    temporary file is created and removed.
+
+    Raises
+    ------
+    FileFormatError
+        Naming ``target`` (or the folder) and the reason.
+    """
+    import tempfile
+
+    folder = Path(folder)
+    name = target if target is not None else folder
+    if not folder.is_dir():
+        what = "is not a folder" if folder.exists() else "does not exist"
+        raise FileFormatError(f"cannot write {name}: {folder} {what}")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".isotween-probe-", dir=folder)
+    except OSError as exc:
+        raise FileFormatError(f"cannot write {name}: {folder} is not writable ({exc.strerror or exc})") from None
+    os.close(fd)
+    os.unlink(tmp)
+
+
+def check_texture(texture):
+    """Fail unless ``texture`` is an image file Pillow can read (header checked, not decoded).
+
+    Raises
+    ------
+    FileFormatError
+        Missing file, not an image, or an image too large for memory.
+    """
+    from ..errors import require
+    from ..resources import check_memory
+
+    path = Path(texture)
+    if not path.is_file():
+        raise FileFormatError(f"{texture}: no such texture image")
+    image = require("PIL.Image", "cli")
+    try:
+        with image.open(path) as im:
+            width, height = im.size
+            im.verify()
+    except Exception as exc:  # Pillow raises many kinds (UnidentifiedImageError, SyntaxError, bombs)
+        raise FileFormatError(f"{texture}: not a readable texture image ({type(exc).__name__})") from None
+    check_memory(16.0 * width * height, f"the texture {texture} ({width} x {height} pixels)",
+                 advice="use a smaller image")
+
+
+def check_paths(inputs, outputs):
+    """Fail when an output path names one of the input files.
+
+    Parameters
+    ----------
+    inputs : iterable of path-like
+        Files the command reads.
+    outputs : iterable of (option, path-like)
+        Paths it writes, with the option that named them.
+
+    Raises
+    ------
+    FileFormatError
+    """
+    def same(a, b):
+        try:
+            return os.path.samefile(a, b)
+        except OSError:
+            return os.path.abspath(a) == os.path.abspath(b)
+
+    existing = [p for p in inputs if p is not None and Path(p).exists()]
+    for option, out in outputs:
+        if out is None:
+            continue
+        for p in existing:
+            if Path(out).exists() and same(out, p):
+                raise FileFormatError(f"{option} {out} names an input file; it would be overwritten (choose another name)")
 
 
 def ensure_compatible(source, target, source_path, target_path):
