@@ -62,6 +62,19 @@ class _Group(click.Group):
     memory available now), checked against estimates before allocating.
     """
 
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
+        """Click's entry point; usage errors, too, become one ``error:`` line (exit 2)."""
+        if not standalone_mode:
+            return super().main(args, prog_name, complete_var, standalone_mode, **extra)
+        try:
+            rv = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
+        except click.exceptions.ClickException as exc:
+            hint = f" (see '{exc.ctx.command_path} --help')" if getattr(exc, "ctx", None) is not None else ""
+            _fail(" ".join(exc.format_message().split()) + hint, exc.exit_code)
+        except click.exceptions.Abort:
+            _fail("interrupted; no output was written", 130)
+        sys.exit(rv if isinstance(rv, int) else 0)
+
     def add_command(self, cmd, name=None):
         cmd.params.append(click.Option(
             ["--max-memory"], default=None, metavar="SIZE", expose_value=False, callback=_set_max_memory,
