@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from isotween import Shape, interpolate
 from isotween.optimisation import accelerated
 
-SETTINGS = dict(derandomize=True, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = dict(derandomize=True, database=None, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 unit = st.floats(min_value=-1.0, max_value=1.0, allow_nan=False, allow_infinity=False)
 

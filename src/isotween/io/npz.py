@@ -2,6 +2,7 @@
 
 import math
 import zipfile
+import zlib
 
 import numpy as np
 
@@ -28,7 +29,7 @@ def open_npz(path, max_memory=None):
         with np.load(path, allow_pickle=False) as data:
             return {k: data[k] for k in data.files}
     except (OSError, ValueError, zipfile.BadZipFile, EOFError, NotImplementedError, KeyError,
-            RuntimeError, TypeError) as exc:
+            RuntimeError, TypeError, zlib.error) as exc:
         raise FileFormatError(f"{path}: not a valid .npz file ({exc})") from None
 
 
@@ -66,7 +67,7 @@ def _declared_bytes(path):
     except FileFormatError:
         raise
     except (OSError, ValueError, zipfile.BadZipFile, EOFError, NotImplementedError, KeyError,
-            RuntimeError, TypeError, SyntaxError, OverflowError) as exc:
+            RuntimeError, TypeError, SyntaxError, OverflowError, zlib.error) as exc:
         raise FileFormatError(f"{path}: not a valid .npz file ({exc})") from None
     return total
 

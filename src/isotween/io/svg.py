@@ -8,6 +8,7 @@ one Shape. Coordinates stay in the root's user units with y pointing down
 (the viewBox and the width/height of the root are ignored).
 """
 
+import functools
 import io
 import numbers
 import re
@@ -99,6 +100,19 @@ def _clean(points, closed):
     return points
 
 
+def _quiet_numbers(reader):
+    """Run ``reader`` without numpy's overflow warnings (overflowing numbers are refused instead)."""
+
+    @functools.wraps(reader)
+    def read(*args, **kwargs):
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return reader(*args, **kwargs)
+
+    return read
+
+
+@_quiet_numbers
 def read_svg(path, curve_segments=CURVE_SEGMENTS):
     """Read every drawn outline of an SVG file as one Shape.
 
@@ -137,18 +151,12 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
     # keep user coordinates: no viewBox-to-viewport scaling
     for attr in ("viewBox", "width", "height", "preserveAspectRatio"):
         root.attrib.pop(attr, None)
-    with np.errstate(all="ignore"), warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # overflowing numbers are refused below
-        return _read_root(path, se, root, curve_segments)
-
-
-def _read_root(path, se, root, curve_segments):
-    """The Shape of a parsed, checked ``<svg>`` root (see `read_svg`)."""
     try:
         document = se.SVG.parse(io.BytesIO(ET.tostring(root)), reify=True)
-    except (ValueError, TypeError, ZeroDivisionError, OverflowError, IndexError, KeyError,
-            AttributeError, RecursionError) as exc:
+    except _SVGELEMENTS_ERRORS as exc:
         raise FileFormatError(f"{path}: cannot interpret the drawing ({str(exc)[:120]})") from None
+    if not hasattr(document, "elements"):
+        raise FileFormatError(f"{path}: the root element is not an SVG <svg> (namespace {root.tag[:80]})")
     rings, counts = [], {}
     for el in document.elements():
         if not isinstance(el, se.Shape):
@@ -157,7 +165,7 @@ def _read_root(path, se, root, curve_segments):
         counts[tag] = counts.get(tag, 0) + 1
         label = _label(tag, el.id, counts[tag])
         _check_attributes(path, se, el, tag, label)
-        for k, (points, closed) in enumerate(_subpaths(se, el, curve_segments)):
+        for k, (points, closed) in enumerate(_safe_subpaths(path, se, el, curve_segments, label)):
             _check_numbers(path, label, k, points)
             points = _clean(points, closed)
             need = 3 if closed else 2
@@ -172,6 +180,19 @@ def _read_root(path, se, root, curve_segments):
             f"{path}: nothing to read (no path, polygon, polyline, rect, circle, ellipse or line)"
         )
     return _shape_of_rings(path, rings)
+
+
+#: what svgelements raises on drawings it cannot interpret
+_SVGELEMENTS_ERRORS = (ValueError, TypeError, ZeroDivisionError, OverflowError, IndexError, KeyError,
+                       AttributeError, RecursionError)
+
+
+def _safe_subpaths(path, se, element, curve_segments, label):
+    """`_subpaths`, with svgelements' errors on malformed geometry as `FileFormatError`."""
+    try:
+        return _subpaths(se, element, curve_segments)
+    except _SVGELEMENTS_ERRORS as exc:
+        raise FileFormatError(f"{path}: {label}: cannot interpret the geometry ({type(exc).__name__})") from None
 
 
 def _check_curve_segments(curve_segments):
@@ -243,6 +264,8 @@ def _check_xml_safety(path):
             parser.ParseFile(fh)
     except _Unsafe as exc:
         raise FileFormatError(f"{path}, line {parser.CurrentLineNumber}: {exc}") from None
+    except (LookupError, ValueError) as exc:  # e.g. an unknown encoding in the XML declaration
+        raise FileFormatError(f"{path}: malformed XML ({str(exc)[:80]})") from None
     except expat.ExpatError as exc:
         raise FileFormatError(f"{path}, line {exc.lineno}: malformed XML ({expat.ErrorString(exc.code)})") from None
     except OSError as exc:
