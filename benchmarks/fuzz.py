@@ -41,8 +41,10 @@ from isotween import Shape, io  # noqa: E402
 from isotween.errors import IsotweenError  # noqa: E402
 from isotween.sequence import Sequence  # noqa: E402
 
-#: per-input limits
-TIME_LIMIT = 2.0  # seconds
+#: per-input limits: seconds, plus seconds per MB of input (mutations that repeat lines make
+#: valid files of a few MB, which the text parsers read at about 1 MB/s on a busy machine)
+TIME_LIMIT = 2.0
+TIME_PER_MB = 2.0
 MEMORY_LIMIT = 2 << 30  # bytes of address space per worker
 
 NUMBERS = ["1e400", "-1e400", "nan", "NaN", "inf", "-inf", "1e200", "-1e308", "99999999999999999999999",
@@ -260,7 +262,7 @@ def _init(limit_bytes):
 
 
 def _one(index, base_seed):
-    """Load the ``index``-th mutated file; (outcome, seconds, ext, data or None)."""
+    """Load the ``index``-th mutated file; (outcome, seconds, ext, size, data or None)."""
     rng = random.Random(base_seed * 1_000_003 + index)
     ext, kind, data = rng.choice(_STATE["seeds"])
     pool = [s for e, _, s in _STATE["seeds"] if e == ext]
@@ -269,7 +271,7 @@ def _one(index, base_seed):
     path.write_bytes(data)
     loader = io.load_sequence if kind == "sequence" else io.load
     t0 = time.perf_counter()
-    signal.setitimer(signal.ITIMER_REAL, TIME_LIMIT)
+    signal.setitimer(signal.ITIMER_REAL, TIME_LIMIT + TIME_PER_MB * len(data) / 1e6)
     try:
         result = loader(path)
         signal.setitimer(signal.ITIMER_REAL, 0)
@@ -287,7 +289,7 @@ def _one(index, base_seed):
         signal.setitimer(signal.ITIMER_REAL, 0)
         outcome = f"BUG {type(exc).__name__}: {str(exc)[:80]}"
     seconds = time.perf_counter() - t0
-    return outcome, seconds, ext, (data if outcome.startswith("BUG") else None)
+    return outcome, seconds, ext, len(data), (data if outcome.startswith("BUG") else None)
 
 
 def _batch(args):
@@ -296,17 +298,28 @@ def _batch(args):
 
 
 def run(inputs, workers=2, seed=1, batch=200, progress=False):
-    """Fuzz ``inputs`` files; returns (Counter of (format, outcome), seconds, bug examples, slowest).
+    """Fuzz ``inputs`` files.
+
+    Returns
+    -------
+    counts : Counter
+        Inputs per (extension, outcome).
+    seconds : float
+    bugs : dict {(extension, outcome): bytes}
+        One input of every outcome that is not allowed.
+    slowest : (float, int)
+        Seconds and bytes of the slowest input.
 
     With ``workers=1`` it runs in this process (the memory limit is then not set).
     """
     tasks = [(i, min(i + batch, inputs), seed) for i in range(0, inputs, batch)]
-    counts, bugs, slowest = Counter(), {}, 0.0
+    counts, bugs, slowest = Counter(), {}, (0.0, 0)
     t0 = time.perf_counter()
+    previous = None
     if workers == 1:
         _STATE.setdefault("seeds", seeds())
         _STATE.setdefault("dir", tempfile.mkdtemp(prefix="isotween-fuzz-"))
-        signal.signal(signal.SIGALRM, _alarm)
+        previous = signal.signal(signal.SIGALRM, _alarm)
         results = map(_batch, tasks)
     else:
         import multiprocessing
@@ -315,11 +328,11 @@ def run(inputs, workers=2, seed=1, batch=200, progress=False):
         results = pool.imap_unordered(_batch, tasks)
     done = 0
     for rows in results:
-        for outcome, seconds, ext, data in rows:
+        for outcome, seconds, ext, size, data in rows:
             counts[(ext, outcome)] += 1
-            slowest = max(slowest, seconds)
-            if data is not None and outcome not in bugs:
-                bugs[outcome] = (ext, data)
+            slowest = max(slowest, (seconds, size))
+            if data is not None and (ext, outcome) not in bugs:
+                bugs[(ext, outcome)] = data
         done += len(rows)
         if progress and done % 10000 < batch:
             print(f"{done} inputs, {time.perf_counter() - t0:.0f} s, bugs: {sum(v for (e, o), v in counts.items() if o.startswith('BUG'))}",
@@ -327,6 +340,8 @@ def run(inputs, workers=2, seed=1, batch=200, progress=False):
     if workers != 1:
         pool.close()
         pool.join()
+    else:
+        signal.signal(signal.SIGALRM, previous)
     return counts, time.perf_counter() - t0, bugs, slowest
 
 
@@ -358,14 +373,15 @@ def main():
     print(text)
     n_bugs = sum(v for (_, o), v in counts.items() if o.startswith("BUG"))
     summary = (f"{sum(counts.values())} inputs in {seconds:.0f} s with {args.workers} workers "
-               f"({TIME_LIMIT:g} s and {MEMORY_LIMIT >> 30} GiB address space per input and worker); "
-               f"slowest input {slowest:.2f} s; {n_bugs} inputs with an outcome other than a shape, "
+               f"(limits per input: {TIME_LIMIT:g} s + {TIME_PER_MB:g} s per MB, {MEMORY_LIMIT >> 30} GiB address "
+               f"space per worker); "
+               f"slowest input {slowest[0]:.2f} s ({slowest[1] / 1e6:.2f} MB); {n_bugs} inputs with an outcome other than a shape, "
                "a sequence or an IsotweenError.")
     print(summary)
     if args.keep and bugs:
         keep = Path(args.keep)
         keep.mkdir(parents=True, exist_ok=True)
-        for k, (outcome, (ext, data)) in enumerate(bugs.items()):
+        for k, ((ext, outcome), data) in enumerate(bugs.items()):
             (keep / f"bug{k}{ext}").write_bytes(data)
             print(f"bug{k}{ext}: {outcome}")
     if args.write:

@@ -361,6 +361,19 @@ def test_sequence_loader_refuses(tmp_path, name, make, needle):
     assert needle in str(info.value)
 
 
+def test_fuzzing_a_few_hundred_mutated_files():
+    """The harness of benchmarks/fuzz.py on 300 inputs: only shapes, sequences or IsotweenErrors."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("fuzz", Path(__file__).parents[1] / "benchmarks" / "fuzz.py")
+    fuzz = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(fuzz)
+    counts, _, bugs, _ = fuzz.run(300, workers=1, seed=12)
+    assert sum(counts.values()) == 300
+    assert not bugs, sorted(bugs)
+    assert {o.split()[0] for _, o in counts} <= {"shape", "sequence", "error"}
+
+
 # ------------------------------------------------------------------ command line
 @pytest.fixture
 def files(tmp_path):

@@ -226,6 +226,7 @@ def _check_xml_safety(path):
     ones read files or URLs), external DTDs and ``<use>`` elements that refer
     to other files are refused before any XML parser resolves them; this is
     what ``defusedxml`` does with ``forbid_entities`` and ``forbid_external``.
+    So are elements nested deeper than `MAX_DEPTH` (the readers recurse).
     Links of other elements (``<image>``, ``<a>``) are never followed.
 
     Raises
@@ -246,7 +247,12 @@ def _check_xml_safety(path):
         if system_id and not _KNOWN_DTD.match(system_id):
             raise _Unsafe(f"names the external DTD '{system_id}'; it is not read")
 
+    depth = [0]
+
     def start(tag, attrs):
+        depth[0] += 1
+        if depth[0] > MAX_DEPTH:
+            raise _Unsafe(f"elements nested deeper than {MAX_DEPTH} levels")
         if tag.rsplit(":", 1)[-1].rsplit("}", 1)[-1] != "use":
             return
         for name, value in attrs.items():
@@ -259,6 +265,7 @@ def _check_xml_safety(path):
     parser.ExternalEntityRefHandler = external
     parser.StartDoctypeDeclHandler = doctype
     parser.StartElementHandler = start
+    parser.EndElementHandler = lambda tag: depth.__setitem__(0, depth[0] - 1)
     try:
         with open(path, "rb") as fh:
             parser.ParseFile(fh)
@@ -271,6 +278,9 @@ def _check_xml_safety(path):
     except OSError as exc:
         raise FileFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
 
+
+#: deepest element nesting read (drawings from editors stay below a few dozen)
+MAX_DEPTH = 256
 
 #: the SVG 1.0/1.1 DTDs that editors name in their DOCTYPE (never fetched)
 _KNOWN_DTD = re.compile(r"^https?://www\.w3\.org/(Graphics/SVG/1\.1/DTD/svg11|TR/2001/REC-SVG-20010904/DTD/svg10)\.dtd$")
