@@ -13,6 +13,9 @@ Usage::
     python3 benchmarks/fuzz.py --inputs 100000 --workers 2           # prints the table
     python3 benchmarks/fuzz.py --inputs 100000 --workers 2 --write   # and RESULTS.md, Reliability
 
+``--write`` also times the command lines the resource guards refuse (peak
+memory by ``/usr/bin/time``) and counts the cases of tests/test_hostile.py.
+
 Not part of the test suite; ``tests/test_hostile.py`` runs 300 inputs of it.
 """
 
@@ -358,6 +361,63 @@ def report(counts):
     return table(["outcome"] + formats + ["total"], rows)
 
 
+#: command lines refused by the resource guards, with what they cost before the guards
+GUARDED = [
+    (["interpolate", "{a}", "{b}", "--frames", "1000000000", "-o", "{out}/o.gif"],
+     "39 s and 15.7 GB, then a MemoryError traceback"),
+    (["interpolate", "{e1}", "{e2}", "--resample", "40", "--mesh", "1e-9", "-o", "{out}/o.gif"],
+     "grew to 24 GB and was killed by the kernel"),
+    (["interpolate", "{lie}", "{a}", "-o", "{out}/o.gif"], "MemoryError traceback"),
+]
+
+
+def guards():
+    """Peak memory and time of the guarded command lines (``/usr/bin/time``); a Markdown table."""
+    import shutil
+    import subprocess
+
+    from _results import table
+
+    timer = shutil.which("time") or "/usr/bin/time"
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+        io.save(Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]]), tmp / "a.json")  # two squares
+        io.save(Shape.from_polygon([[0, 0], [2, 0], [2, 1], [0, 1]]), tmp / "b.json")
+        io.save(Shape.from_polygon(np.c_[2 * np.cos(t), np.sin(t)]), tmp / "e1.svg")
+        io.save(Shape.from_polygon(np.c_[np.cos(t), 2 * np.sin(t)]), tmp / "e2.svg")
+        buf = _io.BytesIO()
+        np.save(buf, np.zeros((1, 2)))
+        with zipfile.ZipFile(tmp / "lie.npz", "w") as z:
+            z.writestr("vertices.npy", buf.getvalue().replace(b"(1, 2)", b"(1000000000000, 2)"))
+        names = {k: tmp / f for k, f in (("a", "a.json"), ("b", "b.json"), ("e1", "e1.svg"), ("e2", "e2.svg"),
+                                          ("lie", "lie.npz"))}
+        env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+        for args, before in GUARDED:
+            argv = [a.format(out=tmp, **names) for a in args]
+            proc = subprocess.run([timer, "-f", "%M %e", sys.executable, "-m", "isotween", *argv],
+                                  capture_output=True, text=True, env=env)
+            lines = proc.stderr.strip().splitlines()
+            rss, seconds = lines[-1].split()
+            message = next((ln for ln in lines if ln.startswith("error:")), "(no error line)")
+            message = message.replace(f"{tmp}/", "")
+            shown = " ".join(Path(a).name for a in argv)
+            rows.append([f"`isotween {shown}`", before, f"exit {proc.returncode}: `{message}`",
+                         f"{int(rss) / 1024:.0f} MB", f"{float(seconds):.2f} s"])
+    return table(["command", "before the guards", "now", "peak RSS", "time"], rows)
+
+
+def hostile_cases():
+    """Number of test cases in tests/test_hostile.py (pytest's collection)."""
+    import subprocess
+
+    proc = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "no:cacheprovider",
+                           str(ROOT / "tests" / "test_hostile.py")], capture_output=True, text=True,
+                          env=dict(os.environ, PYTHONPATH=str(ROOT / "src")), cwd=ROOT)
+    return sum(1 for line in proc.stdout.splitlines() if "::" in line)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--inputs", type=int, default=100_000)
@@ -365,7 +425,6 @@ def main():
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--keep", default=None, help="folder for one input of every bug outcome")
     parser.add_argument("--write", action="store_true", help="write the Reliability section of RESULTS.md")
-    parser.add_argument("--extra", default=None, help="Markdown file appended to the section (guard runs)")
     args = parser.parse_args()
     sys.path.insert(0, str(Path(__file__).parent))
     counts, seconds, bugs, slowest = run(args.inputs, args.workers, args.seed, progress=True)
@@ -387,12 +446,20 @@ def main():
     if args.write:
         from _results import write_section
 
-        extra = Path(args.extra).read_text() if args.extra else ""
-        body = (f"### Loader fuzzing\n\nMutated valid files (byte flips, splices, truncation, numbers swapped "
+        guarded = guards()
+        print(guarded)
+        cases = hostile_cases()
+        body = (f"### Hostile inputs\n\n`tests/test_hostile.py` tries {cases} hostile inputs (library values, "
+                "every loader, every command and option, SIGINT and SIGTERM during the solve and the rendering); "
+                "each must give its exact error class, or exit code 2 and one `error:` line with no traceback, "
+                "and leave no file behind.\n\n"
+                f"### Resource guards\n\nMemory is estimated before allocating and compared with MemAvailable "
+                f"(or `--max-memory`):\n\n{guarded}\n\n"
+                f"### Loader fuzzing\n\nMutated valid files (byte flips, splices, truncation, numbers swapped "
                 f"for huge, NaN, negative or malformed ones, repeated lines, deep nesting) read by every "
-                f"loader. {summary}\n\n{text}\n\n{extra}")
+                f"loader (shapes; .npz and .json sequences). {summary}\n\n{text}\n")
         write_section("Reliability", body, f"python3 benchmarks/fuzz.py --inputs {args.inputs} "
-                                           f"--workers {args.workers} --write" + (f" --extra {args.extra}" if args.extra else ""))
+                                           f"--workers {args.workers} --write")
 
 
 if __name__ == "__main__":
