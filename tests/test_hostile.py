@@ -335,6 +335,22 @@ def test_svg_curve_segments_refused(tmp_path, value, error):
         io.load(path, curve_segments=value)
 
 
+@pytest.mark.parametrize("ext", [".obj", ".off", ".json", ".svg"])
+def test_text_file_too_large_for_the_limit(tmp_path, ext):
+    path = tmp_path / f"a{ext}"
+    io.save(Shape.from_polygon(ellipse_points(1000)), path)
+    with memory_limit(1000), pytest.raises(ResourceError, match="reading"):
+        io.load(path)
+
+
+def test_frame_folder_too_large_for_the_limit(tmp_path):
+    for k in range(3):
+        io.save(square(), tmp_path / f"f{k}.npz")
+    with memory_limit(500), pytest.raises(ResourceError, match="3 frame files"):
+        io.load_sequence(tmp_path)
+    assert len(io.load_sequence(tmp_path)) == 3
+
+
 def test_npz_honest_but_too_large_for_the_limit(tmp_path):
     path = tmp_path / "a.npz"
     io.save(Shape.from_polygon(ellipse_points(1000)), path)
@@ -414,6 +430,8 @@ CLI = [
     ("resample-0", ["interpolate", "{in}/e1.svg", "{in}/e2.svg", "--resample", "0", "-o", "{out}/o.npz"], ""),
     ("max-memory-small", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--max-memory", "1K",
                           "-o", "{out}/o.npz"], "limit"),
+    ("gif-100000-frames", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--frames", "100000",
+                           "-o", "{out}/o.gif"], "rendering 100000 frames"),
     ("max-memory-text", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--max-memory", "lots",
                          "-o", "{out}/o.npz"], "--max-memory"),
     ("output-is-input", ["interpolate", "{in}/sq.json", "{in}/wide.json", "-o", "{in}/wide.json"], "input"),

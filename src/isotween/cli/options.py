@@ -33,6 +33,7 @@ __all__ = [
     "solver_kwargs",
     "check_outputs",
     "check_paths",
+    "check_render_memory",
     "check_texture",
     "probe_writable",
     "ensure_compatible",
@@ -98,6 +99,10 @@ def check_outputs(output, fmt=None, texture=None, plot=None):
         Unknown output kind, missing folder, missing texture image.
     """
     kind = output_kind(output, fmt)
+    ctx = click.get_current_context(silent=True)
+    frames = ctx.params.get("frames") if ctx is not None else None
+    if isinstance(frames, int) and not isinstance(frames, bool):
+        check_render_memory(output, fmt, frames)
     probe_writable(output if kind == "frames" and Path(output).is_dir() else Path(output).parent, output)
     if texture is not None:
         check_texture(texture)
@@ -162,6 +167,20 @@ def check_texture(texture):
         raise FileFormatError(f"{texture}: not a readable texture image ({type(exc).__name__})") from None
     check_memory(16.0 * width * height, f"the texture {texture} ({width} x {height} pixels)",
                  advice="use a smaller image")
+
+
+#: peak bytes per frame of a GIF: every frame is drawn (RGBA, 400 x 400 pixels) and kept,
+#: with its palette image, until the file is written
+GIF_BYTES_PER_FRAME = 5 * 400 * 400
+
+
+def check_render_memory(output, fmt, frames):
+    """Refuse a GIF of more frames than memory holds (`ResourceError`); other kinds stream or store points."""
+    from ..resources import check_memory
+
+    if output_kind(output, fmt) == "gif":
+        check_memory(GIF_BYTES_PER_FRAME * float(frames), f"rendering {frames} frames into {output}",
+                     advice="use fewer frames, or write .mp4, .html or a sequence file")
 
 
 def check_paths(inputs, outputs):
@@ -272,6 +291,8 @@ def emit(seq, out, fmt=None, texture=None, quiet=False, plot=None, seconds=None)
         Time to report; defaults to the sequence's ``timings['total']``.
     """
     outs = out if isinstance(out, (list, tuple)) else [out]
+    for o in outs:
+        check_render_memory(o, fmt, len(seq))
     written = []
     for o in outs:
         written += write_output(seq, o, format=fmt, texture=texture, quiet=quiet)

@@ -20,7 +20,8 @@ import numpy as np
 
 from ..errors import FileFormatError, ParameterError, ShapeError, require
 from ..shape import MAX_COORDINATE, Shape
-from ._files import check_readable, write_text
+from ..resources import check_memory
+from ._files import TEXT_BYTES_PER_BYTE, check_readable, write_text
 from ._mesh import chains
 
 __all__ = ["read_svg", "write_svg", "CURVE_SEGMENTS"]
@@ -234,6 +235,8 @@ def _check_xml_safety(path):
     FileFormatError
         Naming the file, the line and what was refused.
     """
+    size = path.stat().st_size
+    check_memory(TEXT_BYTES_PER_BYTE * size, f"reading {path} ({size / 1e6:.0f} MB)", advice="use a smaller file")
     parser = expat.ParserCreate()
     parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
 
