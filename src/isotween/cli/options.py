@@ -13,6 +13,7 @@ and call `check_outputs` before any work, `progress` around the solve, and
 `emit` at the end.
 """
 
+import contextlib
 import math
 import os
 import sys
@@ -294,12 +295,18 @@ def emit(seq, out, fmt=None, texture=None, quiet=False, plot=None, seconds=None)
     for o in outs:
         check_render_memory(o, fmt, len(seq))
     written = []
-    for o in outs:
-        written += write_output(seq, o, format=fmt, texture=texture, quiet=quiet)
+    with contextlib.ExitStack() as stack:
+        if plot is not None:  # drawn first: a plot that fails leaves no output at all
+            render = require("isotween.render", "cli")
+            render.plot_energy(seq, stack.enter_context(atomic_path(plot)))
+        try:
+            for o in outs:
+                written += write_output(seq, o, format=fmt, texture=texture, quiet=quiet)
+        except BaseException:
+            for p in written:
+                Path(p).unlink(missing_ok=True)
+            raise
     if plot is not None:
-        render = require("isotween.render", "cli")
-        with atomic_path(plot) as tmp:
-            render.plot_energy(seq, tmp)
         written.append(Path(plot))
     if seconds is None:
         seconds = float(seq.timings.get("total", math.nan))
