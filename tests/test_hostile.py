@@ -202,6 +202,16 @@ def _lying_npz(name="vertices"):
     return out.getvalue()
 
 
+def _corrupt_deflate():
+    """A compressed .npz whose deflate stream is damaged (zlib.error while reading)."""
+    buf = _io.BytesIO()
+    np.savez_compressed(buf, vertices=np.arange(2000.0).reshape(-1, 2))
+    raw = bytearray(buf.getvalue())
+    start = raw.index(b"vertices.npy") + len("vertices.npy") + 40
+    raw[start:start + 60] = bytes(60)
+    return bytes(raw)
+
+
 def _zip(name, data):
     out = _io.BytesIO()
     with zipfile.ZipFile(out, "w") as z:
@@ -255,6 +265,7 @@ FILES = [
     ("npz-nan-vertex", "a.npz", _npz_bytes(vertices=np.array([[0, 0], [np.nan, 0]]), edges=np.array([[0, 1]])),
      "non-finite"),
     ("npz-other-member", "a.npz", _zip("notes.txt", b"hello"), "notes.txt"),
+    ("npz-corrupt-deflate", "a.npz", _corrupt_deflate(), "not a valid .npz"),
     ("svg-entity-file", "a.svg", '<?xml version="1.0"?>\n<!DOCTYPE svg [<!ENTITY x SYSTEM "file:///etc/passwd">]>\n'
      + SVG.format('<polygon id="&x;" points="0,0 1,0 1,1"/>'), "entity"),
     ("svg-billion-laughs", "a.svg", LAUGHS, "entity"),
@@ -267,6 +278,13 @@ FILES = [
     ("svg-url-use", "a.svg", SVG.format('<use href="http://example.invalid/a.svg#p"/>'), "outside this file"),
     ("svg-inf", "a.svg", SVG.format('<path d="M 0 0 L 1e400 0 L 5 5 Z"/>'), "non-finite"),
     ("svg-1e200", "a.svg", SVG.format('<path d="M 0 0 L 1e200 0 L 5 5 Z"/>'), "beyond"),
+    ("svg-backtracking-points", "a.svg", SVG.format('<polyline points="0,50 103 0.6944444444444443 L 1.0 1.0"/>'),
+     "malformed points"),
+    ("svg-deep-groups", "a.svg", SVG.format("<g>" * 100000 + "</g>" * 100000), "nested deeper"),
+    ("svg-unknown-encoding", "a.svg", '<?xml version="1.0" encoding="UTF-1e400"?><svg/>', "encoding"),
+    ("svg-foreign-namespace", "a.svg", '<svg xmlns="http://example.com/svg"><polygon points="0,0 1,0 1,1"/></svg>',
+     "not an SVG"),
+    ("svg-path-without-start", "a.svg", SVG.format('<path d="L 0 0 S 5 5 10 0 T 20 0"/>'), "geometry"),
     ("svg-malformed", "a.svg", "<svg", "line 1"),
     ("svg-not-svg", "a.svg", "<html/>", "not <svg>"),
     ("svg-empty-drawing", "a.svg", SVG.format(""), "nothing to read"),
@@ -564,7 +582,9 @@ def test_signal_keeps_the_old_output(files, tmp_path, stage, sig):
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (src, os.environ.get("PYTHONPATH")) if p))
     proc = subprocess.Popen([sys.executable, "-m", "isotween", "interpolate", str(files / "e1.svg"),
                              str(files / "e2.svg"), *args, "-o", str(out)],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env,
+                            # a shell that ran the tests in the background ignores SIGINT: restore it
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     err = []
     reader = threading.Thread(target=lambda: err.extend(iter(lambda: proc.stderr.read(64), b"")), daemon=True)
     reader.start()

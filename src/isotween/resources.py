@@ -23,19 +23,38 @@ def available_memory():
     """Bytes of memory available to a new allocation (int).
 
     ``MemAvailable`` from /proc/meminfo (Linux); elsewhere the physical
-    memory (``os.sysconf``); 8 GiB when neither can be read.
+    memory (``os.sysconf``); 8 GiB when neither can be read. A limit on the
+    address space (``ulimit -v``, ``RLIMIT_AS``) lowers it to what is left
+    of that limit.
     """
+    free = _meminfo("/proc/meminfo", "MemAvailable:")
+    if free is None:
+        try:
+            free = int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+        except (AttributeError, ValueError, OSError):
+            free = 8 << 30
     try:
-        with open("/proc/meminfo", encoding="ascii") as fh:
+        import resource
+
+        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+    except (ImportError, OSError, ValueError):
+        soft = -1
+    if soft not in (-1, getattr(resource, "RLIM_INFINITY", -1)):
+        used = _meminfo("/proc/self/status", "VmSize:") or 0
+        free = min(free, max(soft - used, 0))
+    return free
+
+
+def _meminfo(path, key):
+    """Bytes of the ``key`` line (in kB) of a /proc file, or None."""
+    try:
+        with open(path, encoding="ascii") as fh:
             for line in fh:
-                if line.startswith("MemAvailable:"):
+                if line.startswith(key):
                     return int(line.split()[1]) * 1024
     except (OSError, ValueError, IndexError):
         pass
-    try:
-        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
-    except (AttributeError, ValueError, OSError):
-        return 8 << 30
+    return None
 
 
 def parse_size(text):

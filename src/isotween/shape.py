@@ -24,7 +24,7 @@ def _as_index_array(values, width, what):
     try:
         arr = np.asarray(values)
     except (ValueError, TypeError, OverflowError):
-        raise ShapeError(f"{what}s must be a (k, {width}) array of vertex indices, got ragged or mixed rows") from None
+        raise ShapeError(f"{what}: expected a (k, {width}) array of vertex indices, got ragged or mixed rows") from None
     if arr.size == 0:
         return np.zeros((0, width), dtype=np.int64)
     if arr.ndim != 2 or arr.shape[1] != width:
