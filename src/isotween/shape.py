@@ -109,10 +109,14 @@ def _as_uv(uv, n):
 
 
 def _as_paths(paths, n):
-    """Validated list of ((k,) int64 indices, closed) pairs into n vertices."""
+    """Validated list of ((k,) int64 indices, closed) pairs into n vertices.
+
+    The index arrays are checked together (one range check for all paths);
+    only a path that fails is looked at on its own, for the message.
+    """
     if isinstance(paths, (str, bytes)) or not hasattr(paths, "__iter__"):
         raise ShapeError(f"paths must be a list of (indices, closed) pairs, got {type(paths).__name__}")
-    out = []
+    indices, flags = [], []
     for k, item in enumerate(paths):
         try:
             idx, closed = item
@@ -121,13 +125,26 @@ def _as_paths(paths, n):
             raise ShapeError(f"path {k} must be an (indices, closed) pair, got {item!r:.60}") from None
         if idx.ndim != 1:
             raise ShapeError(f"path {k}: indices must be a flat list of vertex indices, got shape {idx.shape}")
-        idx = _as_index_array(idx.reshape(-1, 1), 1, f"path {k} index")[:, 0]
-        if np.ndim(closed) != 0 or not isinstance(closed, (bool, np.bool_, int, np.integer)):
+        if not isinstance(closed, (bool, np.bool_, int, np.integer)):
             raise ShapeError(f"path {k}: closed must be true or false, got {closed!r:.60}")
+        indices.append(idx)
+        flags.append(bool(closed))
+    sizes = [len(i) for i in indices]
+    kinds = {i.dtype.kind for i in indices if len(i)}
+    if kinds <= {"i", "u"}:
+        flat = np.concatenate(indices).astype(np.int64) if indices else np.zeros(0, np.int64)
+        bad = np.flatnonzero((flat < 0) | (flat >= n))
+        if not bad.size:
+            return list(zip(np.split(flat, np.cumsum(sizes)[:-1]), flags)) if indices else []
+        k = int(np.searchsorted(np.cumsum(sizes), bad[0], side="right"))
+        raise ShapeError(f"path {k} has a vertex index out of range [0, {n}): {int(flat[bad[0]])}")
+    out = []
+    for k, (idx, closed) in enumerate(zip(indices, flags)):
+        idx = _as_index_array(idx.reshape(-1, 1), 1, f"path {k} index")[:, 0]
         out_of_range = np.flatnonzero((idx < 0) | (idx >= n))
         if out_of_range.size:
             raise ShapeError(f"path {k} has a vertex index out of range [0, {n}): {int(idx[out_of_range[0]])}")
-        out.append((idx, bool(closed)))
+        out.append((idx, closed))
     return out
 
 

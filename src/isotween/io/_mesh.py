@@ -134,14 +134,19 @@ def assemble(path, vertices, triangles, tri_lines, polylines, poly_lines, uv=Non
             f = faces[deg[0]]
             rep = f[0] if f[0] in (f[1], f[2]) else f[1]
             raise FileFormatError(f"{path}, line {tri_lines[deg[0]]}: face repeats vertex {int(rep) + base}")
-    listed = [np.column_stack([c[:-1], c[1:]]) for c in polylines]
-    if listed:
-        stacked = np.vstack(listed)
+    listed = []
+    if polylines:  # consecutive pairs within each chain, all chains at once
+        sizes = np.array([len(c) for c in polylines])
+        last = np.cumsum(sizes) - 1
+        inner = np.ones(len(chain_flat), dtype=bool)
+        inner[last] = False
+        stacked = np.column_stack([chain_flat[inner], chain_flat[np.flatnonzero(inner) + 1]])
         loop = np.flatnonzero(stacked[:, 0] == stacked[:, 1])
         if loop.size:
-            owner = np.repeat(poly_lines, [len(e) for e in listed])
+            owner = np.repeat(np.asarray(poly_lines), sizes - 1)
             k = int(loop[0])
             raise FileFormatError(f"{path}, line {owner[k]}: line repeats vertex {int(stacked[k, 0]) + base} consecutively")
+        listed = [stacked]
     parts = listed + ([face_edges(faces)] if faces is not None else [])
     if parts:
         edges = np.vstack(parts)

@@ -20,6 +20,13 @@ def _float(path, lineno, token):
 
 def _refs(path, lineno, tokens, n_v, n_vt):
     """Vertex and texture indices (0-based, None when absent) of ``f``/``l`` tokens."""
+    if not any("/" in tok for tok in tokens):  # plain vertex numbers: the common case, fast
+        try:
+            ks = [int(tok) for tok in tokens]
+        except ValueError:
+            ks = None
+        if ks is not None and all(0 < k <= _MAX_INDEX for k in ks):
+            return [(k - 1, None) for k in ks]
     out = []
     for tok in tokens:
         parts = tok.split("/")
