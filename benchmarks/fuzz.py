@@ -176,7 +176,10 @@ def _nest(rng, data, ext):
 
 def _npz_arrays(rng, data):
     """Rewrite one array of a .npz with hostile values, dtype or shape."""
-    with np.errstate(all="ignore"):  # overflowing casts are what this is for
+    import warnings
+
+    with np.errstate(all="ignore"), warnings.catch_warnings():  # lossy casts are what this is for
+        warnings.simplefilter("ignore")
         return _npz_rewrite(rng, data)
 
 
@@ -413,7 +416,7 @@ def guards():
             shown = " ".join(Path(a).name for a in argv)
             rows.append([f"`isotween {shown}`", before, f"exit {proc.returncode}: `{message}`",
                          f"{int(rss) / 1024:.0f} MB", f"{float(seconds):.2f} s"])
-    return table(["command", "before the guards", "now", "peak RSS", "time"], rows)
+    return table(["command", "reported before the guards", "now", "peak RSS", "time"], rows)
 
 
 def hostile_cases():
@@ -465,7 +468,8 @@ def main():
                 f"(or `--max-memory`):\n\n{guarded}\n\n"
                 f"### Loader fuzzing\n\nMutated valid files (byte flips, splices, truncation, numbers swapped "
                 f"for huge, NaN, negative or malformed ones, repeated lines, deep nesting) read by every "
-                f"loader (shapes; .npz and .json sequences). {summary}\n\n{text}\n")
+                f"loader (shapes; .npz and .json sequences). {summary} Times are from a 2-core machine "
+                f"shared with other jobs (under load).\n\n{text}\n")
         write_section("Reliability", body, f"python3 benchmarks/fuzz.py --inputs {args.inputs} "
                                            f"--workers {args.workers} --write")
 
