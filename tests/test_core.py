@@ -21,7 +21,9 @@ def test_rigid_rotation_170_is_recovered(solver):
     tgt = src.with_vertices(src.vertices @ R.T + [3.0, -1.0])
     seq = interpolate(src, tgt, frames=11, solver=solver)
     assert seq.converged and seq.frames.shape == (11, src.n_vertices, 2)
-    assert all(0.0 <= e < 1e-20 for e in seq.energy)  # a sum of squares, zero for a rigid motion
+    # a sum of squares, zero for a rigid motion up to rounding (measured 2e-16 on the numpy path);
+    # any bend of this ellipse costs orders of magnitude more
+    assert all(0.0 <= e < 1e-12 for e in seq.energy)
     L = lengths(seq)
     assert np.max(np.abs(L / L[0] - 1)) < 1e-9
     # each frame is a rigid motion whose angle is linear in t and whose centroid is linear

@@ -11,7 +11,10 @@ from .correspondence.compatibility import as_shape, check_compatible
 from .errors import ParameterError
 from .initialisation import edge_rotations
 from .optimisation.assembly import FrameAssembler
+from .interpolate import check_movable
+from .metrics import isometric_energy
 from .sequence import Sequence
+from .shape import Shape
 
 if TYPE_CHECKING:
     from collections.abc import Mapping
@@ -52,6 +55,7 @@ def edit(sequence: Sequence, frame: int | None = None, shape: Shape | None = Non
     -------
     Sequence
         Same length and connectivity; the edited frames are matched exactly.
+        ``energy`` holds one value: the isometric energy of the edited frames.
 
     Examples
     --------
@@ -64,6 +68,11 @@ def edit(sequence: Sequence, frame: int | None = None, shape: Shape | None = Non
     >>> edited[2].equals(bent, atol=1e-9), edited[0].equals(seq[0], atol=1e-12)
     (True, True)
     """
+    if not isinstance(sequence, Sequence):
+        raise ParameterError(f"sequence must be an isotween.Sequence, got {type(sequence).__name__}")
+    if edits is not None and not isinstance(edits, dict):
+        raise ParameterError(f"edits must be a dict {{frame: Shape}}, got {type(edits).__name__}")
+    _check_sequence(sequence)
     edits = dict(edits or {})
     if frame is not None or shape is not None:
         if frame is None or shape is None:
@@ -103,10 +112,29 @@ def edit(sequence: Sequence, frame: int | None = None, shape: Shape | None = Non
     out = asm.positions(new, centroids)  # Eq. (10)
     for k in keys:
         out[:, k] = target[k]
-    return Sequence(np.stack([out.real.T, out.imag.T], axis=-1), base, times=t.copy(),
-                    scheme=sequence.scheme, method="edit",
-                    info={"edited_frames": sorted(edits), "held_frames": keys.tolist(),
-                          "source": sequence})
+    result = Sequence(np.stack([out.real.T, out.imag.T], axis=-1), base, times=t.copy(),
+                      scheme=sequence.scheme, method="edit",
+                      info={"edited_frames": sorted(edits), "held_frames": keys.tolist(),
+                            "source": sequence})
+    result.energy = [isometric_energy(result)]  # of the edited frames
+    return result
+
+
+def _check_sequence(sequence):
+    """Refuse a sequence whose frames, times or shape cannot be edited."""
+    frames, shape, t = sequence.frames, sequence.shape, sequence.times
+    if not isinstance(shape, Shape):
+        raise ParameterError(f"the sequence's shape must be an isotween.Shape, got {type(shape).__name__}")
+    check_movable(shape, "the sequence's shape")
+    if frames.ndim != 3 or frames.shape[1:] != shape.vertices.shape or len(frames) < 2:
+        raise ParameterError(
+            f"the sequence's frames must have shape (F >= 2, {shape.n_vertices}, 2), got {frames.shape}"
+        )
+    bad = np.flatnonzero(~np.all(np.isfinite(frames), axis=(1, 2)))
+    if bad.size:
+        raise ParameterError(f"frame {bad[0]} of the sequence has a non-finite coordinate")
+    if t.shape != (len(frames),) or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
+        raise ParameterError("the sequence's times must increase strictly, one per frame")
 
 
 def _interp_rows(x, xp, fp):

@@ -51,3 +51,8 @@ def require(module, extra):
         raise MissingDependencyError(
             f"this feature needs '{module}': pip install 'isotween[{extra}]'"
         ) from exc
+
+
+class ResourceError(IsotweenError, MemoryError):
+    """A run would need more memory than is available (or allowed); the
+    message gives the estimate and the limit."""

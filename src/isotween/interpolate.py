@@ -10,13 +10,14 @@ import numpy as np
 
 from ._heap import keep_heap_if_asked
 from .correspondence.compatibility import as_shape, check_compatible
-from .errors import MethodError, ParameterError
+from .errors import MethodError, ParameterError, ShapeError
 from .initialisation import INITIALISERS, edge_vector_init, linear_init
 from .optimisation.assembly import FrameAssembler, centroid_path
 from .optimisation.global_solver import LINEAR_SOLVERS, global_solve
 from .optimisation.local_solver import ASSEMBLY, local_solve
 from .optimisation.schemes import SCHEMES
 from .paint import paint_keys
+from .resources import check_memory, solve_bytes
 from .sequence import Sequence
 from .times import frame_times
 
@@ -27,7 +28,7 @@ if TYPE_CHECKING:
 
     from .shape import ShapeLike
 
-__all__ = ["interpolate", "SOLVERS"]
+__all__ = ["interpolate", "SOLVERS", "check_movable", "check_stopping"]
 
 SOLVERS = ("local", "global")
 
@@ -36,7 +37,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
                 init: str = "edge", scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
                 callback: Callable[[int, float, float], object] | None = None, method: str = "aiap",
                 times: ArrayLike | None = None, assembly: str = "shared",
-                linear_solver: str = "cg") -> Sequence:
+                linear_solver: str = "cg", max_memory: float | None = None) -> Sequence:
     """Interpolate two compatible shapes as-isometrically-as-possible.
 
     Parameters
@@ -72,6 +73,10 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
         ``1 / |e(t_k)|`` refactorised per frame and iteration (reference).
     linear_solver : {'cg', 'direct'}
         Global solver only: preconditioned conjugate gradients or sparse LU.
+    max_memory : int, optional
+        Bytes the run may use; default the memory available now. A run whose
+        estimate (:func:`isotween.resources.solve_bytes`) exceeds it raises
+        `ResourceError` before allocating.
 
     Returns
     -------
@@ -92,16 +97,17 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
     keep_heap_if_asked()
     start = time.perf_counter()
     source, target = as_shape(source, "source"), as_shape(target, "target")
+    check_movable(source, "source")
     t = frame_times(frames, times)
+    check_memory(solve_bytes(frames, source.n_vertices, source.n_edges),
+                 f"interpolating {frames} frames of {source.n_vertices} vertices and {source.n_edges} edges",
+                 max_memory)
     _check_choice("solver", solver, SOLVERS)
     _check_choice("init", init, INITIALISERS)
     _check_choice("scheme", scheme, SCHEMES)
     _check_choice("assembly", assembly, ASSEMBLY)
     _check_choice("linear_solver", linear_solver, LINEAR_SOLVERS)
-    if not (isinstance(tol, numbers.Real) and tol > 0):
-        raise ParameterError(f"tol must be a positive number, got {tol!r}")
-    if not (isinstance(max_iter, numbers.Integral) and max_iter >= 1):
-        raise ParameterError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+    check_stopping(tol, max_iter)
     options = dict(frames=len(t), solver=solver, init=init, scheme=scheme, tol=tol,
                    max_iter=max_iter, method=method, times=times, assembly=assembly,
                    linear_solver=linear_solver)
@@ -146,6 +152,27 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
         converged=info.pop("converged"), timings=timings, method="aiap",
         info={"options": options, **info, **paint_keys([source, target], [0.0, 1.0])},
     )
+
+
+def check_movable(shape, name="source"):
+    """Refuse a shape with no edge: there is nothing to keep isometric.
+
+    Raises
+    ------
+    ShapeError
+        Naming ``name`` and its vertex count.
+    """
+    if shape.n_edges == 0:
+        what = "no vertices" if shape.n_vertices == 0 else f"{shape.n_vertices} vertex(es) but no edges"
+        raise ShapeError(f"{name} has {what}; interpolation needs at least one edge (two vertices joined)")
+
+
+def check_stopping(tol, max_iter):
+    """Refuse a ``tol`` that is not a finite positive number or a ``max_iter`` below 1."""
+    if isinstance(tol, bool) or not (isinstance(tol, numbers.Real) and np.isfinite(tol) and tol > 0):
+        raise ParameterError(f"tol must be a positive number, got {tol!r}")
+    if isinstance(max_iter, bool) or not (isinstance(max_iter, numbers.Integral) and max_iter >= 1):
+        raise ParameterError(f"max_iter must be an integer >= 1, got {max_iter!r}")
 
 
 def _complex(v):

@@ -13,10 +13,11 @@ from .correspondence.compatibility import as_shape, check_compatible
 from .easing import frame_times
 from .errors import ParameterError
 from .initialisation import edge_vector_init, linear_init
-from .interpolate import _check_choice
+from .interpolate import _check_choice, check_movable, check_stopping
 from .optimisation.local_solver import ASSEMBLY, local_solve
 from .optimisation.schemes import SCHEMES
 from .paint import paint_keys
+from .resources import check_memory, solve_bytes
 from .sequence import Sequence
 
 if TYPE_CHECKING:
@@ -35,7 +36,8 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
                           easing: str | Callable[[np.ndarray], np.ndarray] = "linear", init: str = "edge",
                           scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
                           smooth: float = 1.0, assembly: str = "shared",
-                          callback: Callable[..., object] | None = None) -> Sequence:
+                          callback: Callable[..., object] | None = None,
+                          max_memory: float | None = None) -> Sequence:
     """One AIAP sequence through every keyframe.
 
     All in-between frames are solved together by the local solver with the
@@ -60,6 +62,8 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
         As in :func:`isotween.interpolate`.
     smooth : float
         Weight of the smoothness term at interior keyframes.
+    max_memory : int, optional
+        Bytes the run may use (as in :func:`isotween.interpolate`).
 
     Returns
     -------
@@ -80,17 +84,29 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
     """
     keep_heap_if_asked()
     start = time.perf_counter()
+    if isinstance(keyframes, (str, bytes)) or not hasattr(keyframes, "__len__"):
+        raise ParameterError(f"keyframes must be a list of shapes, got {type(keyframes).__name__}")
     if len(keyframes) < 2:
         raise ParameterError(f"need at least two keyframes, got {len(keyframes)}")
     shapes = [as_shape(s, f"keyframe {i}") for i, s in enumerate(keyframes)]
+    check_movable(shapes[0], "keyframe 0")
     check_compatible(*shapes, names=[f"keyframe {i}" for i in range(len(shapes))])
     _check_choice("scheme", scheme, SCHEMES)
     _check_choice("assembly", assembly, ASSEMBLY)
+    check_stopping(tol, max_iter)
+    if isinstance(smooth, bool) or not (isinstance(smooth, numbers.Real) and np.isfinite(smooth) and smooth >= 0):
+        raise ParameterError(f"smooth must be a finite number >= 0, got {smooth!r}")
     K = len(shapes)
     frames = 8 * (K - 1) + 1 if frames is None else frames
     if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < K:
         raise ParameterError(f"frames must be an integer >= the number of keyframes ({K}), got {frames!r}")
-    key_t = np.linspace(0.0, 1.0, K) if times is None else np.asarray(times, dtype=float)
+    check_memory(solve_bytes(frames, shapes[0].n_vertices, shapes[0].n_edges),
+                 f"interpolating {frames} frames of {shapes[0].n_vertices} vertices and {shapes[0].n_edges} edges",
+                 max_memory)
+    try:
+        key_t = np.linspace(0.0, 1.0, K) if times is None else np.asarray(times, dtype=float)
+    except (ValueError, TypeError):
+        raise ParameterError(f"times must give one number per keyframe ({K}), got {times!r:.80}") from None
     if key_t.shape != (K,) or not np.all(np.isfinite(key_t)):
         raise ParameterError(f"times must give one finite time per keyframe ({K})")
     if key_t[0] != 0.0 or key_t[-1] != 1.0 or np.any(np.diff(key_t) <= 0):

@@ -22,17 +22,140 @@ if TYPE_CHECKING:
 __all__ = ["Shape", "ShapeLike"]
 
 
+#: largest coordinate magnitude accepted: squared lengths and the energy's sums
+#: of them stay far from overflow (1e100 squared is 1e200)
+MAX_COORDINATE = 1e100
+
+_INT64 = np.iinfo(np.int64)
+
+
 def _as_index_array(values, width, what):
-    arr = np.asarray(values)
+    """(k, width) int64 array of vertex indices, or `ShapeError` naming the bad row."""
+    try:
+        arr = np.asarray(values)
+    except (ValueError, TypeError, OverflowError):
+        raise ShapeError(f"{what}: expected a (k, {width}) array of vertex indices, got ragged or mixed rows") from None
     if arr.size == 0:
         return np.zeros((0, width), dtype=np.int64)
     if arr.ndim != 2 or arr.shape[1] != width:
         raise ShapeError(f"{what} must be an array of shape (k, {width}), got {arr.shape}")
-    if not np.issubdtype(arr.dtype, np.integer):
-        if not np.all(np.isfinite(arr)) or np.any(arr != np.round(arr)):
-            bad = int(np.argwhere(~np.isfinite(arr) | (arr != np.round(arr)))[0, 0])
-            raise ShapeError(f"{what} {bad} has a non-integer vertex index: {arr[bad].tolist()}")
+    if arr.dtype.kind == "O":  # Python ints beyond int64, or mixed objects
+        for row, item in enumerate(arr.tolist()):
+            for x in item:
+                if isinstance(x, bool) or not isinstance(x, (int, np.integer)) or not _INT64.min <= x <= _INT64.max:
+                    raise ShapeError(f"{what} {row} has an invalid vertex index: {x!r}")
+        arr = arr.astype(np.int64)
+    if arr.dtype.kind not in "iuf":
+        raise ShapeError(f"{what} vertex indices must be integers, got {arr.dtype} values")
+    if arr.dtype.kind == "f":
+        bad = ~np.isfinite(arr) | (arr != np.round(arr)) | (np.abs(arr) > 2.0**62)
+        if np.any(bad):
+            row = int(np.argwhere(bad)[0, 0])
+            raise ShapeError(f"{what} {row} has a non-integer vertex index: {arr[row].tolist()}")
+    elif arr.dtype.kind == "u" and arr.max() > _INT64.max:
+        row = int(np.argwhere(arr > _INT64.max)[0, 0])
+        raise ShapeError(f"{what} {row} has an invalid vertex index: {arr[row].tolist()}")
     return arr.astype(np.int64)
+
+
+def as_vertices(values, where="", shape=None):
+    """Validated (n, 2) float64 vertex array.
+
+    Parameters
+    ----------
+    values : (n, 2) array_like of real numbers
+    where : str
+        Prefix of messages (e.g. ``"ring 2: "``).
+    shape : tuple, optional
+        Required shape (e.g. that of the vertices being replaced).
+
+    Raises
+    ------
+    ShapeError
+        Ragged or non-numeric input, wrong shape, a non-finite coordinate or
+        one beyond ``MAX_COORDINATE``; the message names the first bad vertex.
+    """
+    try:
+        raw = np.asarray(values)
+    except (ValueError, TypeError):
+        raise ShapeError(f"{where}vertices must be an (n, 2) array of numbers, got ragged or mixed rows") from None
+    if raw.dtype.kind not in "iuf":
+        raise ShapeError(f"{where}vertices must be real numbers, got {raw.dtype} values")
+    try:
+        v = np.array(raw, dtype=np.float64)
+    except OverflowError:
+        raise ShapeError(f"{where}a vertex coordinate is too large for a float") from None
+    if v.ndim != 2 or v.shape[1] != 2:
+        raise ShapeError(f"{where}vertices must be an array of shape (n, 2), got {v.shape}")
+    if shape is not None and v.shape != tuple(shape):
+        raise ShapeError(f"{where}expected vertices of shape {tuple(shape)}, got {v.shape}")
+    bad = np.flatnonzero(~np.all(np.isfinite(v), axis=1))
+    if bad.size:
+        raise ShapeError(f"{where}vertex {bad[0]} has a non-finite coordinate: {v[bad[0]].tolist()}")
+    big = np.flatnonzero(np.any(np.abs(v) > MAX_COORDINATE, axis=1))
+    if big.size:
+        raise ShapeError(
+            f"{where}vertex {big[0]} has a coordinate beyond +-{MAX_COORDINATE:g}: "
+            f"{v[big[0]].tolist()}; scale the shape down"
+        )
+    return v
+
+
+def _as_uv(uv, n):
+    """Validated (n, 2) float64 texture coordinates (finite)."""
+    try:
+        raw = np.asarray(uv)
+    except (ValueError, TypeError):
+        raise ShapeError("uv must be an (n, 2) array of numbers, got ragged or mixed rows") from None
+    if raw.dtype.kind not in "iuf":
+        raise ShapeError(f"uv must be real numbers, got {raw.dtype} values")
+    u = np.array(raw, dtype=np.float64)
+    if u.shape != (n, 2):
+        raise ShapeError(f"uv must have shape ({n}, 2), one row per vertex, got {u.shape}")
+    bad = np.flatnonzero(~np.all(np.isfinite(u), axis=1))
+    if bad.size:
+        raise ShapeError(f"uv of vertex {bad[0]} is not finite: {u[bad[0]].tolist()}")
+    return u
+
+
+def _as_paths(paths, n):
+    """Validated list of ((k,) int64 indices, closed) pairs into n vertices.
+
+    The index arrays are checked together (one range check for all paths);
+    only a path that fails is looked at on its own, for the message.
+    """
+    if isinstance(paths, (str, bytes)) or not hasattr(paths, "__iter__"):
+        raise ShapeError(f"paths must be a list of (indices, closed) pairs, got {type(paths).__name__}")
+    indices, flags = [], []
+    for k, item in enumerate(paths):
+        try:
+            idx, closed = item
+            idx = np.asarray(idx)
+        except (TypeError, ValueError):
+            raise ShapeError(f"path {k} must be an (indices, closed) pair, got {item!r:.60}") from None
+        if idx.ndim != 1:
+            raise ShapeError(f"path {k}: indices must be a flat list of vertex indices, got shape {idx.shape}")
+        if not isinstance(closed, (bool, np.bool_, int, np.integer)):
+            raise ShapeError(f"path {k}: closed must be true or false, got {closed!r:.60}")
+        indices.append(idx)
+        flags.append(bool(closed))
+    sizes = [len(i) for i in indices]
+    kinds = {i.dtype.kind for i in indices if len(i)}
+    if kinds <= {"i", "u"}:
+        flat = np.concatenate(indices).astype(np.int64) if indices else np.zeros(0, np.int64)
+        bad = np.flatnonzero((flat < 0) | (flat >= n))
+        if not bad.size:
+            return list(zip(np.split(flat, np.cumsum(sizes)[:-1]), flags)) if indices else []
+        k = int(np.searchsorted(np.cumsum(sizes), bad[0], side="right"))
+        raise ShapeError(f"path {k} has a vertex index out of range [0, {n}): {int(flat[bad[0]])}")
+    out = []
+    for k, (idx, closed) in enumerate(zip(indices, flags)):
+        idx = _as_index_array(idx.reshape(-1, 1), 1, f"path {k} index")[:, 0]
+        out_of_range = np.flatnonzero((idx < 0) | (idx >= n))
+        if out_of_range.size:
+            raise ShapeError(f"path {k} has a vertex index out of range [0, {n}): {int(idx[out_of_range[0]])}")
+        out.append((idx, closed))
+    return out
 
 
 class Shape:
@@ -86,12 +209,9 @@ class Shape:
 
     def __init__(self, vertices, edges=None, faces=None, uv=None, paths=None, duplicates="error",
                  y_down=False, regions=None, paint=None):
-        v = np.array(vertices, dtype=np.float64)
-        if v.ndim != 2 or v.shape[1] != 2:
-            raise ShapeError(f"vertices must be an array of shape (n, 2), got {v.shape}")
-        bad = np.flatnonzero(~np.all(np.isfinite(v), axis=1))
-        if bad.size:
-            raise ShapeError(f"vertex {bad[0]} has a non-finite coordinate: {v[bad[0]].tolist()}")
+        if duplicates not in ("error", "merge"):
+            raise ShapeError(f"duplicates must be 'error' or 'merge', got {duplicates!r}")
+        v = as_vertices(vertices)
         n = len(v)
         f = None if faces is None else _as_index_array(faces, 3, "face")
         if f is not None and f.size:
@@ -128,8 +248,8 @@ class Shape:
         self.vertices = v
         self.edges = e
         self.faces = f
-        self.uv = None if uv is None else np.array(uv, dtype=np.float64).reshape(n, 2)
-        self.paths = None if paths is None else [(np.asarray(p, dtype=np.int64), bool(c)) for p, c in paths]
+        self.uv = None if uv is None else _as_uv(uv, n)
+        self.paths = None if paths is None else _as_paths(paths, n)
         self.y_down = bool(y_down)
         self.regions, self.paint = _check_regions_paint(self.paths, regions, paint)
         graph = coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n, n))
@@ -298,11 +418,10 @@ class Shape:
             raise ShapeError(f"closed has {len(flags)} values for {len(rings)} rings")
         points = []
         for r, (ring, c) in enumerate(zip(rings, flags, strict=True)):
-            ring = np.asarray(ring)
-            if np.iscomplexobj(ring) and ring.ndim == 1:
+            if isinstance(ring, np.ndarray) and np.iscomplexobj(ring) and ring.ndim == 1:
                 ring = np.column_stack([ring.real, ring.imag])
-            if ring.ndim != 2 or ring.shape[1] != 2:
-                raise ShapeError(f"ring {r} must be an array of shape (k, 2), got {ring.shape}")
+            empty = hasattr(ring, "__len__") and not isinstance(ring, (str, bytes)) and len(ring) == 0
+            ring = np.zeros((0, 2)) if empty else as_vertices(ring, f"ring {r}: ")
             need = 3 if c else 2
             if len(ring) < need:
                 kind = "closed ring" if c else "polyline"
@@ -413,9 +532,7 @@ class Shape:
         s = object.__new__(Shape)
         s.__dict__.update(self.__dict__)
         s.__dict__.pop("_hash", None)
-        v = np.array(vertices, dtype=np.float64)
-        if v.shape != self.vertices.shape:
-            raise ShapeError(f"expected vertices of shape {self.vertices.shape}, got {v.shape}")
+        v = np.array(as_vertices(vertices, shape=self.vertices.shape))
         v.flags.writeable = False
         s.vertices = v
         return s
@@ -716,9 +833,15 @@ def _edges_of_faces(faces):
 
 def _ring_list(rings: Any) -> list:
     """A list of rings from one (k, 2) ring or a list of them."""
-    if isinstance(rings, np.ndarray) and rings.ndim == 2 or (len(rings) and np.ndim(rings[0]) == 1):
-        return [rings]
-    return list(rings)
+    if isinstance(rings, (str, bytes)) or not hasattr(rings, "__len__"):
+        raise ShapeError(f"expected a (k, 2) array of points or a list of them, got {type(rings).__name__}")
+    if len(rings) == 0:
+        raise ShapeError("no points: a ring needs at least 3, a polyline 2")
+    try:
+        single = isinstance(rings, np.ndarray) and rings.ndim == 2 or np.ndim(rings[0]) == 1
+    except ValueError:  # ragged rows inside the first ring
+        single = False
+    return [rings] if single else list(rings)
 
 
 def _point(value: Any, what: str) -> NDArray[np.float64]:

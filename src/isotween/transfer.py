@@ -7,7 +7,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .correspondence.compatibility import as_shape, check_compatible
-from .interpolate import interpolate
+from .interpolate import check_movable, interpolate
+from .metrics import isometric_energy
 from .optimisation.assembly import FrameAssembler
 from .sequence import Sequence
 from .velocity import relative_velocity_field
@@ -76,7 +77,9 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     Returns
     -------
     Sequence
-        The target's frames; ``info['source']`` holds the source sequence.
+        The target's frames; ``energy`` holds one value, the isometric energy
+        of these frames (not of the source run: ``info['source']`` holds the
+        source sequence with its own history).
 
     Examples
     --------
@@ -91,6 +94,7 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     shapes = [as_shape(s, n) for s, n in ((source_start, "source_start"),
                                           (source_end, "source_end"),
                                           (target_start, "target_start"))]
+    check_movable(shapes[0], "source_start")
     check_compatible(*shapes, names=["source_start", "source_end", "target_start"])
     source_start, source_end, target_start = shapes
     seq = interpolate(source_start, source_end, frames=frames, **options)
@@ -109,7 +113,8 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     z = np.empty((target_start.n_vertices, len(field.times)), dtype=complex)
     z[:, 0] = target_start.z
     z[:, 1:] = asm.positions(e[:, 1:], centroids[:, 1:])  # Eq. (10)
-    return Sequence(np.stack([z.real.T, z.imag.T], axis=-1), target_start, times=field.times,
-                    scheme=seq.scheme, energy=list(seq.energy), iterations=seq.iterations,
-                    converged=seq.converged, timings=dict(seq.timings), method="transfer",
-                    info={"source": seq})
+    out = Sequence(np.stack([z.real.T, z.imag.T], axis=-1), target_start, times=field.times,
+                   scheme=seq.scheme, iterations=seq.iterations, converged=seq.converged,
+                   timings=dict(seq.timings), method="transfer", info={"source": seq})
+    out.energy = [isometric_energy(out)]  # of the frames returned, not of the source run
+    return out

@@ -1,6 +1,9 @@
 """The ``isotween`` command line: one click group, one module per command."""
 
+import functools
+import signal
 import sys
+from pathlib import Path
 
 import click
 
@@ -8,16 +11,113 @@ from .. import __version__
 from .._heap import keep_heap
 from ..errors import IsotweenError
 
+#: parameters that name files a command reads, and ones it writes
+_INPUTS = ("source", "target", "source_start", "source_end", "target_start", "sequence",
+           "keyframes", "shapes", "file", "texture")
+_OUTPUTS = {"output": "-o", "outdir": "-o", "report_dir": "-o", "plot": "--plot"}
+
+
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread so that every cleanup runs."""
+
+
+def _on_sigterm(signum, frame):
+    raise _Terminated()
+
+
+def _set_max_memory(ctx, param, value):
+    if value is not None:
+        from ..resources import _LIMIT, parse_size
+
+        _LIMIT.set(parse_size(value))  # reset by _Group.invoke when the command ends
+    return value
+
+
+def _guarded(callback):
+    """The command's callback, after refusing outputs that name its inputs or cannot be written."""
+
+    @functools.wraps(callback)
+    def run(**params):
+        from .options import check_paths, probe_writable
+
+        inputs = []
+        for key in _INPUTS:
+            value = params.get(key)
+            inputs += list(value) if isinstance(value, (list, tuple)) else [value]
+        outputs = [(opt, params.get(key)) for key, opt in _OUTPUTS.items() if params.get(key) is not None]
+        check_paths(inputs, outputs)
+        for _, out in outputs:  # a file can be created where each output goes
+            out = Path(out)
+            probe_writable(out if out.is_dir() else out.parent, out)
+        return callback(**params)
+
+    return run
+
 
 class _Group(click.Group):
-    """Turns library errors into one line on stderr and a non-zero exit."""
+    """Turns errors into one line on stderr and a non-zero exit.
+
+    Library errors (`IsotweenError`) exit with 2, an interrupt (Ctrl-C) with
+    130, SIGTERM with 143; files being written are removed first (every
+    writer writes through a temporary file). Every command also takes
+    ``--max-memory SIZE``: the most memory a run may need (default: the
+    memory available now), checked against estimates before allocating.
+    """
+
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
+        """Click's entry point; usage errors, too, become one ``error:`` line (exit 2)."""
+        if not standalone_mode:
+            return super().main(args, prog_name, complete_var, standalone_mode, **extra)
+        try:
+            rv = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
+        except click.exceptions.ClickException as exc:
+            hint = f" (see '{exc.ctx.command_path} --help')" if getattr(exc, "ctx", None) is not None else ""
+            _fail(" ".join(exc.format_message().split()) + hint, exc.exit_code)
+        except click.exceptions.Abort:
+            _fail("interrupted; no output was written", 130)
+        sys.exit(rv if isinstance(rv, int) else 0)
+
+    def add_command(self, cmd, name=None):
+        cmd.params.append(click.Option(
+            ["--max-memory"], default=None, metavar="SIZE", expose_value=False, callback=_set_max_memory,
+            help="Refuse runs estimated to need more memory than SIZE (e.g. 4G) [default: the memory available].",
+        ))
+        if cmd.callback is not None:
+            cmd.callback = _guarded(cmd.callback)
+        super().add_command(cmd, name)
 
     def invoke(self, ctx):
+        from ..resources import memory_limit
+
+        previous = None
         try:
-            return super().invoke(ctx)
+            previous = signal.signal(signal.SIGTERM, _on_sigterm)
+        except ValueError:  # not the main thread: leave signals alone
+            pass
+        try:
+            with memory_limit(None):
+                return super().invoke(ctx)
         except IsotweenError as exc:
-            click.echo(f"error: {exc}", err=True)
-            sys.exit(2)
+            _fail(str(exc), 2)
+        except _Terminated:
+            _fail("terminated; no output was written", 143)
+        except KeyboardInterrupt:
+            _fail("interrupted; no output was written", 130)
+        except MemoryError:
+            _fail("out of memory; use fewer frames or vertices, or a smaller --max-memory to be refused earlier", 2)
+        except RecursionError:
+            _fail("input nested too deeply", 2)
+        except OSError as exc:
+            where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+            _fail(f"{where}{exc.strerror or exc}", 2)
+        finally:
+            if previous is not None:
+                signal.signal(signal.SIGTERM, previous)
+
+
+def _fail(message, code):
+    click.echo(f"error: {message}", err=True)
+    sys.exit(code)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

@@ -14,7 +14,9 @@ from the command's parameters. Choices and defaults come from the library's
 constants (`isotween.interpolate.SOLVERS`, `isotween.render.defaults`, ...).
 """
 
+import contextlib
 import math
+import os
 import sys
 import time
 from contextlib import contextmanager
@@ -23,6 +25,7 @@ from pathlib import Path
 import click
 
 from ..errors import FileFormatError, IncompatibleShapesError, require
+from ..io import atomic_path
 from ..outputs import FORMATS, output_kind, with_paint, write_output
 from ..render.defaults import BACKGROUND, FPS, SIZE
 
@@ -34,6 +37,10 @@ __all__ = [
     "output_options",
     "solver_kwargs",
     "check_outputs",
+    "check_paths",
+    "check_render_memory",
+    "check_texture",
+    "probe_writable",
     "ensure_compatible",
     "progress",
     "emit",
@@ -199,15 +206,117 @@ def check_outputs(output, fmt=None, texture=None, plot=None):
     ctx = click.get_current_context(silent=True)
     if ctx is not None:
         ctx.meta.setdefault("isotween.kinds", {})[(str(output), fmt)] = kind
-    if texture is not None and not Path(texture).is_file():
-        raise FileFormatError(f"{texture}: no such texture image")
+    frames = ctx.params.get("frames") if ctx is not None else None
+    if isinstance(frames, int) and not isinstance(frames, bool):
+        check_render_memory(output, fmt, frames)
+    probe_writable(output if kind == "frames" and Path(output).is_dir() else Path(output).parent, output)
+    if texture is not None:
+        check_texture(texture)
     if plot is not None:
         parent = Path(plot).parent
         if not parent.is_dir():
             raise FileFormatError(f"cannot write {plot}: {parent} does not exist")
         if Path(plot).suffix.lower() not in (".png", ".pdf", ".svg"):
             raise FileFormatError(f"{plot}: the energy plot must be a .png, .pdf or .svg file")
+        probe_writable(parent, plot)
     return kind
+
+
+# ---------------------------------------------------------------- early path checks
+
+
+def probe_writable(folder, target=None):
+    """Fail unless a file can be created in ``folder`` (tried, then removed).
+
+    Permission bits do not tell (root, read-only mounts, /proc), so a
+    temporary file is created and removed.
+
+    Raises
+    ------
+    FileFormatError
+        Naming ``target`` (or the folder) and the reason.
+    """
+    import tempfile
+
+    folder = Path(folder)
+    name = target if target is not None else folder
+    if not folder.is_dir():
+        what = "is not a folder" if folder.exists() else "does not exist"
+        raise FileFormatError(f"cannot write {name}: {folder} {what}")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".isotween-probe-", dir=folder)
+    except OSError as exc:
+        raise FileFormatError(f"cannot write {name}: {folder} is not writable ({exc.strerror or exc})") from None
+    os.close(fd)
+    os.unlink(tmp)
+
+
+def check_texture(texture):
+    """Fail unless ``texture`` is an image file Pillow can read (header checked, not decoded).
+
+    Raises
+    ------
+    FileFormatError
+        Missing file, not an image, or an image too large for memory.
+    """
+    from ..errors import require
+    from ..resources import check_memory
+
+    path = Path(texture)
+    if not path.is_file():
+        raise FileFormatError(f"{texture}: no such texture image")
+    image = require("PIL.Image", "cli")
+    try:
+        with image.open(path) as im:
+            width, height = im.size
+            im.verify()
+    except Exception as exc:  # Pillow raises many kinds (UnidentifiedImageError, SyntaxError, bombs)
+        raise FileFormatError(f"{texture}: not a readable texture image ({type(exc).__name__})") from None
+    check_memory(16.0 * width * height, f"the texture {texture} ({width} x {height} pixels)",
+                 advice="use a smaller image")
+
+
+#: peak bytes per frame of a GIF: every frame is drawn (RGBA, 400 x 400 pixels) and kept,
+#: with its palette image, until the file is written
+GIF_BYTES_PER_FRAME = 5 * 400 * 400
+
+
+def check_render_memory(output, fmt, frames):
+    """Refuse a GIF of more frames than memory holds (`ResourceError`); other kinds stream or store points."""
+    from ..resources import check_memory
+
+    if output_kind(output, fmt) == "gif":
+        check_memory(GIF_BYTES_PER_FRAME * float(frames), f"rendering {frames} frames into {output}",
+                     advice="use fewer frames, or write .mp4, .html or a sequence file")
+
+
+def check_paths(inputs, outputs):
+    """Fail when an output path names one of the input files.
+
+    Parameters
+    ----------
+    inputs : iterable of path-like
+        Files the command reads.
+    outputs : iterable of (option, path-like)
+        Paths it writes, with the option that named them.
+
+    Raises
+    ------
+    FileFormatError
+    """
+    def same(a, b):
+        try:
+            return os.path.samefile(a, b)
+        except OSError:
+            return os.path.abspath(a) == os.path.abspath(b)
+
+    existing = [p for p in inputs if p is not None and Path(p).exists()]
+    for option, out in outputs:
+        if out is None:
+            continue
+        for p in existing:
+            if Path(out).exists() and same(out, p):
+                raise FileFormatError(f"{option} {out} names an input file; it would be overwritten (choose another name)")
 
 
 def ensure_compatible(source, target, source_path, target_path):
@@ -218,7 +327,9 @@ def ensure_compatible(source, target, source_path, target_path):
     IncompatibleShapesError
     """
     from ..correspondence import check_compatible
+    from ..interpolate import check_movable
 
+    check_movable(source, str(source_path))
     try:
         check_compatible(source, target, names=[str(source_path), str(target_path)])
     except IncompatibleShapesError as exc:
@@ -325,12 +436,22 @@ def emit(seq, out, fmt=None, texture=None, quiet=False, plot=None, seconds=None)
     seq = with_paint(seq, **{k: params.get(k) for k in PAINT_KEYS})
     kinds = ctx.meta.get("isotween.kinds", {}) if ctx is not None else {}
     outs = out if isinstance(out, (list, tuple)) else [out]
-    written = []
     for o in outs:
-        written += write_output(seq, o, format=fmt, texture=texture, quiet=quiet, kind=kinds.get((str(o), fmt)),
-                                **options)
+        check_render_memory(o, fmt, len(seq))
+    written = []
+    with contextlib.ExitStack() as stack:
+        if plot is not None:  # drawn first: a plot that fails leaves no output at all
+            render = require("isotween.render", "cli")
+            render.plot_energy(seq, stack.enter_context(atomic_path(plot)))
+        try:
+            for o in outs:
+                written += write_output(seq, o, format=fmt, texture=texture, quiet=quiet,
+                                        kind=kinds.get((str(o), fmt)), **options)
+        except BaseException:
+            for p in written:
+                Path(p).unlink(missing_ok=True)
+            raise
     if plot is not None:
-        require("isotween.render", "cli").plot_energy(seq, plot)  # atomic itself
         written.append(Path(plot))
     if seconds is None:
         seconds = float(seq.timings.get("total", 0.0))

@@ -7,6 +7,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ..errors import FileFormatError
+from ..resources import check_memory
 
 __all__ = ["read_text", "check_readable", "atomic_path", "atomic_dir", "write_text"]
 
@@ -25,9 +26,19 @@ def check_readable(path):
     return path
 
 
+#: peak bytes a text parser needs per byte of file (the text, its lines and tokens,
+#: the parsed numbers as Python objects)
+TEXT_BYTES_PER_BYTE = 40
+
+
 def read_text(path):
     """Whole file as text (UTF-8); missing or undecodable files raise `FileFormatError`."""
     path = check_readable(path)
+    try:
+        size = path.stat().st_size
+    except OSError as exc:
+        raise FileFormatError(f"{path}: cannot read: {exc.strerror or exc}") from exc
+    check_memory(TEXT_BYTES_PER_BYTE * size, f"reading {path} ({size / 1e6:.0f} MB)", advice="use a smaller file")
     try:
         return path.read_text(encoding="utf-8")
     except UnicodeDecodeError as exc:

@@ -1,7 +1,6 @@
 """JSON helpers shared by the shape and sequence files: parsing with line numbers."""
 
 import json
-import math
 import numbers
 
 import numpy as np
@@ -13,6 +12,54 @@ __all__ = ["JsonDocument", "dumps_rows"]
 
 _DECODER = json.JSONDecoder()
 _WS = " \t\n\r"
+
+_MAX_INDEX = 2**62
+_MAX_FLOAT = 1.7e308  # finite doubles (inf and nan compare False, huge ints too)
+
+#: deepest nesting of arrays and objects read (isotween files need 4)
+MAX_DEPTH = 64
+
+
+class _Depth(int):
+    """Maximum nesting depth, with the line where it was first exceeded."""
+
+    line = 1
+
+
+def _nesting(text):
+    """Deepest bracket nesting of a JSON text outside strings (vectorised scan).
+
+    Returns
+    -------
+    _Depth
+        With ``line``: where the depth first exceeds `MAX_DEPTH` (or 1).
+    """
+    raw = np.frombuffer(text.encode("utf-8", "surrogatepass"), dtype=np.uint8)
+    if not raw.size:
+        return _Depth(0)
+    # characters inside strings: between unescaped quotes
+    quote = raw == ord('"')
+    backslash = raw == ord("\\")
+    if backslash.any():
+        # a quote is escaped when preceded by an odd run of backslashes
+        idx = np.flatnonzero(quote)
+        run = np.zeros(len(idx), dtype=np.int64)
+        prev = idx - 1
+        active = prev >= 0
+        while active.any():
+            hit = np.zeros(len(idx), dtype=bool)
+            hit[active] = backslash[prev[active]]
+            run += hit
+            prev = prev - 1
+            active = hit & (prev >= 0)
+        quote[idx[run % 2 == 1]] = False
+    inside = (np.cumsum(quote) % 2 == 1) & ~quote
+    step = np.where(inside, 0, (raw == ord("[")).astype(np.int64) + (raw == ord("{")) - (raw == ord("]")) - (raw == ord("}")))
+    level = np.cumsum(step)
+    depth = _Depth(int(level.max(initial=0)))
+    if depth > MAX_DEPTH:
+        depth.line = int(np.count_nonzero(raw[: int(np.argmax(level > MAX_DEPTH))] == ord("\n"))) + 1
+    return depth
 
 
 class JsonDocument:
@@ -31,10 +78,17 @@ class JsonDocument:
     def __init__(self, path):
         self.path = path
         self.text = read_text(path)
+        depth = _nesting(self.text)
+        if depth > MAX_DEPTH:
+            raise FileFormatError(f"{path}, line {depth.line}: JSON nested deeper than {MAX_DEPTH} levels")
         try:
             self.data = json.loads(self.text)
         except json.JSONDecodeError as exc:
             raise FileFormatError(f"{path}, line {exc.lineno}: invalid JSON: {exc.msg}") from None
+        except (RecursionError, MemoryError):
+            raise FileFormatError(f"{path}: JSON nested too deeply or too large to read") from None
+        except ValueError as exc:  # e.g. an integer with too many digits
+            raise FileFormatError(f"{path}: invalid JSON: {exc}") from None
 
     # ------------------------------------------------------------ locating
     def _skip_ws(self, pos):
@@ -120,8 +174,10 @@ class JsonDocument:
             if not all(isinstance(x, number) and not isinstance(x, bool) for x in items):
                 what = "integers" if kind == "int" else "numbers"
                 raise self.error(f"expected {what}, got {json.dumps(row)}", *where, i)
-            if kind != "int" and not all(math.isfinite(x) for x in items):
-                raise self.error(f"non-finite value in {json.dumps(row)}", *where, i)
+            if kind == "int" and not all(abs(x) <= _MAX_INDEX for x in items):
+                raise self.error(f"index out of range in {json.dumps(row)[:80]}", *where, i)
+            if kind != "int" and not all(abs(x) <= _MAX_FLOAT for x in items):
+                raise self.error(f"non-finite or too large value in {json.dumps(row)[:80]}", *where, i)
         dtype = np.int64 if kind == "int" else np.float64
         shape = (len(rows), width) if width is not None else (len(rows),)
         return np.array(rows, dtype=dtype).reshape(shape)

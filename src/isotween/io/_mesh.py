@@ -3,13 +3,21 @@
 import numpy as np
 
 from ..errors import FileFormatError, ShapeError
-from ..shape import Shape
+from ..shape import MAX_COORDINATE, Shape
 
 __all__ = ["fan", "assemble", "chains", "face_edges", "edges_need_listing", "planar", "y_up_vertices"]
 
 
 def planar(path, xyz, lines, base=1):
-    """Drop the z column of an (n, 3) array; a non-zero z raises, naming its line."""
+    """Drop the z column of an (n, 3) array; a non-zero z raises, naming its line.
+
+    So does a non-finite coordinate or one beyond `isotween.shape.MAX_COORDINATE`.
+    """
+    wild = np.flatnonzero(~np.all(np.isfinite(xyz[:, :2]) & (np.abs(xyz[:, :2]) <= MAX_COORDINATE), axis=1))
+    if wild.size:
+        k = int(wild[0])
+        what = "a non-finite coordinate" if not np.all(np.isfinite(xyz[k, :2])) else f"a coordinate beyond +-{MAX_COORDINATE:g}"
+        raise FileFormatError(f"{path}, line {lines[k]}: vertex {k + base} has {what}: {xyz[k, :2].tolist()}")
     bad = np.flatnonzero(xyz[:, 2] != 0)
     if bad.size:
         k = int(bad[0])
@@ -135,14 +143,19 @@ def assemble(path, vertices, triangles, tri_lines, polylines, poly_lines, uv=Non
             f = faces[deg[0]]
             rep = f[0] if f[0] in (f[1], f[2]) else f[1]
             raise FileFormatError(f"{path}, line {tri_lines[deg[0]]}: face repeats vertex {int(rep) + base}")
-    listed = [np.column_stack([c[:-1], c[1:]]) for c in polylines]
-    if listed:
-        stacked = np.vstack(listed)
+    listed = []
+    if polylines:  # consecutive pairs within each chain, all chains at once
+        sizes = np.array([len(c) for c in polylines])
+        last = np.cumsum(sizes) - 1
+        inner = np.ones(len(chain_flat), dtype=bool)
+        inner[last] = False
+        stacked = np.column_stack([chain_flat[inner], chain_flat[np.flatnonzero(inner) + 1]])
         loop = np.flatnonzero(stacked[:, 0] == stacked[:, 1])
         if loop.size:
-            owner = np.repeat(poly_lines, [len(e) for e in listed])
+            owner = np.repeat(np.asarray(poly_lines), sizes - 1)
             k = int(loop[0])
             raise FileFormatError(f"{path}, line {owner[k]}: line repeats vertex {int(stacked[k, 0]) + base} consecutively")
+        listed = [stacked]
     parts = listed + ([face_edges(faces)] if faces is not None else [])
     if parts:
         edges = np.vstack(parts)

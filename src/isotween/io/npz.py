@@ -1,24 +1,75 @@
 """NumPy ``.npz`` shape files: named arrays, exact to the bit."""
 
+import math
 import zipfile
+import zlib
 
 import numpy as np
 
 from ..errors import FileFormatError, ShapeError
+from ..resources import check_memory, format_size
 from ..shape import Shape
 from ._files import atomic_path, check_readable
 
 __all__ = ["read_npz", "write_npz", "open_npz", "connectivity_arrays", "connectivity_from"]
 
 
-def open_npz(path):
-    """All arrays of an ``.npz`` file as a dict (no pickles)."""
+def open_npz(path, max_memory=None):
+    """All arrays of an ``.npz`` file as a dict (no pickles).
+
+    The arrays' declared shapes are read from their headers first: an array
+    that claims more bytes than its member holds, or arrays that together
+    exceed the memory limit (`isotween.resources.check_memory`), are refused
+    before anything is allocated.
+    """
     path = check_readable(path)
+    total = _declared_bytes(path)
+    check_memory(total, f"reading {path}", max_memory, advice="use a smaller file")
     try:
         with np.load(path, allow_pickle=False) as data:
             return {k: data[k] for k in data.files}
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError, NotImplementedError, KeyError,
+            RuntimeError, TypeError, zlib.error) as exc:
         raise FileFormatError(f"{path}: not a valid .npz file ({exc})") from None
+
+
+def _declared_bytes(path):
+    """Total bytes the ``.npy`` members of an ``.npz`` declare; refuses lying headers.
+
+    Raises
+    ------
+    FileFormatError
+        Not a zip file, a member that is not ``.npy``, a header that cannot
+        be read, or one whose shape needs more bytes than the member holds.
+    """
+    total = 0
+    try:
+        with zipfile.ZipFile(path) as archive:
+            for info in archive.infolist():
+                if not info.filename.endswith(".npy"):
+                    raise FileFormatError(f"{path}: member '{info.filename[:60]}' is not a .npy array")
+                with archive.open(info) as fh:
+                    version = np.lib.format.read_magic(fh)
+                    if version == (1, 0):
+                        shape, _, dtype = np.lib.format.read_array_header_1_0(fh)
+                    else:
+                        shape, _, dtype = np.lib.format.read_array_header_2_0(fh)
+                    header = fh.tell()
+                if dtype.hasobject:
+                    raise FileFormatError(f"{path}: array '{info.filename[:-4]}' holds Python objects (not read)")
+                nbytes = math.prod(shape) * dtype.itemsize
+                if nbytes > info.file_size - header:
+                    raise FileFormatError(
+                        f"{path}: array '{info.filename[:-4]}' declares shape {shape} ({format_size(nbytes)}) "
+                        f"but its data holds {format_size(max(info.file_size - header, 0))}"
+                    )
+                total += nbytes
+    except FileFormatError:
+        raise
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError, NotImplementedError, KeyError,
+            RuntimeError, TypeError, SyntaxError, OverflowError, zlib.error) as exc:
+        raise FileFormatError(f"{path}: not a valid .npz file ({exc})") from None
+    return total
 
 
 def connectivity_arrays(shape):

@@ -8,6 +8,8 @@ from ._mesh import assemble, chains, edges_need_listing, fan, planar, y_up_verti
 
 __all__ = ["read_obj", "write_obj"]
 
+_MAX_INDEX = 2**62  # beyond any real file; keeps indices in int64
+
 
 def _float(path, lineno, token):
     try:
@@ -18,6 +20,13 @@ def _float(path, lineno, token):
 
 def _refs(path, lineno, tokens, n_v, n_vt):
     """Vertex and texture indices (0-based, None when absent) of ``f``/``l`` tokens."""
+    if not any("/" in tok for tok in tokens):  # plain vertex numbers: the common case, fast
+        try:
+            ks = [int(tok) for tok in tokens]
+        except ValueError:
+            ks = None
+        if ks is not None and all(0 < k <= _MAX_INDEX for k in ks):
+            return [(k - 1, None) for k in ks]
     out = []
     for tok in tokens:
         parts = tok.split("/")
@@ -32,6 +41,8 @@ def _refs(path, lineno, tokens, n_v, n_vt):
                 raise FileFormatError(f"{path}, line {lineno}: '{tok}' is not a vertex reference") from None
             if k == 0:
                 raise FileFormatError(f"{path}, line {lineno}: {what} index 0 (OBJ counts from 1)")
+            if abs(k) > _MAX_INDEX:
+                raise FileFormatError(f"{path}, line {lineno}: {what} index {k} is out of range")
             # negative indices count back from the last element read so far
             idx.append(k - 1 if k > 0 else count + k)
             if idx[-1] < 0:

@@ -1,5 +1,7 @@
 """Object File Format (OFF, and STOFF with per-vertex texture coordinates)."""
 
+import itertools
+
 import numpy as np
 
 from ..errors import FileFormatError
@@ -9,12 +11,33 @@ from ._mesh import assemble, chains, edges_need_listing, fan, planar, y_up_verti
 __all__ = ["read_off", "write_off"]
 
 
+_MAX_INDEX = 2**62  # beyond any real file; keeps counts and indices in int64
+
+
 def _numbers(path, lineno, tokens, kind):
     try:
-        return [kind(t) for t in tokens]
+        values = [kind(t) for t in tokens]
     except ValueError:
         bad = next(t for t in tokens if not _is(kind, t))
         raise FileFormatError(f"{path}, line {lineno}: '{bad}' is not {'an integer' if kind is int else 'a number'}") from None
+    if kind is int:
+        big = [t for t, v in zip(tokens, values) if abs(v) > _MAX_INDEX]
+        if big:
+            raise FileFormatError(f"{path}, line {lineno}: '{big[0]:.40}' is out of range")
+    return values
+
+
+def _rows(text):
+    """(line number, tokens) of every non-empty line (comments removed), lazily."""
+    start, lineno = 0, 0
+    while start <= len(text):
+        end = text.find("\n", start)
+        end = len(text) if end < 0 else end
+        lineno += 1
+        tokens = text[start:end].split("#", 1)[0].split()
+        if tokens:
+            yield lineno, tokens
+        start = end + 1
 
 
 def _is(kind, token):
@@ -47,28 +70,25 @@ def read_off(path):
         Naming the file and line of a malformed header, count, vertex or face.
     """
     text = read_text(path)
-    rows = []  # (line number, tokens) of every non-empty line
-    for lineno, raw in enumerate(text.splitlines(), 1):
-        tokens = raw.split("#", 1)[0].split()
-        if tokens:
-            rows.append((lineno, tokens))
-    if not rows:
+    rows = _rows(text)  # (line number, tokens) of the non-empty lines, read as needed
+    first = next(rows, None)
+    if first is None:
         raise FileFormatError(f"{path}: empty file, expected an 'OFF' header")
-    lineno, head = rows[0]
+    lineno, head = first
     if head[0] not in ("OFF", "STOFF"):
         raise FileFormatError(f"{path}, line {lineno}: expected the header 'OFF' or 'STOFF', got '{head[0]}'")
     textured = head[0] == "STOFF"
-    rest = rows[1:]
     if len(head) > 1:  # counts on the header line
-        rest = [(lineno, head[1:])] + rest
-    if not rest:
+        rows = itertools.chain([(lineno, head[1:])], rows)
+    nxt = next(rows, None)
+    if nxt is None:
         raise FileFormatError(f"{path}, line {lineno}: missing the counts 'n_vertices n_faces n_edges'")
-    lineno, counts = rest[0]
+    lineno, counts = nxt
     counts = _numbers(path, lineno, counts, int)
     if len(counts) < 2 or min(counts[:2]) < 0:
         raise FileFormatError(f"{path}, line {lineno}: expected 'n_vertices n_faces n_edges'")
     n_v, n_f = counts[:2]
-    body = rest[1:]
+    body = list(itertools.islice(rows, n_v + n_f))  # lines after the announced ones are not read
     if len(body) < n_v + n_f:
         at = body[-1][0] if body else lineno
         raise FileFormatError(

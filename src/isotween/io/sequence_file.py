@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import FileFormatError, IncompatibleShapesError
+from ..resources import check_memory
 from ..sequence import Sequence
 from ._files import check_readable, write_text
 from ._json import JsonDocument, dumps_rows
@@ -292,7 +293,11 @@ def _load_folder(folder):
     )
     if not files:
         raise FileFormatError(f"{folder}: no frame files ({', '.join(SHAPE_FORMATS)}) in this folder")
-    shapes = [load(p) for p in files]
+    first = load(files[0])
+    per_file = 8 * first.vertices.size + 8 * first.edges.size + (0 if first.faces is None else 8 * first.faces.size)
+    check_memory(2.0 * per_file * len(files), f"reading {len(files)} frame files of {folder}",
+                 advice="use fewer frame files")
+    shapes = [first] + [load(p) for p in files[1:]]
     ref = shapes[0]
     for p, s in zip(files[1:], shapes[1:]):
         same_faces = (ref.faces is None) == (s.faces is None) and (

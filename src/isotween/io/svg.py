@@ -13,18 +13,22 @@ with a warning naming them. Coordinates stay in the root's user units with y
 pointing down (the viewBox and the width/height of the root are ignored).
 """
 
+import functools
 import io
+import numbers
 import re
 import warnings
 import xml.etree.ElementTree as ET
+from xml.parsers import expat
 
 import numpy as np
 
 from ..correspondence.regions import fill_regions
 from ..errors import FileFormatError, ParameterError, ShapeError, require
 from ..paint import Paint, paint_groups, svg_paint_attributes
-from ..shape import Shape
-from ._files import check_readable, write_text
+from ..resources import check_memory
+from ..shape import MAX_COORDINATE, Shape
+from ._files import TEXT_BYTES_PER_BYTE, check_readable, write_text
 from ._mesh import chains
 
 __all__ = ["read_svg", "write_svg", "CURVE_SEGMENTS"]
@@ -35,7 +39,8 @@ CURVE_SEGMENTS = 16
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _LENGTH = re.compile(rf"^\s*{_NUMBER}\s*(?:px|pt|pc|mm|cm|in|em|ex|%)?\s*$")
-_POINTS = re.compile(rf"^[\s,]*(?:{_NUMBER}[\s,]*)*$")
+_NUMBERS = re.compile(_NUMBER)
+_SEPARATORS = re.compile(r"^[\s,]*$")
 _GEOMETRY = {
     "rect": ("x", "y", "width", "height", "rx", "ry"),
     "circle": ("cx", "cy", "r"),
@@ -58,12 +63,18 @@ def _check_attributes(path, se, el, tag, label):
             raise FileFormatError(f"{path}: {label}: malformed path data d=\"{values.get('d', '')}\"") from None
     elif tag in ("polygon", "polyline"):
         pts = values.get("points", "")
-        if not _POINTS.match(pts) or len(re.findall(_NUMBER, pts)) % 2:
+        if not _points_ok(pts):
             raise FileFormatError(f"{path}: {label}: malformed points=\"{pts}\" (need x,y pairs)")
     for name in _GEOMETRY.get(tag, ()):
         text = values.get(name)
         if text is not None and text != "auto" and not _LENGTH.match(str(text)):
             raise FileFormatError(f"{path}: {label}: {name}=\"{text}\" is not a length")
+
+
+def _points_ok(text):
+    """Whether a ``points`` attribute is numbers in x,y pairs (checked in linear time:
+    a single regular expression for it backtracks exponentially on some texts)."""
+    return bool(_SEPARATORS.match(_NUMBERS.sub(" ", text))) and len(_NUMBERS.findall(text)) % 2 == 0
 
 
 def _subpaths(se, element, curve_segments):
@@ -104,6 +115,19 @@ def _clean(points, closed):
     return points
 
 
+def _quiet_numbers(reader):
+    """Run ``reader`` without numpy's overflow warnings (overflowing numbers are refused instead)."""
+
+    @functools.wraps(reader)
+    def read(*args, **kwargs):
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return reader(*args, **kwargs)
+
+    return read
+
+
+@_quiet_numbers
 def read_svg(path, curve_segments=CURVE_SEGMENTS):
     """Read every drawn outline of an SVG file as one Shape.
 
@@ -140,8 +164,8 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
     """
     se = require("svgelements", "cli")
     path = check_readable(path)
-    if curve_segments < 1:
-        raise FileFormatError(f"{path}: curve_segments must be at least 1, got {curve_segments}")
+    _check_curve_segments(curve_segments)
+    _check_xml_safety(path)
     try:
         root = ET.parse(path).getroot()
     except ET.ParseError as exc:
@@ -156,8 +180,10 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
         root.attrib.pop(attr, None)
     try:
         document = se.SVG.parse(io.BytesIO(ET.tostring(root)), reify=True)
-    except (ValueError, TypeError, ZeroDivisionError) as exc:
-        raise FileFormatError(f"{path}: cannot interpret the drawing ({exc})") from None
+    except _SVGELEMENTS_ERRORS as exc:
+        raise FileFormatError(f"{path}: cannot interpret the drawing ({str(exc)[:120]})") from None
+    if not hasattr(document, "elements"):
+        raise FileFormatError(f"{path}: the root element is not an SVG <svg> (namespace {root.tag[:80]})")
     rings, paints, regions, dropped, counts = [], [], [], [], {}
     for el in document.elements():
         if not isinstance(el, se.Shape):
@@ -170,11 +196,10 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
         if paint.fill is None and paint.stroke is None:
             continue  # draws nothing (e.g. an icon's bounding box with fill="none")
         kept = []
-        for k, (points, closed) in enumerate(_subpaths(se, el, curve_segments)):
+        for k, (points, closed) in enumerate(_safe_subpaths(path, se, el, curve_segments, label)):
+            _check_numbers(path, label, k, points)
             closed = closed or paint.filled
             points = _clean(points, closed)
-            if not np.all(np.isfinite(points)):
-                raise FileFormatError(f"{path}: {label}: subpath {k} has a non-finite coordinate")
             need = 3 if closed else 2
             kind = "closed subpath" if closed else "open subpath"
             if len(points) < need:
@@ -205,6 +230,112 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
             f"{path}: nothing to read (no path, polygon, polyline, rect, circle, ellipse or line){why}"
         )
     return _shape_of_rings(path, rings, regions, paints)
+
+
+#: what svgelements raises on drawings it cannot interpret
+_SVGELEMENTS_ERRORS = (ValueError, TypeError, ZeroDivisionError, OverflowError, IndexError, KeyError,
+                       AttributeError, RecursionError)
+
+
+def _safe_subpaths(path, se, element, curve_segments, label):
+    """`_subpaths`, with svgelements' errors on malformed geometry as `FileFormatError`."""
+    try:
+        return _subpaths(se, element, curve_segments)
+    except _SVGELEMENTS_ERRORS as exc:
+        raise FileFormatError(f"{path}: {label}: cannot interpret the geometry ({type(exc).__name__})") from None
+
+
+def _check_curve_segments(curve_segments):
+    """Refuse a ``curve_segments`` that is not an integer from 1 to 10,000."""
+    if isinstance(curve_segments, bool) or not isinstance(curve_segments, numbers.Integral) \
+            or not 1 <= curve_segments <= 10_000:
+        raise ParameterError(f"curve_segments must be an integer from 1 to 10000, got {curve_segments!r}")
+
+
+def _check_numbers(path, label, k, points):
+    """Refuse non-finite coordinates and ones beyond `isotween.shape.MAX_COORDINATE`."""
+    bad = ~np.all(np.isfinite(points), axis=1)
+    if bad.any():
+        raise FileFormatError(f"{path}: {label}: subpath {k} has a non-finite coordinate (point {int(np.argmax(bad))})")
+    big = np.any(np.abs(points) > MAX_COORDINATE, axis=1)
+    if big.any():
+        raise FileFormatError(
+            f"{path}: {label}: subpath {k} has a coordinate beyond +-{MAX_COORDINATE:g} "
+            f"(point {int(np.argmax(big))}); scale the drawing down"
+        )
+
+
+class _Unsafe(Exception):
+    """Raised inside the expat handlers of `_check_xml_safety`."""
+
+
+def _check_xml_safety(path):
+    """Refuse what could make reading an SVG reach outside the file or blow up.
+
+    Entity declarations (internal ones can expand exponentially, external
+    ones read files or URLs), external DTDs and ``<use>`` elements that refer
+    to other files are refused before any XML parser resolves them; this is
+    what ``defusedxml`` does with ``forbid_entities`` and ``forbid_external``.
+    So are elements nested deeper than `MAX_DEPTH` (the readers recurse).
+    Links of other elements (``<image>``, ``<a>``) are never followed.
+
+    Raises
+    ------
+    FileFormatError
+        Naming the file, the line and what was refused.
+    """
+    size = path.stat().st_size
+    check_memory(TEXT_BYTES_PER_BYTE * size, f"reading {path} ({size / 1e6:.0f} MB)", advice="use a smaller file")
+    parser = expat.ParserCreate()
+    parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
+
+    def entity(name, *args):
+        raise _Unsafe(f"declares the entity '{name}'; entities are not expanded (remove the DOCTYPE)")
+
+    def external(context, base, system_id, public_id):
+        raise _Unsafe(f"refers to the external entity '{system_id}'; it is not read")
+
+    def doctype(name, system_id, public_id, has_internal_subset):
+        if system_id and not _KNOWN_DTD.match(system_id):
+            raise _Unsafe(f"names the external DTD '{system_id}'; it is not read")
+
+    depth = [0]
+
+    def start(tag, attrs):
+        depth[0] += 1
+        if depth[0] > MAX_DEPTH:
+            raise _Unsafe(f"elements nested deeper than {MAX_DEPTH} levels")
+        if tag.rsplit(":", 1)[-1].rsplit("}", 1)[-1] != "use":
+            return
+        for name, value in attrs.items():
+            if name.rsplit(":", 1)[-1] == "href" and not str(value).lstrip().startswith("#"):
+                raise _Unsafe(f"<use> refers to '{str(value)[:80]}' outside this file; external references "
+                              "are not followed (copy the element into the file)")
+
+    parser.EntityDeclHandler = entity
+    parser.UnparsedEntityDeclHandler = entity
+    parser.ExternalEntityRefHandler = external
+    parser.StartDoctypeDeclHandler = doctype
+    parser.StartElementHandler = start
+    parser.EndElementHandler = lambda tag: depth.__setitem__(0, depth[0] - 1)
+    try:
+        with open(path, "rb") as fh:
+            parser.ParseFile(fh)
+    except _Unsafe as exc:
+        raise FileFormatError(f"{path}, line {parser.CurrentLineNumber}: {exc}") from None
+    except (LookupError, ValueError) as exc:  # e.g. an unknown encoding in the XML declaration
+        raise FileFormatError(f"{path}: malformed XML ({str(exc)[:80]})") from None
+    except expat.ExpatError as exc:
+        raise FileFormatError(f"{path}, line {exc.lineno}: malformed XML ({expat.ErrorString(exc.code)})") from None
+    except OSError as exc:
+        raise FileFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
+
+
+#: deepest element nesting read (drawings from editors stay below a few dozen)
+MAX_DEPTH = 256
+
+#: the SVG 1.0/1.1 DTDs that editors name in their DOCTYPE (never fetched)
+_KNOWN_DTD = re.compile(r"^https?://www\.w3\.org/(Graphics/SVG/1\.1/DTD/svg11|TR/2001/REC-SVG-20010904/DTD/svg10)\.dtd$")
 
 
 def _colour(colour):

@@ -63,6 +63,7 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
     h = t[1:] - t[:-1]
     e0 = edges[:, 0]
     norm = float(np.add.reduce(e0.real**2 + e0.imag**2))  # not BLAS: no threads
+    norm = norm if norm > 0.0 else 1.0  # no edges (or all of zero length): energy 0, not 0 / 0
     if fixed is None:
         fixed = np.zeros(len(t), dtype=bool)
         fixed[[0, -1]] = True

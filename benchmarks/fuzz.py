@@ -1,0 +1,478 @@
+"""Fuzzing the shape and sequence loaders with mutated valid files.
+
+Every loader (OBJ, OFF, JSON, SVG, NPZ shapes; NPZ and JSON sequences) reads
+files made from valid seeds by byte flips, splices, truncation, swaps of
+numbers for huge, NaN, negative or malformed ones, repeated or dropped lines
+and deep nesting. The only allowed outcomes are a Shape (or Sequence) or an
+`IsotweenError`, within a time bound (a watchdog alarm per input) and a memory
+bound (``RLIMIT_AS`` in each worker). Any other outcome is a bug; the first
+input of each kind is kept under ``--keep`` for reproduction.
+
+Usage::
+
+    python3 benchmarks/fuzz.py --inputs 100000 --workers 2           # prints the table
+    python3 benchmarks/fuzz.py --inputs 100000 --workers 2 --write   # and RESULTS.md, Reliability
+
+``--write`` also times the command lines the resource guards refuse (peak
+memory by ``/usr/bin/time``) and counts the cases of tests/test_hostile.py.
+
+Not part of the test suite; ``tests/test_hostile.py`` runs 300 inputs of it.
+"""
+
+import argparse
+import io as _io
+import os
+import random
+import re
+import signal
+import sys
+import tempfile
+import time
+import zipfile
+from collections import Counter
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # small address space per worker
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "src"))
+
+from isotween import Shape, io  # noqa: E402
+from isotween.errors import IsotweenError  # noqa: E402
+from isotween.sequence import Sequence  # noqa: E402
+
+#: per-input limits: seconds, plus seconds per MB of input (mutations that repeat lines make
+#: valid files of several MB, which the text parsers read at about 1 MB/s alone and slower on
+#: a machine shared with other jobs)
+TIME_LIMIT = 5.0
+TIME_PER_MB = 5.0
+MEMORY_LIMIT = 2 << 30  # bytes of address space per worker
+
+NUMBERS = ["1e400", "-1e400", "nan", "NaN", "inf", "-inf", "1e200", "-1e308", "99999999999999999999999",
+           "-99999999999999999999999", "0", "-0", "-1", "-2", "4294967296", "9223372036854775808", "1.5",
+           "1e-320", "0x10", "", "--1", "1e", ".", "3e3e3", "1" * 400]
+NUMBER = re.compile(rb"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+# ------------------------------------------------------------------ seeds
+def _seed_shapes():
+    t = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    ring = Shape.from_polygon([np.c_[np.cos(t), np.sin(t)], 0.3 * np.c_[np.cos(t[:6]), np.sin(t[:6])][::-1]])
+    chain = Shape.from_polyline(np.c_[np.linspace(0, 1, 7), np.linspace(0, 1, 7) ** 2])
+    x, y = np.meshgrid(np.arange(4.0), np.arange(3.0), indexing="ij")
+    v = np.c_[x.ravel(), y.ravel()]
+    idx = np.arange(12).reshape(4, 3)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
+    mesh = Shape(v, faces=np.vstack([np.c_[a, b, c], np.c_[a, c, d]]), uv=v / v.max(axis=0))
+    return [ring, chain, mesh]
+
+
+SVG_SEEDS = [
+    b'<?xml version="1.0"?>\n<svg xmlns="http://www.w3.org/2000/svg" '
+    b'xmlns:xlink="http://www.w3.org/1999/xlink" viewBox="0 0 100 100">\n'
+    b'<g transform="translate(10,5) rotate(30)">\n'
+    b'<path id="a" d="M 0 0 L 10 0 Q 15 5 10 10 C 8 12 2 12 0 10 A 5 5 0 0 1 0 0 Z M 20 20 l 5 0 l 0 5 z"/>\n'
+    b'<polygon points="30,30 40,30 40,40 30,40"/>\n<polyline points="0,50 10,55 20,50"/>\n</g>\n'
+    b'<rect x="50" y="50" width="20" height="10" rx="2"/>\n<circle cx="80" cy="20" r="8"/>\n'
+    b'<ellipse cx="20" cy="80" rx="8" ry="4"/>\n<line x1="0" y1="0" x2="5" y2="9"/>\n'
+    b'<defs><polygon id="p" points="0,0 3,0 3,3"/></defs><use xlink:href="#p" x="60" y="60"/>\n</svg>\n',
+    b'<svg xmlns="http://www.w3.org/2000/svg"><path d="m 1,1 h 10 v 10 h -10 z m 2,2 h 3 v 3 h -3 z"/>'
+    b'<path d="M 0 0 S 5 5 10 0 T 20 0"/></svg>',
+]
+
+
+def seeds():
+    """(extension, kind, bytes) of every valid seed file; kind is 'shape' or 'sequence'."""
+    out = []
+    shapes = _seed_shapes()
+    with tempfile.TemporaryDirectory() as tmp:
+        for k, shape in enumerate(shapes):
+            for ext in (".obj", ".off", ".json", ".npz", ".svg"):
+                if ext == ".svg" and shape.faces is not None:
+                    continue
+                path = Path(tmp) / f"s{k}{ext}"
+                io.save(shape, path)
+                out.append((ext, "shape", path.read_bytes()))
+        from isotween import interpolate
+
+        seq = interpolate(shapes[0], shapes[0].with_vertices(shapes[0].vertices * [1.5, 0.7]), frames=4)
+        for ext in (".npz", ".json"):
+            path = Path(tmp) / f"seq{ext}"
+            io.save_sequence(seq, path)
+            out.append((ext, "sequence", path.read_bytes()))
+    out += [(".svg", "shape", s) for s in SVG_SEEDS]
+    return out
+
+
+# ------------------------------------------------------------------ mutations
+def _flip(rng, data):
+    b = bytearray(data)
+    for _ in range(rng.randint(1, 8)):
+        if b:
+            b[rng.randrange(len(b))] = rng.randrange(256)
+    return bytes(b)
+
+
+def _bit(rng, data):
+    b = bytearray(data)
+    if b:
+        i = rng.randrange(len(b))
+        b[i] ^= 1 << rng.randrange(8)
+    return bytes(b)
+
+
+def _truncate(rng, data):
+    return data[: rng.randrange(len(data) + 1)]
+
+
+def _splice(rng, data, other):
+    i, j = sorted(rng.randrange(len(data) + 1) for _ in range(2))
+    k, m = sorted(rng.randrange(len(other) + 1) for _ in range(2))
+    return data[:i] + other[k:m] + data[j:]
+
+
+def _number(rng, data):
+    found = list(NUMBER.finditer(data))
+    if not found:
+        return _flip(rng, data)
+    for _ in range(rng.randint(1, 3)):
+        m = rng.choice(found)
+        new = rng.choice(NUMBERS).encode()
+        data = data[: m.start()] + new + data[m.end():]
+        found = list(NUMBER.finditer(data))
+        if not found:
+            break
+    return data
+
+
+def _lines(rng, data):
+    lines = data.split(b"\n")
+    i = rng.randrange(len(lines))
+    op = rng.randrange(3)
+    if op == 0:
+        del lines[i]
+    elif op == 1:
+        lines.insert(i, lines[rng.randrange(len(lines))] * rng.randint(1, 3))
+    else:
+        lines[i:i] = [lines[i]] * rng.randint(2, 50)
+    return b"\n".join(lines)
+
+
+def _nest(rng, data, ext):
+    depth = rng.choice([10, 100, 1000, 100000])
+    if ext == ".json":
+        i = data.find(b"[")
+        if i < 0:
+            return b"[" * depth + data + b"]" * depth
+        return data[:i] + b"[" * depth + data[i:i + 1] + b"]" * depth + data[i + 1:]
+    if ext == ".svg":
+        i = data.find(b">", data.find(b"<svg")) + 1
+        return data[:i] + b"<g>" * depth + b"</g>" * depth + data[i:]
+    return data * min(depth, 50)
+
+
+def _npz_arrays(rng, data):
+    """Rewrite one array of a .npz with hostile values, dtype or shape."""
+    import warnings
+
+    with np.errstate(all="ignore"), warnings.catch_warnings():  # lossy casts are what this is for
+        warnings.simplefilter("ignore")
+        return _npz_rewrite(rng, data)
+
+
+def _npz_rewrite(rng, data):
+    try:
+        with np.load(_io.BytesIO(data), allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files}
+    except Exception:
+        return _flip(rng, data)
+    name = rng.choice(sorted(arrays))
+    a = arrays[name]
+    choice = rng.randrange(8)
+    if choice == 0 and a.size and a.dtype.kind == "f":
+        a = a.copy()
+        a.flat[rng.randrange(a.size)] = rng.choice([np.nan, np.inf, -np.inf, 1e200, -1e308])
+    elif choice == 1 and a.size and a.dtype.kind in "iu":
+        a = a.astype(np.int64)
+        a.flat[rng.randrange(a.size)] = rng.choice([-1, 2**62, -(2**63), 10**9, a.max() + 1 if a.size else 0])
+    elif choice == 2:
+        try:
+            a = a.astype(rng.choice(["<U3", "bool", "complex128", "float16", "uint8", "int8"]))
+        except (ValueError, TypeError, OverflowError):
+            a = np.array(["text"])
+    elif choice == 3:
+        a = a.reshape(-1) if a.ndim else np.zeros((2, 2, 2))
+    elif choice == 4:
+        a = a[: rng.randrange(max(len(a), 1) + 1)] if a.ndim else a
+    elif choice == 5:
+        del arrays[name]
+        buf = _io.BytesIO()
+        np.savez(buf, **arrays)
+        return buf.getvalue()
+    elif choice == 6:
+        a = np.zeros(0) if rng.random() < 0.5 else np.array(3.0)
+    else:  # a header that claims a huge shape
+        buf = _io.BytesIO()
+        np.savez(buf, **arrays)
+        raw = buf.getvalue()
+        return re.sub(rb"\((\d+),", lambda m: b"(" + str(int(m.group(1)) * 10**9).encode() + b",", raw, count=1)
+    arrays[name] = a
+    buf = _io.BytesIO()
+    np.savez(buf, **arrays)
+    return buf.getvalue()
+
+
+def mutate(rng, ext, data, pool):
+    """One hostile variant of ``data`` (a valid ``ext`` file)."""
+    ops = ["flip", "bit", "truncate", "splice", "number", "number", "lines", "nest"]
+    if ext == ".npz":
+        ops += ["npz", "npz", "npz"]
+    out = data
+    for _ in range(rng.choice([1, 1, 1, 2, 3])):
+        op = rng.choice(ops)
+        if op == "flip":
+            out = _flip(rng, out)
+        elif op == "bit":
+            out = _bit(rng, out)
+        elif op == "truncate":
+            out = _truncate(rng, out)
+        elif op == "splice":
+            out = _splice(rng, out, rng.choice(pool))
+        elif op == "number":
+            out = _number(rng, out)
+        elif op == "lines":
+            out = _lines(rng, out)
+        elif op == "nest":
+            out = _nest(rng, out, ext)
+        else:
+            out = _npz_arrays(rng, out)
+    return out
+
+
+# ------------------------------------------------------------------ workers
+class _Timeout(BaseException):
+    """Raised by the watchdog alarm; not an Exception, so loaders cannot swallow it."""
+
+
+def _alarm(signum, frame):
+    raise _Timeout()
+
+
+_STATE = {}
+
+
+def _init(limit_bytes):
+    import resource
+
+    resource.setrlimit(resource.RLIMIT_AS, (limit_bytes, limit_bytes))
+    signal.signal(signal.SIGALRM, _alarm)
+    _STATE["dir"] = tempfile.mkdtemp(prefix="isotween-fuzz-")
+    _STATE["seeds"] = seeds()
+
+
+def _one(index, base_seed):
+    """Load the ``index``-th mutated file; (outcome, seconds, ext, size, data or None)."""
+    rng = random.Random(base_seed * 1_000_003 + index)
+    ext, kind, data = rng.choice(_STATE["seeds"])
+    pool = [s for e, _, s in _STATE["seeds"] if e == ext]
+    data = mutate(rng, ext, data, pool)
+    path = Path(_STATE["dir"]) / f"input{ext}"
+    path.write_bytes(data)
+    loader = io.load_sequence if kind == "sequence" else io.load
+    t0 = time.perf_counter()
+    signal.setitimer(signal.ITIMER_REAL, TIME_LIMIT + TIME_PER_MB * len(data) / 1e6)
+    try:
+        result = loader(path)
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        ok = isinstance(result, Sequence if kind == "sequence" else Shape)
+        outcome = ("sequence" if kind == "sequence" else "shape") if ok else f"BUG wrong type {type(result).__name__}"
+    except _Timeout:
+        outcome = "BUG timeout"
+    except IsotweenError as exc:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        outcome = f"error {type(exc).__name__}"
+    except MemoryError:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        outcome = "BUG MemoryError"
+    except BaseException as exc:  # noqa: BLE001 - any other outcome is what we look for
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        outcome = f"BUG {type(exc).__name__}: {str(exc)[:80]}"
+    seconds = time.perf_counter() - t0
+    return outcome, seconds, ext, len(data), (data if outcome.startswith("BUG") else None)
+
+
+def _batch(args):
+    start, stop, base_seed = args
+    return [_one(i, base_seed) for i in range(start, stop)]
+
+
+def run(inputs, workers=2, seed=1, batch=200, progress=False):
+    """Fuzz ``inputs`` files.
+
+    Returns
+    -------
+    counts : Counter
+        Inputs per (extension, outcome).
+    seconds : float
+    bugs : dict {(extension, outcome): bytes}
+        One input of every outcome that is not allowed.
+    slowest : (float, int)
+        Seconds and bytes of the slowest input.
+
+    With ``workers=1`` it runs in this process (the memory limit is then not set).
+    """
+    tasks = [(i, min(i + batch, inputs), seed) for i in range(0, inputs, batch)]
+    counts, bugs, slowest = Counter(), {}, (0.0, 0)
+    t0 = time.perf_counter()
+    previous = None
+    if workers == 1:
+        _STATE.setdefault("seeds", seeds())
+        _STATE.setdefault("dir", tempfile.mkdtemp(prefix="isotween-fuzz-"))
+        previous = signal.signal(signal.SIGALRM, _alarm)
+        results = map(_batch, tasks)
+    else:
+        import multiprocessing
+
+        pool = multiprocessing.get_context("fork").Pool(workers, _init, (MEMORY_LIMIT,))
+        results = pool.imap_unordered(_batch, tasks)
+    done = 0
+    for rows in results:
+        for outcome, seconds, ext, size, data in rows:
+            counts[(ext, outcome)] += 1
+            slowest = max(slowest, (seconds, size))
+            if data is not None and (ext, outcome) not in bugs:
+                bugs[(ext, outcome)] = data
+        done += len(rows)
+        if progress and done % 10000 < batch:
+            print(f"{done} inputs, {time.perf_counter() - t0:.0f} s, bugs: {sum(v for (e, o), v in counts.items() if o.startswith('BUG'))}",
+                  file=sys.stderr)
+    if workers != 1:
+        pool.close()
+        pool.join()
+    else:
+        signal.signal(signal.SIGALRM, previous)
+    return counts, time.perf_counter() - t0, bugs, slowest
+
+
+def report(counts):
+    """Markdown table: inputs per format and outcome."""
+    from _results import table
+
+    formats = sorted({e for e, _ in counts})
+    outcomes = sorted({o for _, o in counts}, key=lambda o: (o.startswith("BUG"), o))
+    rows = [[o] + [counts.get((e, o), 0) for e in formats] + [sum(counts.get((e, o), 0) for e in formats)]
+            for o in outcomes]
+    rows.append(["**all**"] + [sum(v for (e, _), v in counts.items() if e == f) for f in formats]
+                + [sum(counts.values())])
+    return table(["outcome"] + formats + ["total"], rows)
+
+
+#: command lines refused by the resource guards, with what they cost before the guards
+GUARDED = [
+    (["interpolate", "{a}", "{b}", "--frames", "1000000000", "-o", "{out}/o.npz"],
+     "39 s and 15.7 GB, then a MemoryError traceback"),
+    (["interpolate", "{a}", "{b}", "--frames", "100000", "-o", "{out}/o.gif"],
+     "a GIF of 100,000 frames drawn in memory (about 75 GB)"),
+    (["interpolate", "{e1}", "{e2}", "--resample", "40", "--mesh", "1e-9", "-o", "{out}/o.gif"],
+     "grew to 24 GB and was killed by the kernel"),
+    (["interpolate", "{lie}", "{a}", "-o", "{out}/o.gif"], "MemoryError traceback"),
+]
+
+
+def guards():
+    """Peak memory and time of the guarded command lines (``/usr/bin/time``); a Markdown table."""
+    import shutil
+    import subprocess
+
+    from _results import table
+
+    timer = shutil.which("time") or "/usr/bin/time"
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+        io.save(Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]]), tmp / "a.json")  # two squares
+        io.save(Shape.from_polygon([[0, 0], [2, 0], [2, 1], [0, 1]]), tmp / "b.json")
+        io.save(Shape.from_polygon(np.c_[2 * np.cos(t), np.sin(t)]), tmp / "e1.svg")
+        io.save(Shape.from_polygon(np.c_[np.cos(t), 2 * np.sin(t)]), tmp / "e2.svg")
+        buf = _io.BytesIO()
+        np.save(buf, np.zeros((1, 2)))
+        with zipfile.ZipFile(tmp / "lie.npz", "w") as z:
+            z.writestr("vertices.npy", buf.getvalue().replace(b"(1, 2)", b"(1000000000000, 2)"))
+        names = {k: tmp / f for k, f in (("a", "a.json"), ("b", "b.json"), ("e1", "e1.svg"), ("e2", "e2.svg"),
+                                          ("lie", "lie.npz"))}
+        env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+        for args, before in GUARDED:
+            argv = [a.format(out=tmp, **names) for a in args]
+            proc = subprocess.run([timer, "-f", "%M %e", sys.executable, "-m", "isotween", *argv],
+                                  capture_output=True, text=True, env=env)
+            lines = proc.stderr.strip().splitlines()
+            rss, seconds = lines[-1].split()
+            message = next((ln for ln in lines if ln.startswith("error:")), "(no error line)")
+            message = message.replace(f"{tmp}/", "")
+            shown = " ".join(Path(a).name for a in argv)
+            rows.append([f"`isotween {shown}`", before, f"exit {proc.returncode}: `{message}`",
+                         f"{int(rss) / 1024:.0f} MB", f"{float(seconds):.2f} s"])
+    return table(["command", "reported before the guards", "now", "peak RSS", "time"], rows)
+
+
+def hostile_cases():
+    """Number of test cases in tests/test_hostile.py (pytest's collection)."""
+    import subprocess
+
+    proc = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "no:cacheprovider",
+                           str(ROOT / "tests" / "test_hostile.py")], capture_output=True, text=True,
+                          env=dict(os.environ, PYTHONPATH=str(ROOT / "src")), cwd=ROOT)
+    return sum(1 for line in proc.stdout.splitlines() if "::" in line)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--inputs", type=int, default=100_000)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--keep", default=None, help="folder for one input of every bug outcome")
+    parser.add_argument("--write", action="store_true", help="write the Reliability section of RESULTS.md")
+    args = parser.parse_args()
+    sys.path.insert(0, str(Path(__file__).parent))
+    counts, seconds, bugs, slowest = run(args.inputs, args.workers, args.seed, progress=True)
+    text = report(counts)
+    print(text)
+    n_bugs = sum(v for (_, o), v in counts.items() if o.startswith("BUG"))
+    summary = (f"{sum(counts.values())} inputs in {seconds:.0f} s with {args.workers} workers "
+               f"(limits per input: {TIME_LIMIT:g} s + {TIME_PER_MB:g} s per MB, {MEMORY_LIMIT >> 30} GiB address "
+               f"space per worker); "
+               f"slowest input {slowest[0]:.2f} s ({slowest[1] / 1e6:.2f} MB); {n_bugs} inputs with an outcome other than a shape, "
+               "a sequence or an IsotweenError.")
+    print(summary)
+    if args.keep and bugs:
+        keep = Path(args.keep)
+        keep.mkdir(parents=True, exist_ok=True)
+        for k, ((ext, outcome), data) in enumerate(bugs.items()):
+            (keep / f"bug{k}{ext}").write_bytes(data)
+            print(f"bug{k}{ext}: {outcome}")
+    if args.write:
+        from _results import write_section
+
+        guarded = guards()
+        print(guarded)
+        cases = hostile_cases()
+        body = (f"### Hostile inputs\n\n`tests/test_hostile.py` tries {cases} hostile inputs (library values, "
+                "every loader, every command and option, SIGINT and SIGTERM during the solve and the rendering); "
+                "each must give its exact error class, or exit code 2 and one `error:` line with no traceback, "
+                "and leave no file behind.\n\n"
+                f"### Resource guards\n\nMemory is estimated before allocating and compared with MemAvailable "
+                f"(or `--max-memory`):\n\n{guarded}\n\n"
+                f"### Loader fuzzing\n\nMutated valid files (byte flips, splices, truncation, numbers swapped "
+                f"for huge, NaN, negative or malformed ones, repeated lines, deep nesting) read by every "
+                f"loader (shapes; .npz and .json sequences). {summary} Times are from a 2-core machine "
+                f"shared with other jobs (under load).\n\n{text}\n")
+        write_section("Reliability", body, f"python3 benchmarks/fuzz.py --inputs {args.inputs} "
+                                           f"--workers {args.workers} --write")
+
+
+if __name__ == "__main__":
+    main()
