@@ -5,7 +5,7 @@ import pytest
 
 from isotween import resample
 from isotween.correspondence.compatible_mesh import compatible_meshes
-from isotween.errors import IncompatibleShapesError, ParameterError, ShapeError
+from isotween.errors import IncompatibleShapesError, ParameterError, ResourceError, ShapeError
 
 pytest.importorskip("shapely", minversion="2.1")
 
@@ -230,7 +230,7 @@ def test_bad_input_is_named():
 
 def test_too_fine_a_mesh_is_refused_before_meshing():
     square = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
-    with pytest.raises(ParameterError, match=r"mesh_size=0.001 would make about 3.7e\+07 triangles.*at least 0.0043"):
+    with pytest.raises(ResourceError, match=r"mesh_size=0.001 would make about 3.7e\+07 triangles.*at least 0.0043"):
         compatible_meshes([square], [square], mesh_size=1e-3)  # 16 / (sqrt(3)/4 * 1e-6) = 3.7e7
     with pytest.raises(ParameterError, match="mesh_size must be a positive number"):
         compatible_meshes([square], [square], mesh_size=-1.0)

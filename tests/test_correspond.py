@@ -11,7 +11,7 @@ import isotween
 from isotween import Shape
 from isotween.correspondence import check_compatible, correspond
 from isotween.correspondence.regions import TINY, centroid, items_of, ring_area
-from isotween.errors import IncompatibleShapesError, ParameterError, ShapeError
+from isotween.errors import IncompatibleShapesError, ParameterError, ResourceError, ShapeError
 from isotween.metrics import flipped_faces, outline_crossings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -178,7 +178,7 @@ def test_forced_pairs_and_their_errors():
 
 def test_bad_options_are_refused_before_any_work():
     src, tgt = Shape.from_polygon(disc(20)), Shape.from_polygon(disc(30, 2.0))
-    with pytest.raises(ParameterError, match=r"mesh_size=1e-05 would make about") as err:
+    with pytest.raises(ResourceError, match=r"mesh_size=1e-05 would make about") as err:
         correspond(src, tgt, mesh_size=1e-5)
     # the estimate: the larger region's area over that of an equilateral triangle of side 1e-5
     estimate = float(str(err.value).split("about ")[1].split()[0])

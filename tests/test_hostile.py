@@ -118,7 +118,7 @@ API = [
     ("from-polyline-one-point", lambda: Shape.from_polyline([[0, 0]]), ShapeError),
     ("interpolate-no-edges", lambda: interpolate(points_only(), points_only()), ShapeError),
     ("interpolate-one-vertex", lambda: interpolate(points_only(1), points_only(1)), ShapeError),
-    ("interpolate-array", lambda: interpolate(SQUARE, SQUARE), ShapeError),
+    ("interpolate-flat-array", lambda: interpolate(np.ravel(SQUARE), SQUARE), ShapeError),
     ("frames-1", lambda: interpolate(square(), wide(), frames=1), ParameterError),
     ("frames-fraction", lambda: interpolate(square(), wide(), frames=1.5), ParameterError),
     ("frames-bool", lambda: interpolate(square(), wide(), frames=True), ParameterError),
@@ -151,7 +151,7 @@ API = [
     ("edit-not-a-sequence", lambda: isotween.edit(square(), frame=1, shape=square()), ParameterError),
     ("edit-nan-frames", lambda: isotween.edit(nan_sequence(), frame=1, shape=square()), ParameterError),
     ("edit-edits-a-list", lambda: isotween.edit(sequence(), edits=[square()]), ParameterError),
-    ("edit-nan-shape", lambda: isotween.edit(sequence(), frame=1, shape=SQUARE), ShapeError),
+    ("edit-nan-shape", lambda: isotween.edit(sequence(), frame=1, shape=np.full_like(SQUARE, np.nan)), ShapeError),
     ("keyframes-one", lambda: isotween.interpolate_keyframes([square()]), ParameterError),
     ("keyframes-times-strings", lambda: isotween.interpolate_keyframes([square(), wide()], times=["a", "b"]),
      ParameterError),
@@ -159,7 +159,8 @@ API = [
      ParameterError),
     ("keyframes-frames-1e9", lambda: isotween.interpolate_keyframes([square(), wide()], frames=10**9), ResourceError),
     ("keyframes-no-edges", lambda: isotween.interpolate_keyframes([points_only(), points_only()]), ShapeError),
-    ("mesh-max-area-unreachable", lambda: mesh_pair(big_square(), big_square(), max_area=1), ParameterError),
+    ("mesh-max-area-unreachable", lambda: mesh_pair(big_square(), big_square(), max_area=1, mesher="triangle"),
+     ParameterError),
     ("mesh-max-area-tiny", lambda: mesh_pair(big_square(), big_square(), max_area=1e-12), ResourceError),
     ("mesh-max-area-negative", lambda: mesh_pair(big_square(), big_square(), max_area=-1), ParameterError),
     ("max-memory-size-text", lambda: parse_size("lots"), ParameterError),
@@ -475,7 +476,6 @@ CLI = [
     ("method-unknown", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--method", "morph", "-o", "{out}/o.npz"],
      "morph"),
     ("missing-input", ["interpolate", "{in}/none.json", "{in}/wide.json", "-o", "{out}/o.npz"], "none.json"),
-    ("incompatible", ["interpolate", "{in}/sq.json", "{in}/e1.svg", "-o", "{out}/o.npz"], "not compatible"),
     ("transfer-no-edges", ["transfer", "{in}/pts.obj", "{in}/pts.obj", "{in}/pts.obj", "-o", "{out}/o.npz"],
      "no edges"),
     ("transfer-frames-1e9", ["transfer", "{in}/sq.json", "{in}/wide.json", "{in}/sq.json", "--frames", "1000000000",
@@ -537,9 +537,6 @@ def test_summary_reports_the_written_sequence(files, tmp_path):
     from isotween.metrics import isometric_energy
 
     out = tmp_path / "t.npz"
-    result = CliRunner().invoke(main, ["transfer", str(files / "sq.json"), str(files / "wide.json"),
-                                       str(files / "e1.svg"), "-o", str(out), "-q"])
-    assert result.exit_code == 2  # incompatible target: refused
     io.save(square().with_vertices(SQUARE * 3 + 1), files / "big_sq.json")
     result = CliRunner().invoke(main, ["transfer", str(files / "sq.json"), str(files / "wide.json"),
                                        str(files / "big_sq.json"), "-o", str(out), "-q"])

@@ -85,8 +85,8 @@ def edit(sequence: Sequence, frame: int | None = None, shape: Shape | None = Non
         if isinstance(k, bool) or not isinstance(k, numbers.Integral) or not 0 <= k < F:
             raise ParameterError(f"frame index {k!r} is out of range for a sequence of {F} frames (0..{F - 1})")
     names = ["sequence"] + [f"edited frame {k}" for k in edits]
-    check_compatible(sequence.shape, *[as_shape(s, f"edited frame {k}") for k, s in edits.items()],
-                     names=names)
+    edits = {k: as_shape(s, f"edited frame {k}") for k, s in edits.items()}
+    check_compatible(sequence.shape, *edits.values(), names=names)
     base = sequence.shape
     z = sequence.z.T  # (n, F)
     e = base.edge_vectors(z.T).T  # (E, F)

@@ -98,10 +98,11 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
     start = time.perf_counter()
     source, target = as_shape(source, "source"), as_shape(target, "target")
     check_movable(source, "source")
+    if isinstance(frames, numbers.Integral) and not isinstance(frames, bool):  # before any allocation
+        check_memory(solve_bytes(frames, source.n_vertices, source.n_edges),
+                     f"interpolating {frames} frames of {source.n_vertices} vertices and {source.n_edges} edges",
+                     max_memory)
     t = frame_times(frames, times)
-    check_memory(solve_bytes(frames, source.n_vertices, source.n_edges),
-                 f"interpolating {frames} frames of {source.n_vertices} vertices and {source.n_edges} edges",
-                 max_memory)
     _check_choice("solver", solver, SOLVERS)
     _check_choice("init", init, INITIALISERS)
     _check_choice("scheme", scheme, SCHEMES)

@@ -284,14 +284,16 @@ def svg_paint_attributes(paint):
     -------
     dict
         ``fill``, ``fill-opacity``, ``stroke``, ``stroke-opacity``,
-        ``stroke-width`` as strings (all five, so that they can be animated);
-        the path opacity is folded into the two alphas.
+        ``stroke-width`` and ``opacity`` as strings (all six, so that they
+        can be animated); the path opacity stays its own attribute, so a
+        drawing reads back with the paint it was written with.
     """
     fill, stroke = paint.fill, paint.stroke
     return {
         "fill": "none" if fill is None else _hex(fill),
-        "fill-opacity": "0" if fill is None else f"{fill[3] * paint.opacity:.4g}",
+        "fill-opacity": "0" if fill is None else f"{fill[3]:.4g}",
         "stroke": "none" if stroke is None else _hex(stroke),
-        "stroke-opacity": "0" if stroke is None else f"{stroke[3] * paint.opacity:.4g}",
+        "stroke-opacity": "0" if stroke is None else f"{stroke[3]:.4g}",
         "stroke-width": "0" if stroke is None else f"{paint.stroke_width:.6g}",
+        "opacity": f"{paint.opacity:.4g}",
     }

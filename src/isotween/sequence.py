@@ -311,13 +311,13 @@ class Sequence:
 
         ``.npz`` / ``.json`` sequence files, ``.gif`` / ``.mp4`` / ``.svg`` /
         ``.html`` animations, a ``.png`` strip, or a folder of frame files; see
-        :func:`isotween.io.write_output`.
+        :func:`isotween.write_output`.
 
         Parameters
         ----------
         path : str or os.PathLike
         **options
-            ``format``, ``texture``, ``quiet`` as in :func:`isotween.io.write_output`.
+            ``format``, ``texture``, ``quiet`` as in :func:`isotween.write_output`.
 
         Returns
         -------
@@ -335,7 +335,7 @@ class Sequence:
         >>> back.equals(seq)
         True
         """
-        from .io import write_output
+        from .outputs import write_output
 
         return write_output(self, path, **options)
 

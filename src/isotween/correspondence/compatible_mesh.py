@@ -42,7 +42,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
-from ..errors import IncompatibleShapesError, MissingDependencyError, ParameterError, ShapeError, require
+from ..errors import (IncompatibleShapesError, MissingDependencyError, ParameterError, ResourceError,
+                      ShapeError, require)
 from ..shape import Shape
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
@@ -142,7 +143,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     area = abs(_signed_area(zs[rings[0]])) - sum(abs(_signed_area(zs[r])) for r in rings[1:])
     expected = area / (np.sqrt(3) / 4 * mesh_size ** 2)
     if expected > MAX_FACES:
-        raise ParameterError(
+        raise ResourceError(
             f"mesh_size={mesh_size:.6g} would make about {expected:.3g} triangles in the source mesh, "
             f"more than the {MAX_FACES} allowed; use a mesh size of at least "
             f"{np.sqrt(area / (np.sqrt(3) / 4 * MAX_FACES)):.3g}")

@@ -16,7 +16,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import IncompatibleShapesError, IsotweenError, ParameterError, ShapeError
+from ..errors import IncompatibleShapesError, IsotweenError, ParameterError, ResourceError, ShapeError
 from ..shape import Shape
 from . import regions as _regions
 from .compatibility import as_shape, check_compatible
@@ -412,7 +412,7 @@ def _solids(shapes, report, mesh_size):
         area = sum(max(abs(_regions.ring_area(s.z[s.paths[r[0]][0]])) for s in shapes) for r in src.regions)
         estimate = area / (np.sqrt(3) / 4 * mesh_size**2)
         if estimate > MAX_TRIANGLES:
-            raise ParameterError(
+            raise ResourceError(
                 f"mesh_size={mesh_size:g} would make about {estimate:.3g} triangles "
                 f"(limit {MAX_TRIANGLES:.3g}); choose a mesh size of at least "
                 f"{mesh_size * np.sqrt(estimate / MAX_TRIANGLES):.3g}"

@@ -25,7 +25,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
-from ..errors import ParameterError, ShapeError, require
+from ..errors import ParameterError, ResourceError, ShapeError, require
 from ..resources import check_memory
 from ..shape import Shape
 from .compatibility import as_shape, check_compatible
@@ -141,8 +141,13 @@ def mesh_pair(source: ShapeLike, target: ShapeLike, max_area: float | None = Non
     area = [abs(np.sum((np.conj(source.z[p]) * np.roll(source.z[p], -1)).imag)) for p, _ in source.paths]
     paths = [source.paths[i][0] for i in np.argsort(-np.array(area), kind="stable")]  # the outer ring first
     ring_ids = np.concatenate(paths)
-    result = compatible_meshes([source.vertices[p] for p in paths], [target.vertices[p] for p in paths],
-                               mesh_size=mesh_size)
+    try:
+        result = compatible_meshes([source.vertices[p] for p in paths], [target.vertices[p] for p in paths],
+                                   mesh_size=mesh_size)
+    except ResourceError as exc:
+        if max_area is None:
+            raise
+        raise ResourceError(f"max_area={max_area:g}: {exc}") from None
     # back to the input's vertex numbering: ring vertex i of the result is vertex ring_ids[i]
     n, N = source.n_vertices, result.source.n_vertices
     new_id = np.r_[ring_ids, np.arange(n, N)]
