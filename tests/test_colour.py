@@ -107,7 +107,7 @@ def test_svg_outputs_carry_the_paint(tmp_path, red_to_blue):
     io.save(shape, tmp_path / "s.svg")
     text = (tmp_path / "s.svg").read_text()
     assert text.count("<path ") == 1
-    for attr in ('fill="#ff0000"', 'fill-opacity="0.5"', 'stroke="#0000ff"', 'stroke-width="0.25"',
+    for attr in ('fill="#ff0000"', 'fill-opacity="1"', 'opacity="0.5"', 'stroke="#0000ff"', 'stroke-width="0.25"',
                  'fill-rule="evenodd"'):
         assert attr in text
     back = io.load(tmp_path / "s.svg")

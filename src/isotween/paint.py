@@ -294,6 +294,6 @@ def svg_paint_attributes(paint):
         "fill-opacity": "0" if fill is None else f"{fill[3]:.4g}",
         "stroke": "none" if stroke is None else _hex(stroke),
         "stroke-opacity": "0" if stroke is None else f"{stroke[3]:.4g}",
-        "stroke-width": "0" if stroke is None else f"{paint.stroke_width:.6g}",
+        "stroke-width": f"{paint.stroke_width:.6g}",
         "opacity": f"{paint.opacity:.4g}",
     }
