@@ -6,6 +6,7 @@ outputs (metrics, files, rendering).
 """
 
 from . import easing, io, metrics
+from .batch import batch
 from .compare import compare
 from .correspondence import check_compatible, mesh_pair, resample
 from .editing import edit
@@ -21,7 +22,7 @@ from .velocity import RelativeVelocityField, relative_velocity_field
 __version__ = "0.1.0"
 
 __all__ = [
-    "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "check_compatible", "compare", "easing",
+    "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "batch", "check_compatible", "compare", "easing",
     "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "mesh_pair", "metrics",
     "relative_velocity_field", "resample", "save", "save_sequence", "transfer", "write_output",
 ]
