@@ -24,7 +24,7 @@ ASSEMBLY = ("shared", "per-frame")
 
 
 def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="shared",
-                callback=None, fixed=None, smooth=1.0):
+                callback=None, fixed=None, smooth=1.0, factorisation="auto"):
     """Run Algorithm 2.
 
     Parameters
@@ -52,6 +52,8 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
     smooth : float
         Weight of the term that lets the velocity turn smoothly through an
         interior fixed frame (see :func:`solve_edges`).
+    factorisation : {'auto', 'banded', 'cholmod', 'splu'}
+        Factorisation of the shared Eq. (10) Laplacian (see `FrameAssembler`).
 
     Returns
     -------
@@ -75,7 +77,8 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
     centroids = centroids[:, free]
     z = z.copy()
     if assembly == "shared":
-        shared = FrameAssembler(shape, 2.0 / (np.abs(edges[:, 0]) + np.abs(edges[:, -1])))
+        shared = FrameAssembler(shape, 2.0 / (np.abs(edges[:, 0]) + np.abs(edges[:, -1])),
+                                factorisation=factorisation)
     top = shape.topology
     # the numba kernel covers the default case: midpoint scheme, only the ends held
     fused = accelerated.ENABLED and scheme == "midpoint" and fixed[0] and fixed[-1] and not keys.size
