@@ -157,15 +157,35 @@ class FrameAssembler:
         if self._factor is None:
             self._factorise()
         F = e.shape[1]
-        rhs = self._DtW @ e
         z = np.zeros((self.n, F), dtype=complex)
-        if self.method == "cholmod":  # all frames at once: CHOLMOD's solve is blocked over them
-            z[self.free] = self.solve_laplacian(rhs)
-        else:
-            step = max(1, (4 << 20) // (16 * max(self.free.size, 1)))  # blocks of <= 4 MiB
-            for c in range(0, F, step):
-                z[self.free, c : c + step] = self.solve_laplacian(rhs[:, c : c + step])
+        if self.method == "cholmod":
+            z[self.free] = self._cholmod_positions(e)
+            return self.place(z, centroids)
+        rhs = self._DtW @ e
+        step = max(1, (4 << 20) // (16 * max(self.free.size, 1)))  # blocks of <= 4 MiB
+        for c in range(0, F, step):
+            z[self.free, c : c + step] = self.solve_laplacian(rhs[:, c : c + step])
         return self.place(z, centroids)
+
+    def _cholmod_positions(self, e):
+        """(n_free, F) complex: L^{-1} D^T W e for all frames in one CHOLMOD solve.
+
+        The right-hand sides are built a few frames at a time straight into one
+        Fortran-ordered real array (real parts of every frame, then imaginary
+        parts), the layout CHOLMOD solves without copying; ``e`` may be a
+        column slice (no (E, F) copy of it is made).
+        """
+        nf, F = self.free.size, e.shape[1]
+        rhs = np.empty((nf, 2 * F), order="F")
+        step = max(1, (64 << 20) // (16 * e.shape[0]))  # (E, step) copies of <= 64 MiB
+        for c in range(0, F, step):
+            d = min(F, c + step)
+            block = self._DtW @ np.ascontiguousarray(e[:, c:d])
+            rhs[:, c:d], rhs[:, F + c : F + d] = block.real, block.imag
+        x = self._factor(rhs)
+        out = np.empty((nf, F), dtype=complex)
+        out.real, out.imag = x[:, :F], x[:, F:]
+        return out
 
     def update(self, z, frames, e, centroids):
         """Eq. (10) into ``z[:, frames]``; returns the largest vertex move (Eq. 11).
@@ -209,7 +229,4 @@ def _cholmod(top, L):
         symbolic = _ANALYSIS[top] = cholmod.analyze(L, mode="supernodal", ordering_method="amd")
     factor = symbolic.cholesky(L)
 
-    def solve(b):
-        return factor(np.asfortranarray(b))
-
-    return solve
+    return factor
