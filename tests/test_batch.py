@@ -143,3 +143,25 @@ def test_cli_batch_summary_and_exit_status(pairs, tmp_path):
     (folder / "bad.target.json").unlink()
     again = CliRunner().invoke(main, ["batch", str(folder), "-o", str(out), "-j", "1", "-n", "5", "-q"])
     assert again.exit_code == 0 and "jobs=3 done=0 skipped=3 failed=0" in again.stdout
+
+
+def test_jobs_are_pulled_lazily_within_the_window(pairs, tmp_path):
+    """The client holds at most `window` unfinished jobs: when job i is taken from the
+    iterator, at least i - (window - 1) records are already in the report."""
+    folder, names = pairs
+    out = tmp_path / "out"
+    jobs = jobs_of(folder, names * 3, frames=5)
+    for i, job in enumerate(jobs):
+        job["output"] = f"{i}.npz"
+    seen = []
+
+    def lazily():
+        for i, job in enumerate(jobs):
+            report = out / "batch-report.jsonl"
+            seen.append((i, len(records(report)) if report.exists() else 0))
+            yield job
+
+    res = isotween.batch(lazily(), outdir=out, workers=2, window=3)
+    assert res["done"] == len(jobs) == len(seen)
+    assert all(i - finished <= 2 for i, finished in seen)
+    assert max(i - finished for i, finished in seen) >= 1  # jobs run side by side
