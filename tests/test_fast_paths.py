@@ -65,7 +65,7 @@ def test_eq11_compares_successive_iterations(bar, numba, assembly, monkeypatch):
     assert loose.iterations == 3
 
 
-def _local(pair, frames, factorisation, tol=1e-7, max_iter=100):
+def _local(pair, frames, factorisation, tol=1e-7, max_iter=100, overwrite_edges=False):
     """`interpolate`'s local solve with a chosen factorisation of Eq. (10)."""
     from isotween.optimisation.assembly import centroid_path
     from isotween.optimisation.local_solver import local_solve
@@ -77,7 +77,7 @@ def _local(pair, frames, factorisation, tol=1e-7, max_iter=100):
     z = np.zeros((src.n_vertices, frames), dtype=complex)
     z[:, 0], z[:, -1] = z0, z1
     return local_solve(src, z, t, edges, centroid_path(src, z0, z1, t), "midpoint", tol, max_iter,
-                       factorisation=factorisation)
+                       factorisation=factorisation, overwrite_edges=overwrite_edges)
 
 
 def _methods():
@@ -141,3 +141,11 @@ def test_unknown_factorisation_is_a_parameter_error(bar):
 
     with pytest.raises(ParameterError, match="unknown factorisation 'qr'"):
         FrameAssembler(bar[0], factorisation="qr")
+
+
+def test_overwriting_the_initial_edges_gives_the_same_frames(bar):
+    """`interpolate` lets the solver reuse its initial (E, m+1) edge array: same frames."""
+    z, info = _local(bar, 13, "auto")
+    z2, info2 = _local(bar, 13, "auto", overwrite_edges=True)
+    np.testing.assert_array_equal(z2, z)
+    assert info2["energy"] == info["energy"]

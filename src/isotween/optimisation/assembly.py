@@ -163,10 +163,13 @@ class FrameAssembler:
         if self._factor is None:
             self._factorise()
         F = e.shape[1]
-        z = np.zeros((self.n, F), dtype=complex)
-        if self.method == "cholmod":
-            z[self.free] = self._cholmod_positions(e)
+        if self.method == "cholmod":  # no two (n, F) arrays beyond the solve's at any time
+            free = self._cholmod_positions(e)
+            z = np.zeros((self.n, F), dtype=complex)
+            z[self.free] = free
+            del free
             return self.place(z, centroids)
+        z = np.zeros((self.n, F), dtype=complex)
         rhs = self._DtW @ e
         step = max(1, (4 << 20) // (16 * max(self.free.size, 1)))  # blocks of <= 4 MiB
         for c in range(0, F, step):
@@ -189,6 +192,7 @@ class FrameAssembler:
             block = self._DtW @ np.ascontiguousarray(e[:, c:d])
             rhs[:, c:d], rhs[:, F + c : F + d] = block.real, block.imag
         x = self._factor(rhs)
+        del rhs
         out = np.empty((nf, F), dtype=complex)
         out.real, out.imag = x[:, :F], x[:, F:]
         return out
