@@ -232,7 +232,8 @@ def main():
                             (fig.add_subplot(122), nv, tv, "vertices (51 frames)")):
         ax.loglog(x, y, "o-", label="measured")
         ax.loglog(x, y[0] * np.asarray(x) / x[0], "--", label="linear")
-        ax.set_xticks(x, [f"{v // 1000}k" if v >= 1000 and label.startswith("v") else str(v) for v in x],
+        ax.set_xticks(x, [f"{v // 10**6}M" if v >= 10**6 else f"{v // 1000}k" if v >= 1000 and label.startswith("v")
+                          else str(v) for v in x],
                       minor=False)
         ax.xaxis.set_minor_formatter(NullFormatter())  # no overlapping minor labels
         ax.set_xlabel(label)
