@@ -117,6 +117,9 @@ def main():
             "(workers x wall time - time spent inside the jobs) / jobs, i.e. what a job costs the "
             "workers beyond its own work (process start-up, scheduling, transfer of the job and its "
             "record, the client's hashing of the input files).\n\n"
+            f"Parallel efficiency on {cores} cores: {100 * one / (cores * loc):.0f} % with local processes, "
+            f"{100 * one / (2 * dsk):.0f} % with Dask (target 80 %: "
+            f"{'met' if one / (cores * loc) >= 0.8 else 'NOT met'} locally).\n\n"
             f"Load average (1 min) at the start and the end: {load0:.1f}, {os.getloadavg()[0]:.1f} on "
             f"{cores} cores (the machine is shared; timings under load).")
     print(body)
