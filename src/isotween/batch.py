@@ -24,7 +24,7 @@ from pathlib import Path
 
 from .errors import FileFormatError, ParameterError
 
-__all__ = ["batch", "read_manifest", "run_job", "JOB_OPTIONS"]
+__all__ = ["batch", "read_manifest", "run_job", "run_jobs", "JOB_OPTIONS"]
 
 #: per-job options and how a text value (a CSV cell) becomes one
 JOB_OPTIONS = {
@@ -228,6 +228,11 @@ def run_job(job):
     return record
 
 
+def run_jobs(jobs):
+    """`run_job` on each of a list of jobs (one task of several small jobs): list of records."""
+    return [run_job(job) for job in jobs]
+
+
 def _finished(report):
     """output -> key of its last successful record in an existing report."""
     done = {}
@@ -253,8 +258,8 @@ class _Local:
 
         self.pool = ProcessPoolExecutor(workers)
 
-    def submit(self, job):
-        return self.pool.submit(run_job, job)
+    def submit(self, jobs):
+        return self.pool.submit(run_jobs, jobs)
 
     def wait(self, futures):
         from concurrent.futures import FIRST_COMPLETED, wait
@@ -273,8 +278,8 @@ class _Dask:
 
         self.client, self._wait = client, wait
 
-    def submit(self, job):
-        return self.client.submit(run_job, job, pure=False)
+    def submit(self, jobs):
+        return self.client.submit(run_jobs, jobs, pure=False)
 
     def wait(self, futures):
         return self._wait(list(futures), return_when="FIRST_COMPLETED").done
@@ -284,7 +289,7 @@ class _Dask:
 
 
 def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=None, resume=True,
-          window=None, progress=False, total=None):
+          window=None, progress=False, total=None, chunk=None):
     """Run many interpolations; outputs written atomically, results in a JSON Lines report.
 
     Parameters
@@ -306,7 +311,10 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
     resume : bool
         Skip jobs whose output exists with the same key in the report.
     window : int, optional
-        Most jobs in flight at once (default 4 per worker).
+        Most tasks in flight at once (default 4 per worker).
+    chunk : int, optional
+        Jobs per task (default 1 in local processes, 8 on Dask, whose
+        scheduler costs a few milliseconds per task).
     progress : bool
         A tqdm progress bar on stderr.
     total : int, optional
@@ -361,8 +369,10 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
         workers = workers or os.cpu_count() or 1
         runner, slots = (_Local(workers) if workers > 1 else None), workers
     window = window or 4 * slots
-    if not isinstance(window, int) or window < 1:
-        raise ParameterError(f"window must be an integer >= 1, got {window!r}")
+    chunk = chunk or (8 if client is not None else 1)
+    for name, value in (("window", window), ("chunk", chunk)):
+        if not isinstance(value, int) or value < 1:
+            raise ParameterError(f"{name} must be an integer >= 1, got {value!r}")
     counts = {"done": 0, "skipped": 0, "failed": 0}
     failures = []
     bar = None
@@ -384,7 +394,15 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
                     bar.update(1)
                     bar.set_postfix(failed=counts["failed"], refresh=False)
 
-            pending = set()
+            pending, ready = set(), []
+
+            def collect(at_most):
+                while len(pending) > at_most:
+                    for fut in runner.wait(pending):
+                        pending.discard(fut)
+                        for rec in fut.result():
+                            record(rec)
+
             for job in jobs:
                 prepared = _prepare(job, outdir)
                 if "status" in prepared:  # unreadable input: failed before it ran
@@ -398,15 +416,14 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
                 if runner is None:
                     record(run_job(prepared))
                     continue
-                pending.add(runner.submit(prepared))
-                while len(pending) >= window:
-                    for fut in runner.wait(pending):
-                        pending.discard(fut)
-                        record(fut.result())
-            while pending:
-                for fut in runner.wait(pending):
-                    pending.discard(fut)
-                    record(fut.result())
+                ready.append(prepared)
+                if len(ready) == chunk:
+                    pending.add(runner.submit(ready))
+                    ready = []
+                    collect(window - 1)
+            if ready:
+                pending.add(runner.submit(ready))
+            collect(0)
     except OSError as exc:
         raise FileFormatError(f"cannot write the report {report}: {exc.strerror or exc}") from exc
     finally:
