@@ -86,10 +86,13 @@ def test_banded_assembly_solves_eq10_and_reports_the_move(monkeypatch):
     assert move == pytest.approx(np.abs(want - old[:, 1:7]).max(), rel=1e-9)
 
 
+@pytest.mark.parametrize("threaded", [False, True])
 @pytest.mark.parametrize("uniform", [True, False])
-def test_edge_init_kernel_matches_numpy(uniform, monkeypatch):
+def test_edge_init_kernel_matches_numpy(uniform, threaded, monkeypatch):
     src, tgt = chain(40, 1.3)  # angles past pi: needs the propagation along the tree
     t = np.linspace(0, 1, 23) if uniform else np.sort(np.r_[0.0, np.random.default_rng(1).random(21), 1.0])
+    if threaded:
+        monkeypatch.setattr(accelerated, "PARALLEL_SIZE", 0)
     fast = edge_vector_init(src, src.edge_vectors(), tgt.edge_vectors(), t)
     monkeypatch.setattr(accelerated, "ENABLED", False)
     slow = edge_vector_init(src, src.edge_vectors(), tgt.edge_vectors(), t)

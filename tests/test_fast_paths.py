@@ -63,3 +63,89 @@ def test_eq11_compares_successive_iterations(bar, numba, assembly, monkeypatch):
     diag = np.hypot(*np.ptp(np.vstack([bar[0].vertices, bar[1].vertices]), axis=0))
     loose = interpolate(*bar, frames=9, tol=1.01 * moves[2] / diag, max_iter=5, assembly=assembly)
     assert loose.iterations == 3
+
+
+def _local(pair, frames, factorisation, tol=1e-7, max_iter=100, overwrite_edges=False):
+    """`interpolate`'s local solve with a chosen factorisation of Eq. (10)."""
+    from isotween.optimisation.assembly import centroid_path
+    from isotween.optimisation.local_solver import local_solve
+
+    src, tgt = pair
+    z0, z1 = src.z, tgt.z
+    t = np.linspace(0.0, 1.0, frames)
+    edges = edge_vector_init(src, src.edge_vectors(), tgt.edge_vectors(), t)
+    z = np.zeros((src.n_vertices, frames), dtype=complex)
+    z[:, 0], z[:, -1] = z0, z1
+    return local_solve(src, z, t, edges, centroid_path(src, z0, z1, t), "midpoint", tol, max_iter,
+                       factorisation=factorisation, overwrite_edges=overwrite_edges)
+
+
+def _methods():
+    from isotween.optimisation.assembly import HAVE_CHOLMOD
+
+    return ["splu"] + (["banded"] if accelerated.ENABLED else []) + (["cholmod"] if HAVE_CHOLMOD else [])
+
+
+@pytest.mark.parametrize("method", ["banded", "cholmod"])
+def test_factorisations_give_the_same_frames(bar, method):
+    """Every factorisation of Eq. (10) gives sparse LU's frames to 1e-10 of the shape's size
+    (the bar is 4 long), with the same iteration count."""
+    if method not in _methods():
+        pytest.skip(f"{method} not available (numba / scikit-sparse)")
+    rng = np.random.default_rng(7)
+    w = rng.uniform(0.5, 2.0, bar[0].n_edges)
+    e = rng.standard_normal((bar[0].n_edges, 5)) + 1j * rng.standard_normal((bar[0].n_edges, 5))
+    c = rng.standard_normal((1, 5)) + 1j * rng.standard_normal((1, 5))
+    fast, ref = FrameAssembler(bar[0], w, factorisation=method), FrameAssembler(bar[0], w, factorisation="splu")
+    assert (fast.method, ref.method) == (method, "splu")
+    np.testing.assert_allclose(fast.positions(e, c), ref.positions(e, c), atol=1e-10)
+    z_ref, info_ref = _local(bar, 17, "splu")
+    z, info = _local(bar, 17, method)
+    assert info["iterations"] == info_ref["iterations"]
+    np.testing.assert_allclose(z, z_ref, atol=1e-10)
+    assert info["energy"] == pytest.approx(info_ref["energy"], rel=1e-9)
+
+
+def test_cholmod_factorises_once_per_solve_and_analyses_once_per_connectivity(bar, monkeypatch):
+    """Eq. (10) is factorised once for all iterations of a solve; the fill-reducing ordering
+    (symbolic analysis) once for every shape with the same connectivity."""
+    cholmod = pytest.importorskip("sksparse.cholmod")
+    from isotween.optimisation import assembly
+
+    calls = {"analyze": 0, "factor": 0}
+    analyze = cholmod.analyze
+
+    def counting_analyze(*args, **kwargs):
+        calls["analyze"] += 1
+        symbolic = analyze(*args, **kwargs)
+
+        class Counting:
+            def cholesky(self, L):
+                calls["factor"] += 1
+                return symbolic.cholesky(L)
+
+        return Counting()
+
+    monkeypatch.setattr(cholmod, "analyze", counting_analyze)
+    monkeypatch.setattr(assembly, "_ANALYSIS", type(assembly._ANALYSIS)())
+    src, tgt = bar
+    _, info = _local((src, tgt), 9, "cholmod", tol=1e-12, max_iter=4)
+    assert info["iterations"] == 4 and calls == {"analyze": 1, "factor": 1}
+    other = tgt.with_vertices(tgt.vertices * [1.0, 0.8])  # new weights, same connectivity
+    _local((src, other), 9, "cholmod", tol=1e-12, max_iter=3)
+    assert calls == {"analyze": 1, "factor": 2}
+
+
+def test_unknown_factorisation_is_a_parameter_error(bar):
+    from isotween.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="unknown factorisation 'qr'"):
+        FrameAssembler(bar[0], factorisation="qr")
+
+
+def test_overwriting_the_initial_edges_gives_the_same_frames(bar):
+    """`interpolate` lets the solver reuse its initial (E, m+1) edge array: same frames."""
+    z, info = _local(bar, 13, "auto")
+    z2, info2 = _local(bar, 13, "auto", overwrite_edges=True)
+    np.testing.assert_array_equal(z2, z)
+    assert info2["energy"] == info["energy"]

@@ -6,6 +6,7 @@ outputs (metrics, files, rendering); docs/architecture.md maps it onto the modul
 """
 
 from . import easing, io, metrics, times
+from .batch import batch
 from .compare import compare
 from .correspondence import check_compatible, correspond, mesh_pair, resample
 from .editing import edit
@@ -22,8 +23,8 @@ from .velocity import RelativeVelocityField, relative_velocity_field
 __version__ = "0.1.0"
 
 __all__ = [
-    "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "ShapeLike", "check_compatible", "compare", "correspond",
-    "easing", "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "mesh_pair",
+    "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "ShapeLike", "batch", "check_compatible", "compare",
+    "correspond", "easing", "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "mesh_pair",
     "metrics", "relative_velocity_field", "resample", "save", "save_sequence", "times", "transfer",
     "write_output",
 ]

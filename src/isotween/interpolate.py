@@ -137,7 +137,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
         centroids = centroid_path(source, z0, z1, t)
         if solver == "local":
             out, info = local_solve(source, z, t, edges, centroids, scheme, tol * diag, max_iter,
-                                    assembly=assembly, callback=callback)
+                                    assembly=assembly, callback=callback, overwrite_edges=True)
         else:
             z[:, 1:-1] = FrameAssembler(source).positions(edges[:, 1:-1], centroids[:, 1:-1])
             out, info = global_solve(source, z0, z1, t, z, scheme, tol * diag,

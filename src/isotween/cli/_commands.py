@@ -1,4 +1,5 @@
 """Imports every command module so that each registers itself on the group."""
+from . import batch  # noqa: F401
 from . import compare  # noqa: F401
 from . import demo  # noqa: F401
 from . import info  # noqa: F401

@@ -11,7 +11,8 @@
 - :func:`band_cholesky`, :func:`banded_positions`: Eq. (10) for all frames with
   a banded Cholesky factor (reverse Cuthill-McKee order); no BLAS (whose threads
   fight numba's on a busy machine), no sparse matrices.
-- :func:`edge_init`: Eqs. (12)-(13) in one pass.
+- :func:`edge_init`: Eqs. (12)-(13): angles along the edge tree, then every
+  edge's frames (threaded over edges for large inputs).
 
 ``ENABLED`` is False when numba is missing or the environment sets
 ``ISOTWEEN_NUMBA=0``; the numpy / scipy path is then used (and is the reference
@@ -222,44 +223,52 @@ def _laplace_serial(e, indptr, indices, data, band, rows, anchors, comp, inv_cou
     return move
 
 
-def _edge_init(e0, e1, parent, order, t, out):
-    """Kernel of :func:`edge_init`."""
-    E, F = out.shape
-    h = t[1:] - t[:-1]
-    uniform = F > 1 and h.max() - h.min() <= 1e-12 * h[0]
+def _edge_angles(e0, e1, parent, order):
+    """Eq. (12): (E,) turning angle (whole turns propagated along the edge tree) and scale."""
+    E = len(e0)
     theta = np.empty(E)
     turns = np.zeros(E)
+    scale = np.empty(E)
     for r in range(E):
         ratio = e1[r] / e0[r]
         theta[r] = np.arctan2(ratio.imag, ratio.real)
+        scale[r] = abs(e1[r]) / abs(e0[r])
     for r in order:  # parents first: whole turns accumulated from the root (Sec. 4.3)
         p = parent[r]
         if p != r:
             turns[r] = turns[p] + np.rint((theta[p] - theta[r]) / (2 * np.pi))
-    for r in range(E):
-        angle = theta[r] + 2 * np.pi * turns[r]
-        scale = abs(e1[r]) / abs(e0[r])
+    return theta + 2 * np.pi * turns, scale
+
+
+def _edge_frames(e0, angle, scale, t, out):
+    """Eq. (13) for every edge and frame (``numba.prange``: threaded when compiled parallel)."""
+    E, F = out.shape
+    h = t[1:] - t[:-1]
+    uniform = F > 1 and h.max() - h.min() <= 1e-12 * h[0]
+    for r in numba.prange(E):
         if uniform:
-            step = np.exp(1j * (t[1] - t[0]) * angle)
+            step = np.exp(1j * (t[1] - t[0]) * angle[r])
             rot = 1.0 + 0.0j
             for k in range(F):
-                out[r, k] = (1 - t[k] + t[k] * scale) * rot * e0[r]  # Eq. (13)
+                out[r, k] = (1 - t[k] + t[k] * scale[r]) * rot * e0[r]
                 rot *= step
         else:
             for k in range(F):
-                out[r, k] = (1 - t[k] + t[k] * scale) * np.exp(1j * t[k] * angle) * e0[r]
+                out[r, k] = (1 - t[k] + t[k] * scale[r]) * np.exp(1j * t[k] * angle[r]) * e0[r]
 
 
 def _compile():
     """Import numba and compile the kernels (loaded from numba's cache after the first time)."""
-    global numba, _band_cholesky, _edge_init, _laplace_block, _laplace_parallel, _laplace_serial
+    global numba, _band_cholesky, _edge_angles, _laplace_block, _laplace_parallel, _laplace_serial
+    global _edge_frames_serial, _edge_frames_parallel
     global _edge_vectors, _edge_solve, _scratch, _pass_parallel, _pass_serial
     if numba is not None:
         return
     import numba as nb
 
     jit, parallel = nb.njit(cache=True), nb.njit(parallel=True, cache=True)
-    _band_cholesky, _edge_init, _laplace_block = jit(_band_cholesky), jit(_edge_init), jit(_laplace_block)
+    _band_cholesky, _edge_angles, _laplace_block = jit(_band_cholesky), jit(_edge_angles), jit(_laplace_block)
+    _edge_frames_serial, _edge_frames_parallel = jit(_edge_frames), parallel(_edge_frames)
     _laplace_parallel, _laplace_serial = parallel(_laplace_parallel), jit(_laplace_serial)
     _edge_vectors, _edge_solve, _scratch = jit(_edge_vectors), jit(_edge_solve), jit(_scratch)
     _pass_parallel, _pass_serial = parallel(_pass_parallel), jit(_pass_serial)
@@ -358,5 +367,7 @@ def edge_init(top, e0, e1, t):
     """
     _compile()
     out = np.empty((len(e0), len(t)), dtype=complex)
-    _edge_init(e0, e1, top.parent, top.tree_order, t, out)
+    angle, scale = _edge_angles(e0, e1, top.parent, top.tree_order)
+    kernel = _edge_frames_parallel if out.size >= PARALLEL_SIZE else _edge_frames_serial
+    kernel(e0, angle, scale, t, out)
     return out

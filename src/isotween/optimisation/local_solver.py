@@ -24,7 +24,7 @@ ASSEMBLY = ("shared", "per-frame")
 
 
 def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="shared",
-                callback=None, fixed=None, smooth=1.0):
+                callback=None, fixed=None, smooth=1.0, factorisation="auto", overwrite_edges=False):
     """Run Algorithm 2.
 
     Parameters
@@ -52,6 +52,11 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
     smooth : float
         Weight of the term that lets the velocity turn smoothly through an
         interior fixed frame (see :func:`solve_edges`).
+    factorisation : {'auto', 'banded', 'cholmod', 'splu'}
+        Factorisation of the shared Eq. (10) Laplacian (see `FrameAssembler`).
+    overwrite_edges : bool
+        Let the solver reuse ``edges`` for its new edge vectors (saves one
+        (E, m+1) array; the caller's ``edges`` is then overwritten).
 
     Returns
     -------
@@ -76,12 +81,15 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
     centroids = centroids[:, free]
     z = z.copy()
     if assembly == "shared":
-        shared = FrameAssembler(shape, 2.0 / (np.abs(edges[:, 0]) + np.abs(edges[:, -1])))
+        shared = FrameAssembler(shape, 2.0 / (np.abs(edges[:, 0]) + np.abs(edges[:, -1])),
+                                factorisation=factorisation)
     top = shape.topology
     # the numba kernel covers the default case: midpoint scheme, only the ends held
     fused = accelerated.ENABLED and scheme == "midpoint" and fixed[0] and fixed[-1] and not keys.size
     if fused:
-        inv_h, out = 1.0 / h, np.empty(edges.shape, dtype=complex)
+        inv_h = 1.0 / h
+        reuse = overwrite_edges and edges.dtype == complex and edges.flags.c_contiguous
+        out = edges if reuse else np.empty(edges.shape, dtype=complex)
     else:
         blocks = _EdgeBlocks(top.D, len(t))
     energies, converged, move = [], False, np.inf

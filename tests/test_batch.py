@@ -1,0 +1,167 @@
+"""Batches: outputs equal single runs (serial, processes, Dask), resume, failures recorded."""
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import isotween
+from isotween import Shape, io
+from isotween.batch import read_manifest
+from isotween.cli import main
+from isotween.errors import FileFormatError
+
+
+def curl(n, turns):
+    """An open chain of n unit-spaced vertices turning `turns` times in all."""
+    angle = np.linspace(0.0, 2 * np.pi * turns, n - 1)
+    z = np.concatenate([[0], np.cumsum(np.exp(1j * angle))])
+    return Shape.from_polyline(np.column_stack([z.real, z.imag]))
+
+
+@pytest.fixture
+def pairs(tmp_path):
+    """Three compatible pairs and one incompatible (bad) pair as .json files."""
+    folder = tmp_path / "in"
+    folder.mkdir()
+    names = []
+    for i, turns in enumerate((0.3, 0.6, 0.9)):
+        io.save(curl(10 + i, 0.0), folder / f"p{i}.source.json")
+        io.save(curl(10 + i, turns), folder / f"p{i}.target.json")
+        names.append(f"p{i}")
+    io.save(curl(10, 0.0), folder / "bad.source.json")
+    io.save(curl(12, 0.5), folder / "bad.target.json")  # other vertex count
+    return folder, names
+
+
+def jobs_of(folder, names, **options):
+    return [{"source": folder / f"{n}.source.json", "target": folder / f"{n}.target.json",
+             "output": f"{n}.npz", "options": dict(options)} for n in names]
+
+
+def records(report):
+    return [json.loads(line) for line in open(report, encoding="utf-8")]
+
+
+def test_serial_batch_equals_interpolate(pairs, tmp_path):
+    folder, names = pairs
+    res = isotween.batch(jobs_of(folder, names, frames=7), outdir=tmp_path / "out", workers=1)
+    assert (res["done"], res["failed"], res["skipped"]) == (3, 0, 0)
+    for n in names:
+        expected = isotween.interpolate(io.load(folder / f"{n}.source.json"),
+                                        io.load(folder / f"{n}.target.json"), frames=7)
+        got = io.load_sequence(tmp_path / "out" / f"{n}.npz")
+        assert got.frames.shape == (7, expected.frames.shape[1], 2)
+        np.testing.assert_array_equal(got.frames, expected.frames)
+
+
+def test_processes_and_dask_equal_serial_and_bad_job_is_reported(pairs, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    folder, names = pairs
+    jobs = jobs_of(folder, names + ["bad"], frames=9)
+    serial = isotween.batch(jobs, outdir=tmp_path / "serial", workers=1)
+    local = isotween.batch(jobs, outdir=tmp_path / "local", workers=2, window=2)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        dask = isotween.batch(jobs, outdir=tmp_path / "dask", client=client, window=2)
+    for res in (serial, local, dask):
+        assert (res["done"], res["failed"]) == (3, 1)
+        (bad,) = res["failures"]
+        assert bad["output"].endswith("bad.npz") and "IncompatibleShapesError" in bad["error"]
+    for n in names:
+        ref = io.load_sequence(tmp_path / "serial" / f"{n}.npz").frames
+        for run in ("local", "dask"):
+            np.testing.assert_array_equal(io.load_sequence(tmp_path / run / f"{n}.npz").frames, ref)
+    for run in ("serial", "local", "dask"):  # no output, no temporary file of the bad job
+        assert sorted(p.name for p in (tmp_path / run).iterdir()) == sorted(
+            [f"{n}.npz" for n in names] + ["batch-report.jsonl"])
+        assert {r["status"] for r in records(tmp_path / run / "batch-report.jsonl")} == {"done", "failed"}
+
+
+def test_resume_skips_finished_jobs_and_reruns_changed_ones(pairs, tmp_path):
+    folder, names = pairs
+    out = tmp_path / "out"
+    jobs = jobs_of(folder, names, frames=5)
+    assert isotween.batch(jobs, outdir=out, workers=1)["done"] == 3
+    stamps = {n: (out / f"{n}.npz").stat().st_mtime_ns for n in names}
+    again = isotween.batch(jobs, outdir=out, workers=1)
+    assert (again["done"], again["skipped"]) == (0, 3)
+    assert all((out / f"{n}.npz").stat().st_mtime_ns == stamps[n] for n in names)
+    io.save(curl(10, 0.4), folder / "p0.target.json")  # new input contents
+    jobs[1]["options"]["frames"] = 6  # new options
+    (out / "p2.npz").unlink()  # lost output
+    third = isotween.batch(jobs, outdir=out, workers=1)
+    assert (third["done"], third["skipped"]) == (3, 0)
+    assert len(io.load_sequence(out / "p1.npz")) == 6
+    assert isotween.batch(jobs, outdir=out, workers=1, resume=False)["done"] == 3
+
+
+def test_manifests_csv_jsonl_and_folder_give_the_same_jobs(pairs, tmp_path):
+    folder, names = pairs
+    csv = folder / "jobs.csv"
+    csv.write_text("source,target,output,frames,tol\n" + "".join(
+        f"{n}.source.json,{n}.target.json,{n}.npz,{5 + i},\n" for i, n in enumerate(names)))
+    jsonl = folder / "jobs.jsonl"
+    jsonl.write_text("".join(json.dumps({"source": f"{n}.source.json", "target": f"{n}.target.json",
+                                         "output": f"{n}.npz", "options": {"frames": 5 + i}}) + "\n"
+                             for i, n in enumerate(names)))
+    a, b = list(read_manifest(csv)), list(read_manifest(jsonl))
+    assert [(j["source"], j["target"], j["output"], j["options"]) for j in a] == \
+           [(j["source"], j["target"], j["output"], j["options"]) for j in b]
+    assert [j["options"] for j in a] == [{"frames": 5}, {"frames": 6}, {"frames": 7}]
+    folder_jobs = list(read_manifest(folder, {"frames": 5}))
+    assert sorted(j["output"] for j in folder_jobs) == sorted(f"{n}.npz" for n in names + ["bad"])
+
+
+@pytest.mark.parametrize("text, needle", [
+    ("source,target\na.json,b.json\n", "line 1: missing column(s) output"),
+    ("source,target,output,speed\na,b,c,1\n", "unknown column(s) speed"),
+    ("source,target,output,frames\na,b,c,many\n", "line 2: bad value 'many' for option frames"),
+])
+def test_bad_manifest_is_one_line_error_naming_the_line(tmp_path, text, needle):
+    manifest = tmp_path / "jobs.csv"
+    manifest.write_text(text)
+    with pytest.raises(FileFormatError, match="line"):
+        list(read_manifest(manifest))
+    result = CliRunner().invoke(main, ["batch", str(manifest), "-o", str(tmp_path / "out")])
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and needle in lines[0] and str(manifest) in lines[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_cli_batch_summary_and_exit_status(pairs, tmp_path):
+    folder, names = pairs
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["batch", str(folder), "-o", str(out), "-j", "1", "-n", "5", "-q"])
+    assert result.exit_code == 1  # the bad pair failed
+    assert "jobs=4 done=3 skipped=0 failed=1" in result.stdout
+    assert "failed: " in result.stderr and "bad.npz" in result.stderr
+    assert all(len(io.load_sequence(out / f"{n}.npz")) == 5 for n in names)
+    (folder / "bad.source.json").unlink()
+    (folder / "bad.target.json").unlink()
+    again = CliRunner().invoke(main, ["batch", str(folder), "-o", str(out), "-j", "1", "-n", "5", "-q"])
+    assert again.exit_code == 0 and "jobs=3 done=0 skipped=3 failed=0" in again.stdout
+
+
+def test_jobs_are_pulled_lazily_within_the_window(pairs, tmp_path):
+    """The client holds at most `window` unfinished jobs: when job i is taken from the
+    iterator, at least i - (window - 1) records are already in the report."""
+    folder, names = pairs
+    out = tmp_path / "out"
+    jobs = jobs_of(folder, names * 3, frames=5)
+    for i, job in enumerate(jobs):
+        job["output"] = f"{i}.npz"
+    seen = []
+
+    def lazily():
+        for i, job in enumerate(jobs):
+            report = out / "batch-report.jsonl"
+            seen.append((i, len(records(report)) if report.exists() else 0))
+            yield job
+
+    res = isotween.batch(lazily(), outdir=out, workers=2, window=3)
+    assert res["done"] == len(jobs) == len(seen)
+    assert all(i - finished <= 2 for i, finished in seen)
+    assert max(i - finished for i, finished in seen) >= 1  # jobs run side by side
