@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+import isotween
 from isotween import Sequence, Shape, interpolate, metrics
 from isotween.editing import edit
 from isotween.errors import IncompatibleShapesError, ParameterError
@@ -153,3 +154,23 @@ def test_keyframe_times_and_easing(bar):
         interpolate_keyframes([src])
     with pytest.raises(IncompatibleShapesError, match="keyframe 1"):
         interpolate_keyframes([src, grid_mesh(4, 3)])
+
+
+def test_keyframes_with_another_method_or_solver_interpolate_each_segment():
+    """method='linear' blends vertices within each segment; solver='global' passes through every key."""
+    bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0], [3, 0]])
+    keys = [bar, bar.rotate(0.8), bar.rotate(0.8).translate([2, 1]).scale(1.5)]
+    seq = isotween.interpolate_keyframes(keys, frames=9, method="linear")
+    idx = seq.info["keyframe_indices"]
+    assert idx == [0, 4, 8]
+    for j in range(2):
+        a, b = idx[j], idx[j + 1]
+        u = (seq.times[a : b + 1] - seq.times[a]) / (seq.times[b] - seq.times[a])
+        expected = (1 - u)[:, None, None] * keys[j].vertices + u[:, None, None] * keys[j + 1].vertices
+        np.testing.assert_allclose(seq.frames[a : b + 1], expected, atol=1e-12)
+    glob = isotween.interpolate_keyframes(keys, frames=9, solver="global")
+    for k, key in zip(idx, keys):
+        np.testing.assert_array_equal(glob.frames[k], key.vertices)
+    # a rigid first segment keeps every edge length with the global solver too
+    lengths = np.linalg.norm(np.diff(glob.frames[: idx[1] + 1], axis=1), axis=-1)
+    np.testing.assert_allclose(lengths, 1.0, atol=1e-6)

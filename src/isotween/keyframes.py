@@ -37,7 +37,8 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
                           scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
                           smooth: float = 1.0, assembly: str = "shared",
                           callback: Callable[..., object] | None = None,
-                          max_memory: float | None = None) -> Sequence:
+                          max_memory: float | None = None, solver: str = "local",
+                          method: str = "aiap") -> Sequence:
     """One AIAP sequence through every keyframe.
 
     All in-between frames are solved together by the local solver with the
@@ -64,6 +65,12 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
         Weight of the smoothness term at interior keyframes.
     max_memory : int, optional
         Bytes the run may use (as in :func:`isotween.interpolate`).
+    solver, method : str
+        As in :func:`isotween.interpolate`. The joint solve above is the
+        local solver's with AIAP; ``solver="global"`` or another ``method``
+        interpolates each segment between consecutive keyframes on its own
+        (the frames pass through every keyframe; ``smooth`` and ``assembly``
+        do not apply).
 
     Returns
     -------
@@ -118,6 +125,9 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
     t[idx] = key_t
     if np.any(np.diff(t) <= 0):
         raise ParameterError("keyframe times collide with the eased frame times; use more frames")
+    if solver != "local" or method != "aiap":
+        return _segments(shapes, t, idx, key_t, start, solver=solver, method=method, init=init, scheme=scheme,
+                         tol=tol, max_iter=max_iter, max_memory=max_memory)
     base = shapes[0]
     zk = np.stack([s.z for s in shapes], axis=1)  # (n, K)
     edges = np.empty((base.n_edges, len(t)), dtype=complex)
@@ -153,4 +163,30 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
                     energy=info["energy"], iterations=info["iterations"],
                     converged=info["converged"], timings=timings, method="aiap-keyframes",
                     info={"keyframe_indices": idx.tolist(), "max_move": info["max_move"],
+                          **paint_keys(shapes, key_t)})
+
+
+def _segments(shapes, t, idx, key_t, start, **options):
+    """Each keyframe segment interpolated on its own (``solver="global"`` or another ``method``).
+
+    The segments meet at the keyframes (positions continuous, velocities not
+    smoothed there: that needs the joint local solve).
+    """
+    from .interpolate import interpolate
+
+    z = np.empty((len(t), shapes[0].n_vertices, 2))
+    energy, iterations, converged = 0.0, 0, True
+    for j in range(len(shapes) - 1):
+        a, b = idx[j], idx[j + 1]
+        u = (t[a : b + 1] - t[a]) / (t[b] - t[a])
+        u[0], u[-1] = 0.0, 1.0
+        seg = interpolate(shapes[j], shapes[j + 1], frames=b - a + 1, times=u, **options)
+        z[a : b + 1] = seg.frames
+        iterations += seg.iterations
+        converged &= bool(seg.converged)
+        energy += float(seg.energy[-1]) if len(seg.energy) else 0.0
+    return Sequence(z, shapes[0], times=t, scheme=options["scheme"], energy=[energy], iterations=iterations,
+                    converged=converged, timings={"total": time.perf_counter() - start},
+                    method=f"{options['method']}-keyframes",
+                    info={"keyframe_indices": idx.tolist(), "segments": "each on its own",
                           **paint_keys(shapes, key_t)})

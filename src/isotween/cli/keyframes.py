@@ -16,12 +16,15 @@ from .prepare import correspondence_kwargs, make_keys_compatible, outline_corres
               default="linear", show_default=True, help="Spacing of the frames in time.")
 @click.option("--smooth", type=float, default=1.0, show_default=True,
               help="How strongly velocities turn smoothly through interior keyframes.")
-@solver_options_for("init", "scheme", "tol", "max_iter")
+@solver_options_for("solver", "init", "scheme", "tol", "max_iter", "method")
 @outline_correspondence_options
 @output_options
-def keyframes_command(keyframes, frames, times, easing, smooth, init, scheme, tol, max_iter,
+def keyframes_command(keyframes, frames, times, easing, smooth, solver, init, scheme, tol, max_iter, method,
                       output, fmt, texture, plot, quiet, **params):
     """AIAP through every KEYFRAME file at once (at least two).
+
+    With --solver global or another --method, each segment between
+    consecutive keyframes is interpolated on its own.
 
     Keyframes that do not share connectivity are first put in
     correspondence together as outlines (each paired with the first, one
@@ -42,5 +45,6 @@ def keyframes_command(keyframes, frames, times, easing, smooth, init, scheme, to
                                   **correspondence_kwargs(params))
     with progress(quiet) as callback:
         seq = interpolate_keyframes(shapes, times=times, frames=frames, easing=easing, smooth=smooth,
-                                    init=init, scheme=scheme, tol=tol, max_iter=max_iter, callback=callback)
+                                    init=init, scheme=scheme, tol=tol, max_iter=max_iter, callback=callback,
+                                    solver=solver, method=method)
     emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())
