@@ -310,3 +310,14 @@ def test_rings_keep_their_turn_so_mirror_symmetric_pairs_still_mesh():
     a, b, report = correspond(Shape.from_polygon(square), Shape.from_polygon(rect))
     assert not report.outlines and a.n_faces > 0 and report.flipped == 0
     assert np.all(a.face_areas() * b.face_areas() > 0)
+
+
+def test_room_inside_a_region_made_valid_into_pieces():
+    """A region that shapely makes valid into a collection still measures the room around a point."""
+    import shapely
+
+    from isotween.correspondence.regions import _room
+
+    pieces = shapely.GeometryCollection([shapely.box(0, 0, 2, 2), shapely.box(3, 0, 4, 1)])
+    assert _room(pieces, 1 + 1j) == pytest.approx(1.0)
+    assert _room(pieces, 2.5 + 0.5j) == 0.0

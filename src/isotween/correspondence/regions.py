@@ -396,7 +396,12 @@ def _room(polygon, point):
     import shapely
 
     p = shapely.Point(point.real, point.imag)
-    return float(polygon.boundary.distance(p)) if polygon.contains(p) else 0.0
+    if not polygon.contains(p):
+        return 0.0
+    boundary = polygon.boundary
+    if boundary is None:  # a collection (a region made valid): the boundaries of its pieces
+        boundary = shapely.union_all([g.boundary for g in getattr(polygon, "geoms", []) if g.boundary is not None])
+    return float(boundary.distance(p))
 
 
 def inside_point(polygon, near, radius):
