@@ -174,7 +174,8 @@ def summarise(results, ids):
     return [
         len(rs), f"{len(ok)} ({pct(len(ok), len(rs))})", f"{len(clean)} ({pct(len(clean), len(rs))})",
         bad_frames,
-        f"{np.median(dev):.3f}" if dev else "-",
+        f"{np.nanmedian(dev):.3f}" + (f" ({np.isnan(dev).sum()} undefined)" if np.isnan(dev).any() else "")
+        if dev and not np.isnan(dev).all() else "-",
         f"{1e3 * np.median(secs):.0f} / {1e3 * np.percentile(secs, 95):.0f}" if secs else "-",
     ]
 
@@ -223,7 +224,9 @@ def main():
         f"pairs, {len(kinds['glyph'])} random glyph pairs; seed 20261123), {args.frames} frames each, "
         f"no options. isotween: {args.workers} worker processes, {wall:.0f} s wall in all; times are "
         "per pair in process (reading both files, correspondence, meshing, interpolation). flubber: "
-        "its own call per ring count, time of its interpolators only.",
+        "its own call per ring count, time of its interpolators only. An edge-length deviation is "
+        "undefined where an edge has zero length at both ends (flubber repeats points); the median "
+        "is over the other pairs.",
         "",
         table(header, rows),
         "",
