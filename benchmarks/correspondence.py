@@ -8,6 +8,9 @@ copy with other point counts, resampled to N points. mesh_pair: the same
 outline resampled to N points, triangulated with the default sizes (no area
 bound: triangles grow from the outline inwards) and mapped onto a bent copy.
 Medians of 5 runs.
+
+Any two drawings (public icons and glyphs, with flubber side by side) are measured by
+``python benchmarks/drawings.py``; its section in RESULTS.md is "Any two drawings".
 """
 
 import sys
