@@ -176,22 +176,24 @@ def _boundary_loops(f, n):
     start, count = np.unique(side[:, 0], return_counts=True)
     if np.any(count > 1):
         raise MethodError(f"two boundary loops meet at vertex {start[count > 1][0]}")
-    nxt = np.full(n, -1)
-    nxt[side[:, 0]] = side[:, 1]
-    seen = np.zeros(n, bool)
-    loops = []
-    for v0 in side[:, 0]:  # once per boundary vertex, outside the per-frame work
-        if seen[v0]:
-            continue
-        loop = [v0]
-        seen[v0] = True
-        v = nxt[v0]
-        while v != v0:
-            loop.append(v)
-            seen[v] = True
-            v = nxt[v]
-        loops.append(np.array(loop))
-    return loops
+    # list ranking by pointer doubling: the steps from each loop's first vertex
+    pos = np.full(n, -1)
+    pos[start] = np.arange(len(start))
+    succ = np.empty(len(start), dtype=np.int64)
+    succ[pos[side[:, 0]]] = pos[side[:, 1]]
+    _, label = connected_components(
+        coo_matrix((np.ones(len(succ)), (np.arange(len(succ)), succ)), shape=(len(succ),) * 2), directed=False)
+    _, root = np.unique(label, return_index=True)
+    jump = np.empty_like(succ)
+    jump[succ] = np.arange(len(succ))  # the predecessor
+    jump[root] = root
+    rank = np.ones(len(succ), dtype=np.int64)
+    rank[root] = 0
+    while np.any(jump != jump[jump]):
+        rank += rank[jump]
+        jump = jump[jump]
+    order = np.lexsort((rank, label))
+    return np.split(start[order], np.cumsum(np.bincount(label))[:-1])
 
 
 def _ring_area(z):
