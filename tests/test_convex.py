@@ -1,6 +1,8 @@
-"""Method 'convex' (Floater-Gotsman convex-combination morph) and the fold
-fallback of `isotween.interpolate`: no in-between frame folds, the ends are
-the inputs, and a folding AIAP result is replaced."""
+"""Method 'convex' and the fold fallback of `isotween.interpolate`.
+
+The Floater-Gotsman convex-combination morph: no in-between frame folds, the
+ends are the inputs, and a folding AIAP result is replaced.
+"""
 
 import sys
 from pathlib import Path
