@@ -141,3 +141,18 @@ def test_cli_falls_back_and_says_so(tmp_path):
     assert "fold check" in result.output and "convex" in result.output
     seq = isotween.io.load_sequence(str(out))
     assert seq.method == "convex" and flipped_faces(seq) == 0
+
+
+def test_components_move_independently():
+    src, tgt = pair("square->U")
+    n = src.n_vertices
+
+    def two(a, b):
+        return Shape(np.r_[a.vertices, b.vertices], faces=np.r_[a.faces, b.faces + n])
+
+    moved_src, moved_tgt = src.translate([10.0, 0.0]), tgt.rotate(1.0).translate([10.0, 4.0])
+    both = isotween.interpolate(two(src, moved_src), two(tgt, moved_tgt), frames=5, method="convex")
+    alone = [isotween.interpolate(s, t, frames=5, method="convex").frames for s, t in
+             ((src, tgt), (moved_src, moved_tgt))]
+    assert len(both.info["components"]) == 2
+    np.testing.assert_allclose(both.frames, np.concatenate(alone, axis=1), rtol=0, atol=1e-12 * 20)
