@@ -46,7 +46,7 @@ def test_help_short_option_and_method_choices():
     assert result.exit_code == 0 and "render" in result.output and "interpolate" in result.output
     result = run("interpolate", "-h")
     assert result.exit_code == 0
-    assert "[aiap|linear|intrinsic|arap|arap-baxter|shapespace]" in result.output.replace("\n", "").replace(" ", "")
+    assert "[aiap|linear|intrinsic|arap|arap-baxter|shapespace|convex]" in result.output.replace("\n", "").replace(" ", "")
     for name in ("--fps", "--size", "--hold", "--bounce", "--loop", "--title", "--background", "--fill"):
         assert name in result.output
     result = run("interpolate", "a.obj", "b.obj", "--method", "magic", "-o", "x.npz")

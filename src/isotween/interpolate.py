@@ -31,13 +31,15 @@ if TYPE_CHECKING:
 __all__ = ["interpolate", "SOLVERS", "check_movable", "check_stopping"]
 
 SOLVERS = ("local", "global")
+FOLDS = ("allow", "fallback")
 
 
 def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: str = "local",
                 init: str = "edge", scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
                 callback: Callable[[int, float, float], object] | None = None, method: str = "aiap",
                 times: ArrayLike | None = None, assembly: str = "shared",
-                linear_solver: str = "cg", max_memory: float | None = None) -> Sequence:
+                linear_solver: str = "cg", max_memory: float | None = None,
+                fold: str = "allow") -> Sequence:
     """Interpolate two compatible shapes as-isometrically-as-possible.
 
     Parameters
@@ -64,7 +66,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
         Called after every iteration.
     method : str
         'aiap' (this paper) or a baseline from :mod:`isotween.baselines`
-        ('linear', 'intrinsic', 'arap', 'arap-baxter', 'shapespace').
+        ('linear', 'intrinsic', 'arap', 'arap-baxter', 'shapespace', 'convex').
     times : (frames,) array_like, optional
         Increasing frame times from 0 to 1 (default: uniform).
     assembly : {'shared', 'per-frame'}
@@ -77,6 +79,13 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
         Bytes the run may use; default the memory available now. A run whose
         estimate (:func:`isotween.resources.solve_bytes`) exceeds it raises
         `ResourceError` before allocating.
+    fold : {'allow', 'fallback'}
+        'allow' keeps the result as it is (the paper's behaviour). 'fallback':
+        when an in-between frame has a flipped triangle or an outline that
+        crosses itself within a region, the ``method='convex'`` morph (which
+        never folds) is returned instead; ``info['fallback']`` says why, or
+        why the convex morph could not be built (the first result is then
+        kept).
 
     Returns
     -------
@@ -108,12 +117,14 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
     _check_choice("scheme", scheme, SCHEMES)
     _check_choice("assembly", assembly, ASSEMBLY)
     _check_choice("linear_solver", linear_solver, LINEAR_SOLVERS)
+    _check_choice("fold", fold, FOLDS)
     check_stopping(tol, max_iter)
     options = dict(frames=len(t), solver=solver, init=init, scheme=scheme, tol=tol,
                    max_iter=max_iter, method=method, times=times, assembly=assembly,
-                   linear_solver=linear_solver)
+                   linear_solver=linear_solver, fold=fold)
     if method != "aiap":
-        return _baseline(method, source, target, t, options, callback)
+        seq = _baseline(method, source, target, t, options, callback)
+        return _fallback(seq, source, target, t, options) if fold == "fallback" else seq
     both = np.concatenate((source.vertices, target.vertices))
     size = both.max(axis=0) - both.min(axis=0)
     diag = float(np.sqrt(size @ size))  # of both inputs' bounding box
@@ -147,12 +158,13 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
     frames = np.empty((len(t), len(z0), 2))
     frames.view(complex)[..., 0] = out.T
     timings["total"] = time.perf_counter() - start
-    return Sequence(
+    seq = Sequence(
         frames=frames, shape=source, times=t, scheme=scheme,
         energy=info.pop("energy"), iterations=info.pop("iterations"),
         converged=info.pop("converged"), timings=timings, method="aiap",
         info={"options": options, **info, **paint_keys([source, target], [0.0, 1.0])},
     )
+    return _fallback(seq, source, target, t, options) if fold == "fallback" else seq
 
 
 def check_movable(shape, name="source"):
@@ -198,3 +210,25 @@ def _baseline(method, source, target, t, options, callback):
     seq.info.setdefault("options", options)
     seq.info.update(paint_keys([source, target], [0.0, 1.0]))
     return seq
+
+
+def _fallback(seq, source, target, t, options):
+    """``seq``, or the fold-free 'convex' morph when an in-between frame of ``seq`` folds."""
+    from . import metrics
+
+    if seq.method == "convex" or len(t) < 3:
+        return seq
+    flips = metrics.flipped_faces(seq, None)[1:-1]
+    crossings = metrics.outline_crossings(seq, scope="region")[1:-1]
+    if not (flips.any() or crossings.any()):
+        return seq
+    folded = (f"{seq.method} folded in {int(np.count_nonzero(flips | crossings))} of {len(t) - 2} "
+              f"in-between frames ({int(flips.sum())} flipped triangles, {int(crossings.sum())} outline crossings)")
+    try:
+        convex = _baseline("convex", source, target, t, options, None)
+    except MethodError as exc:
+        seq.info["fallback"] = f"{folded}; kept, as the convex morph cannot be built: {exc}"
+        return seq
+    convex.info["fallback"] = f"{folded}; replaced by the fold-free convex morph"
+    convex.timings["total"] = convex.timings.get("total", 0.0) + seq.timings.get("total", 0.0)
+    return convex

@@ -16,6 +16,9 @@ method         what is blended                              needs
                across triangles (Baxter et al. 2008)
 'shapespace'   geodesic of an isometric metric, Gauss-      any shape
                Newton over all frames (Kilian et al. 2007)
+'convex'       convex-combination (mean-value) weights in   triangle mesh,
+               a disc with a fixed convex boundary; never   every vertex in
+               folds (Floater and Gotsman 1999)             a face
 =============  ===========================================  ==================
 """
 
@@ -27,7 +30,7 @@ from ..correspondence.compatibility import as_shape, check_compatible
 from ..errors import MethodError
 from ..sequence import Sequence
 from ..times import frame_times
-from . import arap, arap_baxter, intrinsic, linear, shapespace
+from . import arap, arap_baxter, convex, intrinsic, linear, shapespace
 
 __all__ = ["METHODS", "run"]
 
@@ -38,6 +41,7 @@ _MODULES = {
     "arap": arap,
     "arap-baxter": arap_baxter,
     "shapespace": shapespace,
+    "convex": convex,
 }
 METHODS = tuple(_MODULES)
 

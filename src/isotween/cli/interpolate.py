@@ -30,9 +30,12 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, **par
     that do not share vertex count and connectivity are put in
     correspondence first (regions, holes and polylines paired, outlines
     resampled, filled regions meshed as solids), and one line says what was
-    done. The output kind follows -o: an animation (.gif .mp4 .html), a
-    strip of frames (.png), a sequence file (.npz .json), or a folder of
-    frame files (with --format).
+    done; if the in-betweens of meshes built so then fold (a flipped triangle
+    or a self-crossing outline), the fold-free convex-combination morph
+    (method 'convex') is written instead, and one line says so. The output
+    kind follows -o: an animation (.gif .mp4 .html), a strip of frames
+    (.png), a sequence file (.npz .json), or a folder of frame files (with
+    --format).
     """
     from .. import interpolate
     from ..io import load
@@ -40,8 +43,13 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, **par
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
     options = correspondence_kwargs(params)
-    src, tgt = make_compatible(load(source), load(target), source, target, quiet=quiet, **options)
+    a = load(source)
+    src, tgt = make_compatible(a, load(target), source, target, quiet=quiet, **options)
     kwargs = solver_kwargs(params)
+    if not a.n_faces and src.n_faces:  # meshes built here: a folding result falls back to 'convex'
+        kwargs.setdefault("fold", "fallback")
     with progress(quiet) as callback:
         seq = interpolate(src, tgt, callback=callback, **kwargs)
+    if "fallback" in seq.info and not quiet:
+        click.echo(f"fold check: {seq.info['fallback']}")
     emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())
