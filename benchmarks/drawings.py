@@ -130,7 +130,7 @@ def flubber_inputs(jobs):
 
 
 def run_flubber(jobs, n_frames):
-    """flubber's outcome for every pair (one Node.js process)."""
+    """The outcome of flubber for every pair (one Node.js process)."""
     items, groups = flubber_inputs(jobs)
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as fh:
         json.dump(items, fh)

@@ -92,7 +92,8 @@ def triangle_flips(s, t):
 
 def random_pairs(n, holes, seed):
     """``n`` pairs of random star-shaped polygons (source radii 2.6-3.2, target 2.3-3.8) with
-    ``holes`` = (fewest, most) small star-shaped holes placed independently in each shape."""
+    ``holes`` = (fewest, most) small star-shaped holes placed independently in each shape.
+    """
     import shapely
 
     rng = np.random.default_rng(seed)

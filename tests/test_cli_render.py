@@ -11,7 +11,6 @@ from PIL import Image
 from isotween import Sequence, Shape, io, metrics
 from isotween.cli import main
 from isotween.paint import Paint
-
 from test_colour import MID  # Oklab midpoint of red and blue, from published Oklab values
 
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])

@@ -19,14 +19,12 @@ import pytest
 from click.testing import CliRunner
 
 import isotween
-from isotween import Shape, interpolate
-from isotween import io
+from isotween import Shape, interpolate, io
 from isotween.cli import main
 from isotween.correspondence import mesh_pair
 from isotween.errors import (
     FileFormatError,
     IncompatibleShapesError,
-    IsotweenError,
     MethodError,
     ParameterError,
     ResourceError,
@@ -533,7 +531,7 @@ def test_command_line_max_memory_lets_a_run_through(files, tmp_path):
 
 
 def test_summary_reports_the_written_sequence(files, tmp_path):
-    """transfer and edit print the energy of the frames they wrote, not of another run (nor nan)."""
+    """Transfer and edit print the energy of the frames they wrote, not of another run (nor nan)."""
     from isotween.metrics import isometric_energy
 
     out = tmp_path / "t.npz"

@@ -6,9 +6,8 @@ import os
 import numpy as np
 import pytest
 
-from isotween import Sequence, Shape
 import isotween
-from isotween import io
+from isotween import Sequence, Shape, io
 from isotween.errors import FileFormatError, IncompatibleShapesError, ParameterError
 from isotween.io._files import atomic_path
 

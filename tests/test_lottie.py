@@ -1,5 +1,6 @@
 """Lottie export: valid against the official schema, keyframes that are the frames, and
-lottie-web in Chromium drawing what isotween's own renderer draws."""
+lottie-web in Chromium drawing what isotween's own renderer draws.
+"""
 
 import json
 import shutil
@@ -9,13 +10,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from browser import screenshot
 from isotween import Sequence, Shape, interpolate, render
 from isotween.paint import Paint
 from isotween.render._frames import SequenceRenderer
 from isotween.render._view import bbox_of, fit_view
 from isotween.render.lottie import lottie_data
-
-from browser import browser, screenshot  # noqa: F401  (fixture)
 from shapes import bend, grid_mesh
 
 JS = Path(__file__).parent / "js"

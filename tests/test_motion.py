@@ -3,14 +3,13 @@
 import numpy as np
 import pytest
 
-from isotween import Sequence, Shape, interpolate, metrics
+from isotween import interpolate, metrics
 from isotween.editing import edit
 from isotween.errors import IncompatibleShapesError, ParameterError
 from isotween.keyframes import interpolate_keyframes
 from isotween.transfer import transfer
 from isotween.velocity import relative_velocity_field
-
-from shapes import bend, grid_mesh, rotation
+from shapes import bend, grid_mesh
 
 
 @pytest.fixture(scope="module")

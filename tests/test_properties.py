@@ -94,7 +94,8 @@ def test_runs_are_deterministic(pair, solver, scheme):
 @given(shape_pair(), st.integers(min_value=3, max_value=12))
 def test_numba_and_numpy_paths_agree_at_a_tight_tolerance(pair, frames):
     """At tol=1e-9 both paths take the same iterations (chains converge in two; rings
-    approach it slowly and run to max_iter) and agree to 1e-10 of the diagonal."""
+    approach it slowly and run to max_iter) and agree to 1e-10 of the diagonal.
+    """
     a, b = pair
     runs = {}
     for enabled in (True, False):

@@ -7,11 +7,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from isotween import Sequence, Shape, interpolate
-from isotween import render
+from isotween import Sequence, Shape, interpolate, render
 from isotween.errors import FileFormatError, MethodError, MissingDependencyError, ParameterError, ShapeError
 from isotween.render.texture import rasterize_triangles, texture_uv
-
 from shapes import bend, grid_mesh
 
 WHITE = 255

@@ -19,7 +19,6 @@ import hashlib
 import json
 import os
 import time
-from collections import deque
 from pathlib import Path
 
 from .errors import FileFormatError, ParameterError
@@ -234,7 +233,7 @@ def run_jobs(jobs):
 
 
 def _finished(report):
-    """output -> key of its last successful record in an existing report."""
+    """Map each output to the key of its last successful record in an existing report."""
     done = {}
     if report.is_file():
         with open(report, encoding="utf-8") as f:

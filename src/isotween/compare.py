@@ -14,7 +14,6 @@ import io
 import math
 from typing import TYPE_CHECKING
 
-
 from . import metrics
 from .baselines import METHODS as BASELINES
 from .correspondence.compatibility import as_shape, check_compatible

@@ -10,9 +10,9 @@ import numpy as np
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import ParameterError
 from .initialisation import edge_rotations
-from .optimisation.assembly import FrameAssembler
 from .interpolate import check_movable
 from .metrics import isometric_energy
+from .optimisation.assembly import FrameAssembler
 from .sequence import Sequence
 from .shape import Shape
 

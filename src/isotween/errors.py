@@ -55,4 +55,5 @@ def require(module, extra):
 
 class ResourceError(IsotweenError, MemoryError):
     """A run would need more memory than is available (or allowed); the
-    message gives the estimate and the limit."""
+    message gives the estimate and the limit.
+    """

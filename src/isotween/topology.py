@@ -1,5 +1,6 @@
 """Connectivity-only data of a shape, computed once and shared by every shape
-with the same connectivity (``Shape.topology``; ``with_vertices`` keeps it)."""
+with the same connectivity (``Shape.topology``; ``with_vertices`` keeps it).
+"""
 
 import functools
 

@@ -1,9 +1,2 @@
 """Imports every command module so that each registers itself on the group."""
-from . import batch  # noqa: F401
-from . import compare  # noqa: F401
-from . import demo  # noqa: F401
-from . import info  # noqa: F401
-from . import interpolate  # noqa: F401
-from . import motion  # noqa: F401
-from . import prepare  # noqa: F401
-from . import render  # noqa: F401
+from . import batch, compare, demo, info, interpolate, motion, prepare, render  # noqa: F401

@@ -3,8 +3,17 @@
 import click
 
 from . import main
-from .options import (check_outputs, emit, frames_option, output_options, progress, solver_kwargs,
-                      solver_options, solver_options_for, timer)
+from .options import (
+    check_outputs,
+    emit,
+    frames_option,
+    output_options,
+    progress,
+    solver_kwargs,
+    solver_options,
+    solver_options_for,
+    timer,
+)
 from .prepare import correspondence_kwargs, make_keys_compatible, outline_correspondence_options
 
 
@@ -46,7 +55,8 @@ def transfer_command(source_start, source_end, target_start, output, fmt, textur
 @output_options
 def edit_command(sequence, frames, shapes, free_ends, output, fmt, texture, plot, quiet, **render):
     """Replace frames of SEQUENCE (.npz/.json or a folder of frames) and carry
-    the change through its motion (Sec. 5.2)."""
+    the change through its motion (Sec. 5.2).
+    """
     from .. import edit
     from ..errors import ParameterError
     from ..io import load, load_sequence

@@ -1,5 +1,6 @@
 """``isotween prepare SOURCE TARGET -o DIR``: a compatible pair written as files,
-and the correspondence options that `interpolate`, `keyframes` and `transfer` share."""
+and the correspondence options that `interpolate`, `keyframes` and `transfer` share.
+"""
 
 import warnings
 

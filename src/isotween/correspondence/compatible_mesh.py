@@ -42,8 +42,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
-from ..errors import (IncompatibleShapesError, MissingDependencyError, ParameterError, ResourceError,
-                      ShapeError, require)
+from ..errors import IncompatibleShapesError, MissingDependencyError, ParameterError, ResourceError, ShapeError, require
 from ..shape import Shape
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
@@ -306,7 +305,8 @@ def _polygon(z, rings):
 
 def _inside(z, poly, pairs):
     """(m,) whether each segment between vertices ``pairs`` (m, 2) lies inside the polygon and
-    meets its boundary only at its two ends."""
+    meets its boundary only at its two ends.
+    """
     import shapely
 
     if not len(pairs):
@@ -378,7 +378,8 @@ def _triangulate(z, rings, constraints, fixed_keys, name):
 
 def _shared_diagonals(f_src, zt, poly_t, fixed):
     """(m, 2) interior edges of the source triangulation that are also diagonals of the target
-    polygon and cross none of each other there (nor the ``fixed`` segments (c, 2))."""
+    polygon and cross none of each other there (nor the ``fixed`` segments (c, 2)).
+    """
     import shapely
 
     a, b, _, key, twin = _edge_table(f_src)
@@ -447,7 +448,8 @@ def _cuts(zs, zt, rings, near=12):
 
 def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
     """(summed length, ((u1, v1), (u2, v2))) of the shortest two valid cuts from hole h to the
-    vertices ``base``, or None."""
+    vertices ``base``, or None.
+    """
     import shapely
 
     hole = rings[h]
@@ -640,7 +642,8 @@ def _open_cuts(f, cuts, first_copy):
 
 def _disc_cycle(rings, cuts, first_copy):
     """(B,) boundary cycle of the cut polygon: the outer ring ccw with a detour along the first cut
-    of every hole, around the hole (and the holes joined to it) and back along the cut's copies."""
+    of every hole, around the hole (and the holes joined to it) and back along the cut's copies.
+    """
     detour = {u: (h, v, first_copy + 2 * i, first_copy + 2 * i + 1) for i, (h, (u, v), _) in enumerate(cuts)}
     out = []
 
@@ -879,7 +882,8 @@ def _valid(z, w, f, eps):
 
 def _odt(z, f):
     """(N,) area-weighted mean of the circumcentres of each vertex's triangles (optimal Delaunay
-    triangulation smoothing, Chen and Xu 2004)."""
+    triangulation smoothing, Chen and Xu 2004).
+    """
     u, v = z[f[:, 1]] - z[f[:, 0]], z[f[:, 2]] - z[f[:, 0]]
     area = 0.5 * (np.conj(u) * v).imag
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -959,7 +963,8 @@ def _smooth(z, w, f, K, eps, rng, joint):
 
 def _joint_flips(z, w, f, eps, limit=0.5):
     """Flip edges whose flip raises the smallest angle of their two faces in both meshes together,
-    where that angle's sine is below ``limit``; f is changed in place. Returns the number of flips."""
+    where that angle's sine is below ``limit``; f is changed in place. Returns the number of flips.
+    """
     a, b, c, key, twin = _edge_table(f)
     qf = _quality(z, w, f)
     h = np.flatnonzero(twin > np.arange(len(a)))
@@ -1047,7 +1052,8 @@ def _collapse(z, w, f, K, eps, limit):
 
 def _joint_refine(z, w, f, size, rounds=30):
     """Split faces larger than an equilateral triangle of side ``size`` (in the source; the target
-    size scaled by the area ratio) at their centroid in both meshes, then flip edges jointly."""
+    size scaled by the area ratio) at their centroid in both meshes, then flip edges jointly.
+    """
     ratio = np.sqrt(abs(_areas(w, f).sum() / _areas(z, f).sum()))
     big_s = 1.5 * np.sqrt(3) / 4 * size ** 2
     big_t = big_s * ratio ** 2

@@ -151,7 +151,8 @@ class _Ring:
 
     def at(self, s, corners=None):
         """Complex points at arc positions ``s`` (any shape); with ``corners``
-        (degrees), the sample nearest each corner moves onto it."""
+        (degrees), the sample nearest each corner moves onto it.
+        """
         s = np.array(s, dtype=np.float64)
         if corners is not None:
             s = self._snap(s, corners)
@@ -221,7 +222,8 @@ def _rings(obj, closed, name):
 
 def _counts(points, src, *others):
     """Points per ring: given, or the total shared in proportion to length (the
-    mean of every shape's length shares)."""
+    mean of every shape's length shares).
+    """
     need = np.array([3 if c else 2 for _, c in src])
     if points is not None and np.ndim(points) == 1:
         counts = np.asarray(points)

@@ -1,2 +1,3 @@
 """Optimisation: the time schemes, Eq. (9) edge solve, Eq. (10) frame assembly,
-the local solver (Algorithm 2) and the global solver (Algorithm 1)."""
+the local solver (Algorithm 2) and the global solver (Algorithm 1).
+"""

@@ -7,8 +7,8 @@ from matplotlib.patches import PathPatch
 from matplotlib.path import Path
 
 from ..errors import ParameterError
-from ..paint import paint_groups
 from ..io import atomic_path
+from ..paint import paint_groups
 from ._view import bbox_of, check_frames, fit_view, image_size
 from .texture import load_texture, render_texture, texture_uv
 

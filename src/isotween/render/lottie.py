@@ -121,7 +121,7 @@ def _painted_groups(shape, px, order, regions, paints, unit):
 
 
 def _default_groups(shape, px, dpi_scale):
-    """isotween's default look: light fill (triangles or rings) with thin edges, or wire lines."""
+    """The default look of isotween: light fill (triangles or rings) with thin edges, or wire lines."""
     fill_runs, line_runs = _pieces(shape)
     groups = []
 
