@@ -135,8 +135,8 @@ def random_rows():
             flips += int(np.sum(res.source.face_areas() <= 0) + np.sum(res.target.face_areas() <= 0))
             angles.append(min(res.info["min_angle_source"], res.info["min_angle_target"]))
             seconds.append(res.info["seconds"])
-        rows.append([name, done + refused, done, refused, flips, f"{np.median(angles):.1f}", f"{np.median(seconds):.3f}",
-                     "; ".join(sorted(messages)) or "-"])
+        rows.append([name, done + refused, done, refused, flips, f"{np.median(angles):.1f}",
+                     f"{np.median(seconds):.3f}", "; ".join(sorted(messages)) or "-"])
         print(" | ".join(str(c) for c in rows[-1]), flush=True)
     return table(["pairs", "tried", "meshed", "refused", "flips (both meshes, all pairs)",
                   "median smallest angle (deg)", "median seconds", "refusal"], rows)
@@ -165,7 +165,8 @@ def main():
         ])
         print(" | ".join(str(c) for c in rows[-1]), flush=True)
     header = ["case", "ring points", "vertices", "faces", "Steiner", "overlay crossings", "min angle src (deg)",
-              "min angle tgt (deg)", "faces < 10 / < 20 deg (either mesh)", "flips src / tgt", "overlay", "Triangle path: flipped tgt",
+              "min angle tgt (deg)", "faces < 10 / < 20 deg (either mesh)", "flips src / tgt", "overlay",
+              "Triangle path: flipped tgt",
               "seconds, median of 5 (min-max)"]
     body = table(header, rows)
     print(body)

@@ -96,7 +96,8 @@ def main():
         "shapespace run). shapespace: "
         f"`interpolate(..., method='shapespace')` (Kilian et al. 2007 path energy, Gauss-Newton from the "
         f"linear blend, same Eq. (11) stopping rule, tol 5e-4), median of {args.kilian_runs} runs at 9 and 45 "
-        f"frames (one run where a run takes over 30 s) and one run at 205 frames; runs that would exceed {args.budget:.0f} s are capped at the "
+        f"frames (one run where a run takes over 30 s) and one run at 205 frames; "
+        f"runs that would exceed {args.budget:.0f} s are capped at the "
         "iterations that fit (marked). Both in the same process, so the speed-up is measured here; "
         "the paper's columns are from its Table 1 (Intel i5 2.8 GHz, 2013).",
         "",

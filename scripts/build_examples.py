@@ -119,13 +119,13 @@ def stick_figure(joints, bones, head, ball, per_bone=6, ring=18):
             pts.append((1 - t) * pts[i] + t * pts[j])
             chain.append(len(pts) - 1)
         chain.append(j)
-        edges += list(zip(chain[:-1], chain[1:]))
+        edges += list(zip(chain[:-1], chain[1:], strict=True))
     for centre, radius in (head, ball):
         th = np.linspace(0, 2 * np.pi, ring, endpoint=False) + np.pi / 2
         start = len(pts)
         pts += list(np.c_[centre[0] + radius * np.cos(th), centre[1] + radius * np.sin(th)])
         idx = np.arange(start, start + ring)
-        edges += list(zip(idx, np.roll(idx, -1)))
+        edges += list(zip(idx, np.roll(idx, -1), strict=True))
     return Shape(np.array(pts), np.array(edges))
 
 

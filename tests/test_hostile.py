@@ -220,7 +220,7 @@ def _zip(name, data):
 
 SVG = '<svg xmlns="http://www.w3.org/2000/svg">{}</svg>'
 LAUGHS = ('<?xml version="1.0"?>\n<!DOCTYPE svg [\n<!ENTITY a "aaaaaaaaaa">\n'
-          + "".join(f'<!ENTITY {c} "{("&" + p + ";") * 10}">\n' for p, c in zip("abcdefgh", "bcdefghi"))
+          + "".join(f'<!ENTITY {c} "{("&" + p + ";") * 10}">\n' for p, c in zip("abcdefgh", "bcdefghi", strict=True))
           + ']>\n<svg xmlns="http://www.w3.org/2000/svg"><polygon id="&i;" points="0,0 1,0 1,1"/></svg>')
 
 FILES = [
@@ -268,7 +268,8 @@ FILES = [
     ("svg-entity-file", "a.svg", '<?xml version="1.0"?>\n<!DOCTYPE svg [<!ENTITY x SYSTEM "file:///etc/passwd">]>\n'
      + SVG.format('<polygon id="&x;" points="0,0 1,0 1,1"/>'), "entity"),
     ("svg-billion-laughs", "a.svg", LAUGHS, "entity"),
-    ("svg-parameter-entity", "a.svg", '<?xml version="1.0"?>\n<!DOCTYPE svg [<!ENTITY % p SYSTEM "http://example.invalid/x.dtd"> %p;]>\n'
+    ("svg-parameter-entity", "a.svg",
+     '<?xml version="1.0"?>\n<!DOCTYPE svg [<!ENTITY % p SYSTEM "http://example.invalid/x.dtd"> %p;]>\n'
      + SVG.format('<polygon points="0,0 1,0 1,1"/>'), "entity"),
     ("svg-external-dtd", "a.svg", '<?xml version="1.0"?>\n<!DOCTYPE svg SYSTEM "http://example.invalid/evil.dtd">\n'
      + SVG.format('<polygon points="0,0 1,0 1,1"/>'), "DTD"),

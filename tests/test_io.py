@@ -49,7 +49,7 @@ def soup_shape():
 def same_paths(a, b):
     if a is None or b is None:
         return a is None and b is None
-    return len(a) == len(b) and all(np.array_equal(p, q) and c == d for (p, c), (q, d) in zip(a, b))
+    return len(a) == len(b) and all(np.array_equal(p, q) and c == d for (p, c), (q, d) in zip(a, b, strict=True))
 
 
 def assert_same_shape(a, b, paths=True):
@@ -78,7 +78,8 @@ def test_outline_round_trip_is_exact(tmp_path, ext):
 
 
 @pytest.mark.parametrize("ext", [".obj", ".off", ".json", ".npz"])
-@pytest.mark.parametrize("make", [mesh_shape, lambda: mesh_shape("custom"), soup_shape], ids=["mesh", "mesh-edge-order", "soup"])
+@pytest.mark.parametrize("make", [mesh_shape, lambda: mesh_shape("custom"), soup_shape],
+                         ids=["mesh", "mesh-edge-order", "soup"])
 def test_mesh_and_soup_round_trip_is_exact(tmp_path, ext, make):
     shape = make()
     io.save(shape, tmp_path / f"s{ext}")

@@ -95,12 +95,13 @@ def test_keyframes_are_the_frames_and_the_paint(morph):
     # back from composition pixels to shape units: every tick is exactly its frame
     box = bbox_of(morph.frames)
     x0, x1, y0, y1 = fit_view(box, data["w"], data["h"])
-    for item, (idx, _) in zip(paths, morph.shape.paths):
+    for item, (idx, _) in zip(paths, morph.shape.paths, strict=False):
         px = keyframe_points(item)
         assert px.shape == (len(order), len(idx), 2)
         x = x0 + px[..., 0] * (x1 - x0) / data["w"]
         y = y1 - px[..., 1] * (y1 - y0) / data["h"]
-        np.testing.assert_allclose(np.stack([x, y], -1), morph.frames[order][:, idx], atol=2e-3 * (x1 - x0) / data["w"] * 1000)
+        np.testing.assert_allclose(np.stack([x, y], -1), morph.frames[order][:, idx],
+                                   atol=2e-3 * (x1 - x0) / data["w"] * 1000)
     colours = np.array([k["s"] for k in fill["c"]["k"]])
     assert colours[0].tolist() == [1, 0, 0, 1] and colours[-1].tolist() == [0, 0, 1, 1]
     # the middle frame's fill is the Oklab blend (frame 3 of 7: t = 0.5)

@@ -120,7 +120,7 @@ def test_keyframes_pass_through_and_turn_smoothly(bar):
     k2 = similar(src.with_vertices(bend(src.vertices, 1.2 * np.pi)), np.exp(0.7j), 2 + 3j)
     seq = interpolate_keyframes([src, k1, k2], frames=17)
     idx = seq.info["keyframe_indices"]
-    for i, k in zip(idx, (src, k1, k2)):
+    for i, k in zip(idx, (src, k1, k2), strict=False):
         np.testing.assert_array_equal(seq.frames[i], k.vertices)
 
     def jump(s, i):

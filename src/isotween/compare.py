@@ -85,7 +85,8 @@ def compare(source: ShapeLike, target: ShapeLike, methods: Iterable[str] = METHO
     methods = list(methods)
     unknown = [m for m in methods if m not in METHODS]
     if unknown or not methods or len(set(methods)) < len(methods):
-        raise ParameterError(f"methods must be distinct names among {', '.join(METHODS)}; got {', '.join(methods) or 'none'}")
+        raise ParameterError(
+            f"methods must be distinct names among {', '.join(METHODS)}; got {', '.join(methods) or 'none'}")
     source, target = as_shape(source, "source"), as_shape(target, "target")
     check_compatible(source, target)
     rows, sequences = [], {}

@@ -145,11 +145,11 @@ def _as_paths(paths, n):
         flat = np.concatenate(indices).astype(np.int64) if indices else np.zeros(0, np.int64)
         bad = np.flatnonzero((flat < 0) | (flat >= n))
         if not bad.size:
-            return list(zip(np.split(flat, np.cumsum(sizes)[:-1]), flags)) if indices else []
+            return list(zip(np.split(flat, np.cumsum(sizes)[:-1]), flags, strict=False)) if indices else []
         k = int(np.searchsorted(np.cumsum(sizes), bad[0], side="right"))
         raise ShapeError(f"path {k} has a vertex index out of range [0, {n}): {int(flat[bad[0]])}")
     out = []
-    for k, (idx, closed) in enumerate(zip(indices, flags)):
+    for k, (idx, closed) in enumerate(zip(indices, flags, strict=False)):
         idx = _as_index_array(idx.reshape(-1, 1), 1, f"path {k} index")[:, 0]
         out_of_range = np.flatnonzero((idx < 0) | (idx >= n))
         if out_of_range.size:

@@ -66,7 +66,7 @@ def edit_command(sequence, frames, shapes, free_ends, output, fmt, texture, plot
         raise ParameterError(f"give one --shape per --frame ({len(frames)} frames, {len(shapes)} shapes)")
     check_outputs(output, fmt, texture, plot)
     seq = load_sequence(sequence)
-    out = edit(seq, edits={k: load(p) for k, p in zip(frames, shapes)}, keep_ends=not free_ends)
+    out = edit(seq, edits={k: load(p) for k, p in zip(frames, shapes, strict=True)}, keep_ends=not free_ends)
     emit(out, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())
 
 

@@ -122,7 +122,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     tgt = _rings(target_rings, "target")
     if len(src) != len(tgt):
         raise IncompatibleShapesError(f"the source has {len(src)} ring(s) but the target has {len(tgt)}")
-    for r, (a, b) in enumerate(zip(src, tgt)):
+    for r, (a, b) in enumerate(zip(src, tgt, strict=True)):
         if len(a) != len(b):
             raise IncompatibleShapesError(
                 f"ring {r} has {len(a)} vertices in the source but {len(b)} in the target")
@@ -254,7 +254,7 @@ def _signed_area(z):
 def _orientation(src, tgt):
     """Per ring, the vertex order that makes the outer ring ccw and the holes cw."""
     order = []
-    for r, (a, b) in enumerate(zip(src, tgt)):
+    for r, (a, b) in enumerate(zip(src, tgt, strict=False)):
         sa, sb = np.sign(_signed_area(a)), np.sign(_signed_area(b))
         if sa != sb:
             raise IncompatibleShapesError(
@@ -393,7 +393,7 @@ def _shared_diagonals(f_src, zt, poly_t, fixed):
                                           np.c_[zt[allseg[:, 1]].real, zt[allseg[:, 1]].imag]], axis=1))
     i, j = shapely.STRtree(lines).query(lines, predicate="crosses")
     drop = np.zeros(len(allseg), dtype=bool)
-    for u, v in zip(i, j):  # crossings are rare (none for a polygon without holes)
+    for u, v in zip(i, j, strict=True):  # crossings are rare (none for a polygon without holes)
         if u < v and not drop[u] and not drop[v]:
             drop[max(u, v)] = True
     return d[~drop[len(fixed):]]
@@ -462,14 +462,14 @@ def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
     hi, bi = hi[order], bi[order]
     hv, bv = hole[hi], base[bi]
     ok = ~np.isin(bv, list(used)) & ~np.isin(hv, list(used))
-    for z, poly in zip((zs, zt), polys):
+    for z, poly in zip((zs, zt), polys, strict=False):
         ok[ok] = _inside(z, poly, np.c_[bv[ok], hv[ok]])
     def clear(c, picks):
         """Cut c crosses no chosen cut (nor the picks) in either shape."""
         return not any(np.any(shapely.intersects(
             shapely.linestrings(np.c_[z[[bv[c], hv[c]]].real, z[[bv[c], hv[c]]].imag]),
             t + [shapely.linestrings(np.c_[z[[bv[p], hv[p]]].real, z[[bv[p], hv[p]]].imag]) for p in picks]))
-            for z, t in zip((zs, zt), taken) if len(t) or picks)
+            for z, t in zip((zs, zt), taken, strict=False) if len(t) or picks)
 
     cand = np.flatnonzero(ok)
     first = next((c for c in cand if clear(c, [])), None)
@@ -629,7 +629,7 @@ def _open_cuts(f, cuts, first_copy):
     for i, (_, (u, v), _) in enumerate(cuts):
         for vert, other, copy, reached in ((u, v, first_copy + 2 * i, False), (v, u, first_copy + 2 * i + 1, True)):
             rows, cols = np.nonzero(f == vert)
-            nxt = {int(f[r, (c + 1) % 3]): int(r) for r, c in zip(rows, cols)}
+            nxt = {int(f[r, (c + 1) % 3]): int(r) for r, c in zip(rows, cols, strict=True)}
             w, side = other, []
             while w in nxt:  # ccw around vert from the cut to the boundary
                 face = nxt[w]
@@ -734,7 +734,7 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
         near = interior[u] & (np.abs(_orient(D[ca[cc]], D[cb[cc]], D[u])) < tol * np.abs(D[cb[cc]] - D[ca[cc]]))
         if not near.any():
             break
-        for vert, ch in zip(*np.unique(np.c_[u[near], cc[near]], axis=0).T):
+        for vert, ch in zip(*np.unique(np.c_[u[near], cc[near]], axis=0).T, strict=True):
             _nudge(D, F1, vert, D[cb[ch]] - D[ca[ch]], tol)
     su, sv = _side(D, pos, B, lo[e], ca[c], cb[c]), _side(D, pos, B, hi[e], ca[c], cb[c])
     hit = su * sv == -1
@@ -939,7 +939,7 @@ def _smooth(z, w, f, K, eps, rng, joint):
     if not joint:
         goals.insert(0, [_odt(p, f) for p in (z, w)])
     pos = [z.copy(), w.copy()]
-    old = [judge(p, e)[1] for p, e in zip(pos, eps)]
+    old = [judge(p, e)[1] for p, e in zip(pos, eps, strict=False)]
     done = np.zeros((2, N), dtype=bool)
     for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
         trial, res = [], []

@@ -284,7 +284,7 @@ def _assign(cost, forced=()):
     pairs = list(forced)
     if rows and cols:
         r, c = linear_sum_assignment(cost[np.ix_(rows, cols)])
-        pairs += [(rows[i], cols[j]) for i, j in zip(r, c)]
+        pairs += [(rows[i], cols[j]) for i, j in zip(r, c, strict=True)]
     return pairs
 
 
@@ -339,7 +339,7 @@ def plan(items, frames, pairs=None):
         kind_slots = [[i] + [None] * (K - 1) for i in own[0]]
         owner = [0] * len(kind_slots)
         for k in range(1, K):
-            refs = [(s[o], o) for s, o in zip(kind_slots, owner)]
+            refs = [(s[o], o) for s, o in zip(kind_slots, owner, strict=False)]
             feats_ref = [_features(items[o][i].rings, closed, frames[o]) for i, o in refs]
             feats_k = [_features(items[k][i].rings, closed, frames[k]) for i in own[k]]
             forced = []
@@ -375,7 +375,7 @@ def _plan_holes(items, frames, members):
         region = items[k][members[k]]
         fk = Frame.of(region.rings[0])
         ks = list(range(1, len(region.rings)))
-        refs = [(s[o], o) for s, o in zip(slots, owner)]
+        refs = [(s[o], o) for s, o in zip(slots, owner, strict=False)]
         feats_ref = [_features([items[o][members[o]].rings[h]], True, Frame.of(items[o][members[o]].rings[0]))
                      for h, o in refs]
         feats_k = [_features([region.rings[h]], True, fk) for h in ks]

@@ -115,7 +115,7 @@ def connectivity_from(path, arrays, vertices):
         closed = _get(path, arrays, "path_closed", 1, kind="b", required=True)
         if sizes.sum() != len(idx) or len(closed) != len(sizes) or np.any(sizes < 0):
             raise FileFormatError(f"{path}: arrays 'path_indices', 'path_sizes' and 'path_closed' disagree")
-        paths = list(zip(np.split(idx, np.cumsum(sizes)[:-1]), closed.tolist()))
+        paths = list(zip(np.split(idx, np.cumsum(sizes)[:-1]), closed.tolist(), strict=False))
     if uv is not None and len(uv) != len(vertices):
         raise FileFormatError(f"{path}: array 'uv' has {len(uv)} rows for {len(vertices)} vertices")
     y_down = _get(path, arrays, "y_down", 0, kind="b")

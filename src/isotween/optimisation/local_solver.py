@@ -169,7 +169,7 @@ class _EdgeBlocks:
         """work(rows, D_rows, out) -> energy; returns (out, total energy)."""
         out, self._spare = self._spare, self._out
         self._out = out
-        args = list(zip(self.rows, self.D))
+        args = list(zip(self.rows, self.D, strict=False))
         if self.pool is None:
             energies = [work(r, d, out) for r, d in args]
         else:

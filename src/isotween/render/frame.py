@@ -202,7 +202,8 @@ def draw_frame(ax, shape, texture=None, uv=None, style="auto", *, source=None, c
 
 
 def _is_loaded(texture):
-    return isinstance(texture, np.ndarray) and texture.dtype == np.float32 and texture.ndim == 3 and texture.shape[2] == 4
+    return (isinstance(texture, np.ndarray) and texture.dtype == np.float32 and texture.ndim == 3
+            and texture.shape[2] == 4)
 
 
 class FramePainter:
