@@ -91,8 +91,9 @@ def triangle_flips(s, t):
 
 
 def random_pairs(n, holes, seed):
-    """``n`` pairs of random star-shaped polygons (source radii 2.6-3.2, target 2.3-3.8) with
-    ``holes`` = (fewest, most) small star-shaped holes placed independently in each shape.
+    """``n`` pairs of random star-shaped polygons (source radii 2.6-3.2, target 2.3-3.8).
+
+    Each shape has ``holes`` = (fewest, most) small star-shaped holes, placed independently.
     """
     import shapely
 

@@ -1,7 +1,8 @@
-"""The paper's Table 1: AIAP (local solver) against the shape-space method of
-Kilian et al. (`method='shapespace'`), iterations and seconds, on shapes with
-the table's vertex and edge counts (benchmarks/cases.py: triangulated bars
-trimmed to the counts, bent by 180 degrees).
+"""The paper's Table 1.
+
+AIAP (local solver) against the shape-space method of Kilian et al. (`method='shapespace'`), iterations and seconds, on
+shapes with the table's vertex and edge counts (benchmarks/cases.py: triangulated bars trimmed to the counts, bent by
+180 degrees).
 
 Both methods run in this process on this machine, so the speed-up column is
 measured, not taken from the paper. AIAP times are medians of --runs runs

@@ -147,8 +147,9 @@ def ex_worm():
 
 
 def ex_bar():
-    """A two-row triangle strip whose boundary ring passes through every vertex, so
-    that every method of `isotween compare` takes it (mesh and outline ones).
+    """A two-row triangle strip whose boundary ring passes through every vertex.
+
+    Every method of `isotween compare` takes it (mesh and outline ones).
     """
     k, length, width = 30, 8.0, 0.5
     x = np.linspace(0.0, length, k)
@@ -168,7 +169,8 @@ def ex_holes():
 
 
 def ex_regions():
-    """Two drawings with different numbers of regions and holes, stored as they are:
+    """Two drawings with different numbers of regions and holes, stored as they are.
+
     `load_example` puts them in correspondence with the defaults of `isotween.correspond`.
     """
     return Shape.from_polygon(glyph("j")), Shape.from_polygon(glyph("B"))
@@ -252,8 +254,9 @@ PAINT = {"holes": {"fill": ["#c0392b", "#1f5fa8"], "stroke": "#1b1b1b", "stroke_
 
 
 def main_build(only=None):
-    """Build every example, or with ``only`` (a list of names) just those (the
-    others' data files and strips are kept as they are).
+    """Build every example, or with ``only`` (a list of names) just those.
+
+    The other examples' data files and strips are kept as they are.
     """
     if only:
         unknown = set(only) - {e[0] for e in EXAMPLES}

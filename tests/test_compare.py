@@ -17,8 +17,9 @@ from shapes import bend, ellipse, rotation
 
 
 def strip(k=10, length=6.0, width=0.6):
-    """A two-row triangulated bar whose boundary ring visits every vertex, so
-    that every method (mesh and outline ones) can take it.
+    """A two-row triangulated bar whose boundary ring visits every vertex.
+
+    Every method (mesh and outline ones) can take it.
     """
     x = np.linspace(0.0, length, k)
     v = np.r_[np.c_[x, 0 * x], np.c_[x, 0 * x + width]]
@@ -54,8 +55,9 @@ def test_compare_command_writes_figure_plots_and_tables(tmp_path, files):
 
 
 def test_compare_command_on_the_built_in_bar(tmp_path):
-    """The built-in 'bar' (a strip curled by 270 degrees) is taken by every
-    method; plain ARAP folds it where AIAP and Baxter's variant do not.
+    """The built-in 'bar' (a strip curled by 270 degrees) is taken by every method.
+
+    Plain ARAP folds it where AIAP and Baxter's variant do not.
     """
     report = tmp_path / "bar"
     result = CliRunner().invoke(main, ["compare", "--example", "bar", "--frames", "9", "-o", str(report)])

@@ -237,8 +237,9 @@ def test_too_fine_a_mesh_is_refused_before_meshing():
 
 
 def test_a_hole_cut_to_another_hole():
-    """A centre hole walled in by two arc-shaped holes whose gaps turn by 90 degrees: no straight cut
-    reaches the outer ring in both shapes, so the centre hole is cut to an arc hole.
+    """A centre hole walled in by two arc-shaped holes whose gaps turn by 90 degrees.
+
+    No straight cut reaches the outer ring in both shapes, so the centre hole is cut to an arc hole.
     """
     def circle(k, r, cw=False):
         th = np.linspace(0, 2 * np.pi, k, endpoint=False) * (-1 if cw else 1)

@@ -1,5 +1,7 @@
-"""Hostile inputs: every one gets the exact error class (library) or exit code and
-one ``error:`` line (command line), with no traceback and no file left behind.
+"""Hostile inputs.
+
+Every one gets the exact error class (library) or exit code and one ``error:`` line (command line), with no traceback
+and no file left behind.
 
 Signals: SIGINT and SIGTERM during the solve and during rendering keep the old
 output and leave no temporary file.

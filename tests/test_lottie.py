@@ -1,5 +1,7 @@
-"""Lottie export: valid against the official schema, keyframes that are the frames, and
-lottie-web in Chromium drawing what isotween's own renderer draws.
+"""Lottie export.
+
+Valid against the official schema, keyframes that are the frames, and lottie-web in Chromium drawing what isotween's own
+renderer draws.
 """
 
 import json

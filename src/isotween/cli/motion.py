@@ -54,8 +54,9 @@ def transfer_command(source_start, source_end, target_start, output, fmt, textur
               help="Let the first and last frames change too (the paper's procedure).")
 @output_options
 def edit_command(sequence, frames, shapes, free_ends, output, fmt, texture, plot, quiet, **render):
-    """Replace frames of SEQUENCE (.npz/.json or a folder of frames) and carry
-    the change through its motion (Sec. 5.2).
+    """Replace frames of SEQUENCE and carry the change through its motion (Sec. 5.2).
+
+    SEQUENCE is a .npz/.json sequence file or a folder of frames.
     """
     from .. import edit
     from ..errors import ParameterError

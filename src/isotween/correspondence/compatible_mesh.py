@@ -1,5 +1,4 @@
-"""Compatible triangle meshes of two corresponding polygons, with no flipped
-triangle in either, by construction.
+"""Compatible triangle meshes of two corresponding polygons, with no flipped triangle in either, by construction.
 
 The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
 2004):
@@ -304,8 +303,9 @@ def _polygon(z, rings):
 
 
 def _inside(z, poly, pairs):
-    """(m,) whether each segment between vertices ``pairs`` (m, 2) lies inside the polygon and
-    meets its boundary only at its two ends.
+    """(m,) whether each segment between vertices ``pairs`` (m, 2) lies inside the polygon.
+
+    Inside means that it meets the polygon's boundary only at its two ends.
     """
     import shapely
 
@@ -377,8 +377,9 @@ def _triangulate(z, rings, constraints, fixed_keys, name):
 
 
 def _shared_diagonals(f_src, zt, poly_t, fixed):
-    """(m, 2) interior edges of the source triangulation that are also diagonals of the target
-    polygon and cross none of each other there (nor the ``fixed`` segments (c, 2)).
+    """(m, 2) interior edges of the source triangulation that are also diagonals of the target polygon.
+
+    The edges kept cross none of each other in the target (nor the ``fixed`` segments (c, 2)).
     """
     import shapely
 
@@ -447,8 +448,9 @@ def _cuts(zs, zt, rings, near=12):
 
 
 def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
-    """(summed length, ((u1, v1), (u2, v2))) of the shortest two valid cuts from hole h to the
-    vertices ``base``, or None.
+    """The shortest two valid cuts from hole h to the vertices ``base``, or None.
+
+    Returned as (summed length, ((u1, v1), (u2, v2))).
     """
     import shapely
 
@@ -559,8 +561,10 @@ def _lawson(z, f, fixed_keys, rounds=200, tiny=0.0):
 
 
 def _refine(z, f, fixed_keys, size, rounds=30):
-    """Insert interior Steiner points (triangle centroids) until no triangle is much larger
-    than an equilateral one of side ``size``; Lawson flips keep it Delaunay.
+    """Insert interior Steiner points (triangle centroids) until no triangle is much too large.
+
+    Too large means much larger than an equilateral triangle of side ``size``;
+    Lawson flips keep the mesh Delaunay.
 
     Returns
     -------
@@ -641,8 +645,10 @@ def _open_cuts(f, cuts, first_copy):
 
 
 def _disc_cycle(rings, cuts, first_copy):
-    """(B,) boundary cycle of the cut polygon: the outer ring ccw with a detour along the first cut
-    of every hole, around the hole (and the holes joined to it) and back along the cut's copies.
+    """(B,) boundary cycle of the cut polygon.
+
+    The outer ring ccw with a detour along the first cut of every hole, around the hole (and the holes joined to it) and
+    back along the cut's copies.
     """
     detour = {u: (h, v, first_copy + 2 * i, first_copy + 2 * i + 1) for i, (h, (u, v), _) in enumerate(cuts)}
     out = []
@@ -881,8 +887,9 @@ def _valid(z, w, f, eps):
 
 
 def _odt(z, f):
-    """(N,) area-weighted mean of the circumcentres of each vertex's triangles (optimal Delaunay
-    triangulation smoothing, Chen and Xu 2004).
+    """(N,) area-weighted mean of the circumcentres of each vertex's triangles.
+
+    This is optimal Delaunay triangulation smoothing (Chen and Xu 2004).
     """
     u, v = z[f[:, 1]] - z[f[:, 0]], z[f[:, 2]] - z[f[:, 0]]
     area = 0.5 * (np.conj(u) * v).imag
@@ -962,8 +969,10 @@ def _smooth(z, w, f, K, eps, rng, joint):
 
 
 def _joint_flips(z, w, f, eps, limit=0.5):
-    """Flip edges whose flip raises the smallest angle of their two faces in both meshes together,
-    where that angle's sine is below ``limit``; f is changed in place. Returns the number of flips.
+    """Flip edges whose flip raises the smallest angle of their two faces in both meshes together.
+
+    Only edges where that angle's sine is below ``limit`` are flipped; f is
+    changed in place. Returns the number of flips.
     """
     a, b, c, key, twin = _edge_table(f)
     qf = _quality(z, w, f)
@@ -1051,8 +1060,10 @@ def _collapse(z, w, f, K, eps, limit):
 
 
 def _joint_refine(z, w, f, size, rounds=30):
-    """Split faces larger than an equilateral triangle of side ``size`` (in the source; the target
-    size scaled by the area ratio) at their centroid in both meshes, then flip edges jointly.
+    """Split large faces at their centroid in both meshes, then flip edges jointly.
+
+    Large means larger than an equilateral triangle of side ``size`` (in the
+    source; the target size is scaled by the area ratio).
     """
     ratio = np.sqrt(abs(_areas(w, f).sum() / _areas(z, f).sum()))
     big_s = 1.5 * np.sqrt(3) / 4 * size ** 2
@@ -1075,8 +1086,9 @@ def _joint_refine(z, w, f, size, rounds=30):
 
 
 def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
-    """Joint edge collapses, edge flips and smoothing of interior vertices in both meshes
-    (Surazhsky and Gotsman 2004 style); every step keeps both meshes valid.
+    """Joint edge collapses, edge flips and smoothing of interior vertices in both meshes.
+
+    In the style of Surazhsky and Gotsman (2004); every step keeps both meshes valid.
 
     Returns
     -------

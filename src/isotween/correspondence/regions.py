@@ -1,5 +1,4 @@
-"""Object correspondence: which region, hole and polyline of one drawing goes
-with which of another.
+"""Object correspondence: which region, hole and polyline of one drawing goes with which of another.
 
 A drawing is cut into *items*: filled regions (outer ring, then holes),
 unfilled closed rings and open polylines. Items of the same kind are paired
@@ -216,8 +215,9 @@ class Frame(NamedTuple):
 
 
 def frames_of(items):
-    """Normalising frame of every drawing: its bounding box, or one box for all
-    when they share a canvas (each box lies mostly, 80 %, inside the first's or
+    """Normalising frame of every drawing.
+
+    Its bounding box, or one box for all when they share a canvas (each box lies mostly, 80 %, inside the first's or
     contains it), so that items keep their absolute places.
 
     Parameters

@@ -150,8 +150,9 @@ class _Ring:
         return np.linspace(0.0, self.length, n)
 
     def at(self, s, corners=None):
-        """Complex points at arc positions ``s`` (any shape); with ``corners``
-        (degrees), the sample nearest each corner moves onto it.
+        """Complex points at arc positions ``s`` (any shape).
+
+        With ``corners`` (degrees), the sample nearest each corner moves onto it.
         """
         s = np.array(s, dtype=np.float64)
         if corners is not None:
@@ -221,9 +222,7 @@ def _rings(obj, closed, name):
 
 
 def _counts(points, src, *others):
-    """Points per ring: given, or the total shared in proportion to length (the
-    mean of every shape's length shares).
-    """
+    """Points per ring: given, or the total shared in proportion to length (the mean of every shape's length shares)."""
     need = np.array([3 if c else 2 for _, c in src])
     if points is not None and np.ndim(points) == 1:
         counts = np.asarray(points)

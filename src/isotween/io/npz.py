@@ -126,9 +126,11 @@ def connectivity_from(path, arrays, vertices):
 
 
 def read_npz(path):
-    """Read a shape from ``.npz`` arrays ``vertices`` (n, 2), ``edges`` (E, 2),
-    and optional ``faces`` (F, 3), ``uv`` (n, 2), ``path_indices``,
-    ``path_sizes``, ``path_closed``.
+    """Read a shape from the arrays of a ``.npz`` file.
+
+    The arrays are ``vertices`` (n, 2), ``edges`` (E, 2), and optional
+    ``faces`` (F, 3), ``uv`` (n, 2), ``path_indices``, ``path_sizes``,
+    ``path_closed``.
 
     Raises
     ------

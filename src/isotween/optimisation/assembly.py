@@ -230,9 +230,9 @@ class FrameAssembler:
 
 
 def _cholmod(top, L):
-    """Solve function of a CHOLMOD factor of the symmetric matrix ``L`` (None unless
-    it is positive definite); the symbolic analysis (fill-reducing ordering,
-    supernodes) is computed once per ``top``.
+    """Solve function of a CHOLMOD factor of the symmetric matrix ``L`` (None unless it is positive definite).
+
+    The symbolic analysis (fill-reducing ordering, supernodes) is computed once per ``top``.
     """
     cholmod = require("sksparse.cholmod", "large")
     symbolic = _ANALYSIS.get(top)
