@@ -109,7 +109,7 @@ def random_pairs(n, holes, seed):
         k = int(rng.integers(20, 60))
         ks = [int(rng.integers(6, 16)) for _ in range(nh)]
 
-        def shape(lo, hi):
+        def shape(lo, hi, k=k, ks=ks):
             while True:
                 rings = [star(k, lo, hi, 0j)] + [star(kk, 0.2, 0.5, complex(*rng.uniform(-1.6, 1.6, 2)), cw=True)
                                                  for kk in ks]
@@ -153,7 +153,8 @@ def main():
         tgt = [t.vertices[p] for p, _ in t.paths]
         edge = float(np.mean(np.concatenate([np.linalg.norm(np.diff(np.r_[r, r[:1]], axis=0), axis=1)
                                              for r in src])))
-        med, lo, hi, res = repeat(lambda: compatible_meshes(src, tgt, mesh_size=scale * edge, refine_first=first), 5)
+        med, lo, hi, res = repeat(lambda src=src, tgt=tgt, size=scale * edge, first=first:
+                                  compatible_meshes(src, tgt, mesh_size=size, refine_first=first), 5)
         i = res.info
         flips = f"{np.sum(res.source.face_areas() <= 0)} / {np.sum(res.target.face_areas() <= 0)}"
         small = np.degrees(np.minimum(_min_angles(res.source), _min_angles(res.target)))

@@ -130,7 +130,7 @@ def main():
     load = os.getloadavg()[0]
     rows, ok = [], True
     for name, v, e, iters, paper, kilian in TABLE1:
-        for f, it_paper, t_paper, t_kilian in zip(FRAMES, iters, paper, kilian, strict=False):
+        for f, it_paper, t_paper, _t_kilian in zip(FRAMES, iters, paper, kilian, strict=False):
             r = run_child(f"{v}/{e}", f, args.tiny_runs)
             p = run_child(f"{v}/{e}", f, args.tiny_runs, reference=False, numba=False)
             g = run_child(f"{v}/{e}", f, args.runs, solver="global", reference=False)

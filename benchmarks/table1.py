@@ -64,10 +64,10 @@ def main():
     args = ap.parse_args()
     cases = [(row, col, frames, table1_pair(row[1], row[2])) for row in TABLE1 for col, frames in enumerate(FRAMES)]
     aiap, load = {}, [os.getloadavg()[0]]
-    for row, col, frames, (src, tgt) in cases:  # all AIAP timings first, away from shapespace's big allocations
+    for row, _col, frames, (src, tgt) in cases:  # all AIAP timings first, away from shapespace's big allocations
         kw = dict(frames=frames, solver="local")
         isotween.interpolate(src, tgt, **kw)  # warm-up
-        aiap[row[0], frames] = repeat(lambda: isotween.interpolate(src, tgt, **kw), args.runs)
+        aiap[row[0], frames] = repeat(lambda src=src, tgt=tgt, kw=kw: isotween.interpolate(src, tgt, **kw), args.runs)
     load.append(os.getloadavg()[0])
     os.nice(10)  # the long shapespace runs yield to other jobs on the shared cores
     rows, faster, capped, worst = [], 0, 0, 0.0

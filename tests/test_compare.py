@@ -66,7 +66,7 @@ def test_compare_command_on_the_built_in_bar(tmp_path):
     with open(report / "table.csv", newline="") as fh:
         rows = {r["method"]: r for r in csv.DictReader(fh)}
     assert list(rows) == list(METHODS)
-    for method, row in rows.items():
+    for _method, row in rows.items():
         assert row["status"] == "ok", row
         assert all(math.isfinite(float(row[k])) for k in COLUMNS[2:-1]), row
     flips = {m: int(r["flipped_faces"]) for m, r in rows.items()}

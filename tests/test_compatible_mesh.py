@@ -140,7 +140,7 @@ def test_random_star_polygons_never_flip():
     for i in range(24):
         k = int(rng.integers(6, 24))
 
-        def star(lo, hi):
+        def star(lo, hi, k=k):
             th = (np.arange(k) + 0.8 * rng.random(k)) / k * 2 * np.pi
             r = lo + (hi - lo) * rng.random(k)
             return np.c_[r * np.cos(th), r * np.sin(th)] + rng.normal(size=2)

@@ -94,7 +94,9 @@ def test_svg_writes_mesh_edges_as_a_drawing(tmp_path):
     back = io.load(tmp_path / "m.svg")
     back = back.with_vertices(back.vertices * [1, -1])  # y-up mesh, written upright
     # every edge of the mesh is drawn: the segments read back are the same set
-    seg = lambda s: {tuple(sorted(map(tuple, s.vertices[e].round(12).tolist()))) for e in s.edges}
+    def seg(s):
+        return {tuple(sorted(map(tuple, s.vertices[e].round(12).tolist()))) for e in s.edges}
+
     assert seg(back) == seg(shape)
 
 

@@ -206,6 +206,7 @@ class Frame(NamedTuple):
 
     @classmethod
     def of(cls, z):
+        """The frame of the complex points ``z`` (any shape): bounding-box centre and diagonal."""
         lo, hi = complex(z.real.min(), z.imag.min()), complex(z.real.max(), z.imag.max())
         return cls(0.5 * (lo + hi), max(abs(hi - lo), 1e-300))
 

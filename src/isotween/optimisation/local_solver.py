@@ -112,7 +112,7 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
             move = step
         converged = move < tol
 
-        def work(rows, D_rows, out):
+        def work(rows, D_rows, out, converged=converged):
             e = D_rows @ z
             diag, lower, energy = normal_equations(e, h, scheme)  # Eq. (8), Eq. (6)
             if not converged:

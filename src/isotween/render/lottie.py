@@ -130,7 +130,7 @@ def _default_groups(shape, px, dpi_scale):
 
     if fill_runs:
         items = []
-        for j, (idx, closed) in enumerate(fill_runs):
+        for j, (idx, _closed) in enumerate(fill_runs):
             xy = px[:, idx]
             if shape.n_faces:  # every triangle counter-clockwise on screen: non-zero fill is their union
                 d1, d2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
