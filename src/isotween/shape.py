@@ -6,7 +6,7 @@ import functools
 import html
 import numbers
 import warnings
-from collections.abc import Sequence
+from collections.abc import Sequence, Sized
 from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
@@ -420,7 +420,7 @@ class Shape:
         for r, (ring, c) in enumerate(zip(rings, flags, strict=True)):
             if isinstance(ring, np.ndarray) and np.iscomplexobj(ring) and ring.ndim == 1:
                 ring = np.column_stack([ring.real, ring.imag])
-            empty = hasattr(ring, "__len__") and not isinstance(ring, (str, bytes)) and len(ring) == 0
+            empty = isinstance(ring, Sized) and not isinstance(ring, (str, bytes)) and len(ring) == 0
             ring = np.zeros((0, 2)) if empty else as_vertices(ring, f"ring {r}: ")
             need = 3 if c else 2
             if len(ring) < need:

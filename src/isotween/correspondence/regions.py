@@ -48,7 +48,7 @@ class Item(NamedTuple):
     kind: str
     rings: list
     paint: list
-    index: int
+    index: int  # type: ignore[assignment]  # shadows tuple.index, which nothing here calls
 
 
 class Slot(NamedTuple):

@@ -39,7 +39,7 @@ FACTORISATIONS = ("auto", "banded", "cholmod", "splu")
 HAVE_CHOLMOD = importlib.util.find_spec("sksparse") is not None
 
 #: Topology -> CHOLMOD symbolic factor (ordering and supernodes) of its free-vertex Laplacian
-_ANALYSIS = weakref.WeakKeyDictionary()
+_ANALYSIS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def centroid_path(shape, z0, z1, t):
