@@ -56,6 +56,7 @@ def read_manifest(path, defaults=None):
         - a folder: every sub-folder holding ``source.EXT`` and ``target.EXT``
           (as ``isotween prepare`` writes them), and every ``NAME.source.EXT``
           beside a ``NAME.target.EXT``; the output is ``NAME.npz``.
+
         Relative input paths are relative to the manifest's folder.
     defaults : dict, optional
         Options for jobs that do not set them.
