@@ -205,7 +205,8 @@ def run_job(job):
 
         from . import interpolate
         from .correspondence import check_compatible, mesh_pair, resample
-        from .io import load, write_output
+        from .io import load
+        from .outputs import write_output
 
         opts = dict(job["options"])
         points, area, fmt = opts.pop("resample", None), opts.pop("mesh", None), opts.pop("format", None)
