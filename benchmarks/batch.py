@@ -20,7 +20,6 @@ import itertools
 import json
 import os
 import shutil
-import statistics
 import sys
 import tempfile
 import time
@@ -37,7 +36,6 @@ CHARS = "CEFGHIJKLMNSTUVWXYZ12357cfhijklmnrstuvwxyz"
 def make_jobs(folder, count, points, frames):
     """Write the glyph outlines and return `count` job dicts."""
     from build_examples import glyph
-
     from isotween import Shape, io
 
     files = {}

@@ -105,8 +105,10 @@ def glyphs():
 
 
 def pairs(n_icons=500, n_glyphs=200, seed=20261123):
-    """(kind, source file, target file) pairs: the classic morphs, random icon pairs
-    (each within one icon set), random glyph pairs; a fixed seed."""
+    """(kind, source file, target file) pairs.
+
+    The classic morphs, random icon pairs (each within one icon set), random glyph pairs; a fixed seed.
+    """
     rng = np.random.default_rng(seed)
     bootstrap, awesome = icons()
     out = [("classic", a, b) for a, b in classic_pairs()]

@@ -46,14 +46,15 @@ def main():
     for n in (200, 1000, 5000, 20000):
         src = outline(int(1.5 * n * 0.8), int(1.5 * n * 0.2))
         tgt = outline(int(0.8 * n * 0.8), int(0.8 * n * 0.2), turn=2.0, start=n // 7, reverse=True)
-        med, lo, hi, _ = repeat(lambda: isotween.resample(src, tgt, points=n, rotation=True), 5)
-        rows_r.append([n, len(np.vstack(src)), len(np.vstack(tgt)), f"{1e3 * med:.1f}", f"{1e3 * lo:.1f} - {1e3 * hi:.1f}"])
+        med, lo, hi, _ = repeat(lambda src=src, tgt=tgt, n=n: isotween.resample(src, tgt, points=n, rotation=True), 5)
+        rows_r.append([n, len(np.vstack(src)), len(np.vstack(tgt)), f"{1e3 * med:.1f}",
+                       f"{1e3 * lo:.1f} - {1e3 * hi:.1f}"])
     for n in (200, 1000, 5000, 20000):
         a, _ = isotween.resample(outline(n, n // 3), outline(n, n // 3), points=n)
         b = bent(a)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            med, lo, hi, pair = repeat(lambda: isotween.mesh_pair(a, b), 5)
+            med, lo, hi, pair = repeat(lambda a=a, b=b: isotween.mesh_pair(a, b), 5)
         rows_m.append([n, pair.source.n_vertices, pair.source.n_faces, len(pair.flipped),
                        f"{1e3 * med:.1f}", f"{1e3 * lo:.1f} - {1e3 * hi:.1f}"])
     body = (

@@ -135,7 +135,7 @@ def flubber_inputs(jobs):
 
 
 def run_flubber(jobs, n_frames):
-    """flubber's outcome for every pair (one Node.js process)."""
+    """The outcome of flubber for every pair (one Node.js process)."""
     items, groups = flubber_inputs(jobs)
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as fh:
         json.dump(items, fh)
@@ -175,7 +175,10 @@ def summarise(results, ids):
     bad_frames = sum(int(np.count_nonzero(np.array(r["crossings"]) > 0)) for r in ok)
     dev = [r["edge_deviation"] for r in ok]
     secs = [r["seconds"] for r in ok]
-    pct = (lambda a, b: f"{100 * a / b:.1f} %" if b else "-")
+
+    def pct(a, b):
+        return f"{100 * a / b:.1f} %" if b else "-"
+
     return [
         len(rs), f"{len(ok)} ({pct(len(ok), len(rs))})", f"{len(clean)} ({pct(len(clean), len(rs))})",
         bad_frames,
@@ -241,7 +244,7 @@ def main():
     ]
     if failures:
         body += ["", "isotween failures:", ""]
-        for key, rs in sorted(failures.items(), key=lambda kv: -len(kv[1])):
+        for _key, rs in sorted(failures.items(), key=lambda kv: -len(kv[1])):
             first = rs[0]
             body.append(f"- {len(rs)} x {first['error'][:160]} (pair {first['id']}: "
                         f"{Path(pairs[first['id']][1]).name} -> {Path(pairs[first['id']][2]).name})")

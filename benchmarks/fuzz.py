@@ -347,8 +347,8 @@ def run(inputs, workers=2, seed=1, batch=200, progress=False):
                 bugs[(ext, outcome)] = data
         done += len(rows)
         if progress and done % 10000 < batch:
-            print(f"{done} inputs, {time.perf_counter() - t0:.0f} s, bugs: {sum(v for (e, o), v in counts.items() if o.startswith('BUG'))}",
-                  file=sys.stderr)
+            n_bug = sum(v for (e, o), v in counts.items() if o.startswith('BUG'))
+            print(f"{done} inputs, {time.perf_counter() - t0:.0f} s, bugs: {n_bug}", file=sys.stderr)
     if workers != 1:
         pool.close()
         pool.join()
@@ -445,7 +445,8 @@ def main():
     summary = (f"{sum(counts.values())} inputs in {seconds:.0f} s with {args.workers} workers "
                f"(limits per input: {TIME_LIMIT:g} s + {TIME_PER_MB:g} s per MB, {MEMORY_LIMIT >> 30} GiB address "
                f"space per worker); "
-               f"slowest input {slowest[0]:.2f} s ({slowest[1] / 1e6:.2f} MB); {n_bugs} inputs with an outcome other than a shape, "
+               f"slowest input {slowest[0]:.2f} s ({slowest[1] / 1e6:.2f} MB); "
+               f"{n_bugs} inputs with an outcome other than a shape, "
                "a sequence or an IsotweenError.")
     print(summary)
     if args.keep and bugs:

@@ -91,8 +91,10 @@ def triangle_flips(s, t):
 
 
 def random_pairs(n, holes, seed):
-    """``n`` pairs of random star-shaped polygons (source radii 2.6-3.2, target 2.3-3.8) with
-    ``holes`` = (fewest, most) small star-shaped holes placed independently in each shape."""
+    """``n`` pairs of random star-shaped polygons (source radii 2.6-3.2, target 2.3-3.8).
+
+    Each shape has ``holes`` = (fewest, most) small star-shaped holes, placed independently.
+    """
     import shapely
 
     rng = np.random.default_rng(seed)
@@ -107,7 +109,7 @@ def random_pairs(n, holes, seed):
         k = int(rng.integers(20, 60))
         ks = [int(rng.integers(6, 16)) for _ in range(nh)]
 
-        def shape(lo, hi):
+        def shape(lo, hi, k=k, ks=ks):
             while True:
                 rings = [star(k, lo, hi, 0j)] + [star(kk, 0.2, 0.5, complex(*rng.uniform(-1.6, 1.6, 2)), cw=True)
                                                  for kk in ks]
@@ -134,8 +136,8 @@ def random_rows():
             flips += int(np.sum(res.source.face_areas() <= 0) + np.sum(res.target.face_areas() <= 0))
             angles.append(min(res.info["min_angle_source"], res.info["min_angle_target"]))
             seconds.append(res.info["seconds"])
-        rows.append([name, done + refused, done, refused, flips, f"{np.median(angles):.1f}", f"{np.median(seconds):.3f}",
-                     "; ".join(sorted(messages)) or "-"])
+        rows.append([name, done + refused, done, refused, flips, f"{np.median(angles):.1f}",
+                     f"{np.median(seconds):.3f}", "; ".join(sorted(messages)) or "-"])
         print(" | ".join(str(c) for c in rows[-1]), flush=True)
     return table(["pairs", "tried", "meshed", "refused", "flips (both meshes, all pairs)",
                   "median smallest angle (deg)", "median seconds", "refusal"], rows)
@@ -151,7 +153,8 @@ def main():
         tgt = [t.vertices[p] for p, _ in t.paths]
         edge = float(np.mean(np.concatenate([np.linalg.norm(np.diff(np.r_[r, r[:1]], axis=0), axis=1)
                                              for r in src])))
-        med, lo, hi, res = repeat(lambda: compatible_meshes(src, tgt, mesh_size=scale * edge, refine_first=first), 5)
+        med, lo, hi, res = repeat(lambda src=src, tgt=tgt, size=scale * edge, first=first:
+                                  compatible_meshes(src, tgt, mesh_size=size, refine_first=first), 5)
         i = res.info
         flips = f"{np.sum(res.source.face_areas() <= 0)} / {np.sum(res.target.face_areas() <= 0)}"
         small = np.degrees(np.minimum(_min_angles(res.source), _min_angles(res.target)))
@@ -164,7 +167,8 @@ def main():
         ])
         print(" | ".join(str(c) for c in rows[-1]), flush=True)
     header = ["case", "ring points", "vertices", "faces", "Steiner", "overlay crossings", "min angle src (deg)",
-              "min angle tgt (deg)", "faces < 10 / < 20 deg (either mesh)", "flips src / tgt", "overlay", "Triangle path: flipped tgt",
+              "min angle tgt (deg)", "faces < 10 / < 20 deg (either mesh)", "flips src / tgt", "overlay",
+              "Triangle path: flipped tgt",
               "seconds, median of 5 (min-max)"]
     body = table(header, rows)
     print(body)

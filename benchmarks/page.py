@@ -65,7 +65,8 @@ def measure(page, path, mode):
         const painted = () => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)));
         await painted();
         for (let k = 0; k < n; k++) {
-            const t0 = performance.now(); window.isotween.setFrame(k); await painted(); times.push(performance.now() - t0);
+            const t0 = performance.now(); window.isotween.setFrame(k); await painted();
+            times.push(performance.now() - t0);
         }
         times.sort((a, b) => a - b); return times[Math.floor(times.length / 2)]; }""")
     page.select_option("#speed", "4")
@@ -108,7 +109,8 @@ def main():
         browser.close()
     body = table(["case", "view", "page MB", "write s", "first frame ms", "show ms/frame", "playback fps"], rows)
     body += ("\n\nMedians of the page loads; 'first frame' runs from navigation to the first drawn frame "
-             "(data inflated in the browser), 'show' is setFrame until two animation frames later (rasterised; median over the frames, at least one display interval), "
+             "(data inflated in the browser), 'show' is setFrame until two animation frames later "
+             "(rasterised; median over the frames, at least one display interval), "
              "'playback' counts frames drawn per second while playing at 4x (requestAnimationFrame paced, "
              "so at most the display rate). Headless Chromium with --disable-gpu (software canvas). "
              "Measured on a shared machine under load from other jobs.")

@@ -1,8 +1,8 @@
 """Speed of `isotween.interpolate` against the paper's Table 1, dense meshes, scaling.
 
 Every case runs in a fresh process (peak memory is that process's maximum
-resident set after the timed calls, before the metrics are computed). Times are end to end inside `interpolate` with default options
-and the paper's stopping rule; median, min and max of --runs runs (--tiny-runs
+resident set after the timed calls, before the metrics are computed). Times are end to end
+inside `interpolate` with default options and the paper's stopping rule; median, min and max of --runs runs (--tiny-runs
 for the Table 1 rows), after one warm-up call whose time is reported as the
 first call of a fresh process ('first'). With numba installed (isotween[fast])
 the default path uses its kernels; 'numpy' is the same case with
@@ -130,7 +130,7 @@ def main():
     load = os.getloadavg()[0]
     rows, ok = [], True
     for name, v, e, iters, paper, kilian in TABLE1:
-        for f, it_paper, t_paper, t_kilian in zip(FRAMES, iters, paper, kilian):
+        for f, it_paper, t_paper, _t_kilian in zip(FRAMES, iters, paper, kilian, strict=False):
             r = run_child(f"{v}/{e}", f, args.tiny_runs)
             p = run_child(f"{v}/{e}", f, args.tiny_runs, reference=False, numba=False)
             g = run_child(f"{v}/{e}", f, args.runs, solver="global", reference=False)
@@ -195,7 +195,8 @@ def main():
     if frows:
         body += ("\n\nEq. (10) factorisations forced on the same cases ('auto' picks banded up to bandwidth "
                  "128, then CHOLMOD; seconds for the whole call, and for the Eq. (10) solves of all iterations "
-                 "of the last run; energy and edge deviation show the quality is unchanged; the 'auto' rows are the dense table's runs, splu one run after the warm-up):\n\n" + table(
+                 "of the last run; energy and edge deviation show the quality is unchanged; the 'auto' rows "
+                 "are the dense table's runs, splu one run after the warm-up):\n\n" + table(
                      ["case", "frames", "factorisation", "s median (min-max)", "Eq. 10 solves s", "peak MB",
                       "energy", "edge dev"], frows))
 
@@ -245,7 +246,7 @@ def main():
     slope_v = np.polyfit(np.log(nv), np.log(tv), 1)[0]
     body += (f"\n\nScaling (`benchmarks/scaling.png`): log-log slope {slope_f:.2f} in frames, "
              f"{slope_v:.2f} in vertices from {nv[0]} to {nv[-1]} (1 = linear); seconds per size: "
-             + ", ".join(f"{n}: {t:.3g}" for n, t in zip(nv, tv)) + ".\n\n"
+             + ", ".join(f"{n}: {t:.3g}" for n, t in zip(nv, tv, strict=False)) + ".\n\n"
              + _targets(measured, slope_v) +
              f"Load average (1 min) at the start and the end of the run: {load:.1f}, "
              f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores.\n\n"

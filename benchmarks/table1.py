@@ -1,7 +1,8 @@
-"""The paper's Table 1: AIAP (local solver) against the shape-space method of
-Kilian et al. (`method='shapespace'`), iterations and seconds, on shapes with
-the table's vertex and edge counts (benchmarks/cases.py: triangulated bars
-trimmed to the counts, bent by 180 degrees).
+"""The paper's Table 1.
+
+AIAP (local solver) against the shape-space method of Kilian et al. (`method='shapespace'`), iterations and seconds, on
+shapes with the table's vertex and edge counts (benchmarks/cases.py: triangulated bars trimmed to the counts, bent by
+180 degrees).
 
 Both methods run in this process on this machine, so the speed-up column is
 measured, not taken from the paper. AIAP times are medians of --runs runs
@@ -63,10 +64,10 @@ def main():
     args = ap.parse_args()
     cases = [(row, col, frames, table1_pair(row[1], row[2])) for row in TABLE1 for col, frames in enumerate(FRAMES)]
     aiap, load = {}, [os.getloadavg()[0]]
-    for row, col, frames, (src, tgt) in cases:  # all AIAP timings first, away from shapespace's big allocations
+    for row, _col, frames, (src, tgt) in cases:  # all AIAP timings first, away from shapespace's big allocations
         kw = dict(frames=frames, solver="local")
         isotween.interpolate(src, tgt, **kw)  # warm-up
-        aiap[row[0], frames] = repeat(lambda: isotween.interpolate(src, tgt, **kw), args.runs)
+        aiap[row[0], frames] = repeat(lambda src=src, tgt=tgt, kw=kw: isotween.interpolate(src, tgt, **kw), args.runs)
     load.append(os.getloadavg()[0])
     os.nice(10)  # the long shapespace runs yield to other jobs on the shared cores
     rows, faster, capped, worst = [], 0, 0, 0.0
@@ -96,7 +97,8 @@ def main():
         "shapespace run). shapespace: "
         f"`interpolate(..., method='shapespace')` (Kilian et al. 2007 path energy, Gauss-Newton from the "
         f"linear blend, same Eq. (11) stopping rule, tol 5e-4), median of {args.kilian_runs} runs at 9 and 45 "
-        f"frames (one run where a run takes over 30 s) and one run at 205 frames; runs that would exceed {args.budget:.0f} s are capped at the "
+        f"frames (one run where a run takes over 30 s) and one run at 205 frames; "
+        f"runs that would exceed {args.budget:.0f} s are capped at the "
         "iterations that fit (marked). Both in the same process, so the speed-up is measured here; "
         "the paper's columns are from its Table 1 (Intel i5 2.8 GHz, 2013).",
         "",

@@ -119,13 +119,13 @@ def stick_figure(joints, bones, head, ball, per_bone=6, ring=18):
             pts.append((1 - t) * pts[i] + t * pts[j])
             chain.append(len(pts) - 1)
         chain.append(j)
-        edges += list(zip(chain[:-1], chain[1:]))
+        edges += list(zip(chain[:-1], chain[1:], strict=True))
     for centre, radius in (head, ball):
         th = np.linspace(0, 2 * np.pi, ring, endpoint=False) + np.pi / 2
         start = len(pts)
         pts += list(np.c_[centre[0] + radius * np.cos(th), centre[1] + radius * np.sin(th)])
         idx = np.arange(start, start + ring)
-        edges += list(zip(idx, np.roll(idx, -1)))
+        edges += list(zip(idx, np.roll(idx, -1), strict=True))
     return Shape(np.array(pts), np.array(edges))
 
 
@@ -147,8 +147,10 @@ def ex_worm():
 
 
 def ex_bar():
-    """A two-row triangle strip whose boundary ring passes through every vertex, so
-    that every method of `isotween compare` takes it (mesh and outline ones)."""
+    """A two-row triangle strip whose boundary ring passes through every vertex.
+
+    Every method of `isotween compare` takes it (mesh and outline ones).
+    """
     k, length, width = 30, 8.0, 0.5
     x = np.linspace(0.0, length, k)
     flat = np.r_[np.c_[x, 0 * x], np.c_[x, 0 * x + width]]
@@ -167,8 +169,10 @@ def ex_holes():
 
 
 def ex_regions():
-    """Two drawings with different numbers of regions and holes, stored as they are:
-    `load_example` puts them in correspondence with the defaults of `isotween.correspond`."""
+    """Two drawings with different numbers of regions and holes, stored as they are.
+
+    `load_example` puts them in correspondence with the defaults of `isotween.correspond`.
+    """
     return Shape.from_polygon(glyph("j")), Shape.from_polygon(glyph("B"))
 
 
@@ -250,8 +254,10 @@ PAINT = {"holes": {"fill": ["#c0392b", "#1f5fa8"], "stroke": "#1b1b1b", "stroke_
 
 
 def main_build(only=None):
-    """Build every example, or with ``only`` (a list of names) just those (the
-    others' data files and strips are kept as they are)."""
+    """Build every example, or with ``only`` (a list of names) just those.
+
+    The other examples' data files and strips are kept as they are.
+    """
     if only:
         unknown = set(only) - {e[0] for e in EXAMPLES}
         if unknown:

@@ -1,8 +1,7 @@
 """Headless Chromium through playwright, for tests that look at what a browser draws.
 
-Import the ``browser`` fixture into a test module (``from browser import browser``);
-tests using it are skipped, with the reason, when playwright or Debian's chromium
-is missing.
+The ``browser`` fixture is shared through ``conftest.py``; tests using it are skipped,
+with the reason, when playwright or Debian's chromium is missing.
 """
 
 import io

@@ -7,6 +7,7 @@ directly); the fixtures here are the sequences several test files use.
 import numpy as np
 import pytest
 
+from browser import browser  # noqa: F401  (the fixture, shared by the browser tests)
 from isotween import Shape, interpolate
 from shapes import bend, ellipse, grid_mesh
 

@@ -36,8 +36,7 @@ def bend(vertices, angle, length=None):
 
 
 def chain(n, turns):
-    """Straight chain and the same chain curled into an arc of `turns` turns,
-    with equal edge lengths in both."""
+    """Straight chain and the same chain curled into an arc of `turns` turns, with equal edge lengths in both."""
     total = 2 * np.pi * turns
     step = total / (n - 1)
     R = 1.0

@@ -7,7 +7,6 @@ from isotween import Shape, interpolate
 from isotween.initialisation import edge_vector_init
 from isotween.optimisation import accelerated
 from isotween.optimisation.assembly import FrameAssembler
-
 from shapes import bend, chain, ellipse, grid_mesh, rotation
 
 pytestmark = pytest.mark.skipif(not accelerated.ENABLED, reason="numba missing or ISOTWEEN_NUMBA=0")

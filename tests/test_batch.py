@@ -146,8 +146,10 @@ def test_cli_batch_summary_and_exit_status(pairs, tmp_path):
 
 
 def test_jobs_are_pulled_lazily_within_the_window(pairs, tmp_path):
-    """The client holds at most `window` unfinished jobs: when job i is taken from the
-    iterator, at least i - (window - 1) records are already in the report."""
+    """The client holds at most `window` unfinished jobs.
+
+    When job i is taken from the iterator, at least i - (window - 1) records are already in the report.
+    """
     folder, names = pairs
     out = tmp_path / "out"
     jobs = jobs_of(folder, names * 3, frames=5)

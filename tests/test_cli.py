@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from isotween import Shape
-from isotween import io
+from isotween import Shape, io
 from isotween.cli import main
 
 

@@ -6,7 +6,6 @@ from click.testing import CliRunner
 from isotween import interpolate
 from isotween.cli import main
 from isotween.io import load, load_sequence, save
-
 from shapes import bend, grid_mesh
 
 

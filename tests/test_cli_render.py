@@ -11,7 +11,6 @@ from PIL import Image
 from isotween import Sequence, Shape, io, metrics
 from isotween.cli import main
 from isotween.paint import Paint
-
 from test_colour import MID  # Oklab midpoint of red and blue, from published Oklab values
 
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
@@ -46,7 +45,8 @@ def test_help_short_option_and_method_choices():
     assert result.exit_code == 0 and "render" in result.output and "interpolate" in result.output
     result = run("interpolate", "-h")
     assert result.exit_code == 0
-    assert "[aiap|linear|intrinsic|arap|arap-baxter|shapespace|convex]" in result.output.replace("\n", "").replace(" ", "")
+    choices = "[aiap|linear|intrinsic|arap|arap-baxter|shapespace|convex]"
+    assert choices in result.output.replace("\n", "").replace(" ", "")
     for name in ("--fps", "--size", "--hold", "--bounce", "--loop", "--title", "--background", "--fill"):
         assert name in result.output
     result = run("interpolate", "a.obj", "b.obj", "--method", "magic", "-o", "x.npz")

@@ -6,10 +6,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from browser import screenshot
 from isotween import Sequence, Shape, interpolate, io, render
 from isotween.paint import Paint, oklab_to_srgb, sequence_paint
-
-from browser import browser, screenshot  # noqa: F401  (fixture)
 
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
 RED, BLUE = (1.0, 0.0, 0.0, 1.0), (0.0, 0.0, 1.0, 1.0)

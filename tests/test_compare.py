@@ -17,8 +17,10 @@ from shapes import bend, ellipse, rotation
 
 
 def strip(k=10, length=6.0, width=0.6):
-    """A two-row triangulated bar whose boundary ring visits every vertex, so
-    that every method (mesh and outline ones) can take it."""
+    """A two-row triangulated bar whose boundary ring visits every vertex.
+
+    Every method (mesh and outline ones) can take it.
+    """
     x = np.linspace(0.0, length, k)
     v = np.r_[np.c_[x, 0 * x], np.c_[x, 0 * x + width]]
     b, t = np.arange(k), np.arange(k, 2 * k)
@@ -53,8 +55,10 @@ def test_compare_command_writes_figure_plots_and_tables(tmp_path, files):
 
 
 def test_compare_command_on_the_built_in_bar(tmp_path):
-    """The built-in 'bar' (a strip curled by 270 degrees) is taken by every
-    method; plain ARAP folds it where AIAP and Baxter's variant do not."""
+    """The built-in 'bar' (a strip curled by 270 degrees) is taken by every method.
+
+    Plain ARAP folds it where AIAP and Baxter's variant do not.
+    """
     report = tmp_path / "bar"
     result = CliRunner().invoke(main, ["compare", "--example", "bar", "--frames", "9", "-o", str(report)])
     assert result.exit_code == 0, result.output
@@ -62,7 +66,7 @@ def test_compare_command_on_the_built_in_bar(tmp_path):
     with open(report / "table.csv", newline="") as fh:
         rows = {r["method"]: r for r in csv.DictReader(fh)}
     assert list(rows) == list(METHODS)
-    for method, row in rows.items():
+    for _method, row in rows.items():
         assert row["status"] == "ok", row
         assert all(math.isfinite(float(row[k])) for k in COLUMNS[2:-1]), row
     flips = {m: int(r["flipped_faces"]) for m, r in rows.items()}

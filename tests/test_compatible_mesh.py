@@ -140,7 +140,7 @@ def test_random_star_polygons_never_flip():
     for i in range(24):
         k = int(rng.integers(6, 24))
 
-        def star(lo, hi):
+        def star(lo, hi, k=k):
             th = (np.arange(k) + 0.8 * rng.random(k)) / k * 2 * np.pi
             r = lo + (hi - lo) * rng.random(k)
             return np.c_[r * np.cos(th), r * np.sin(th)] + rng.normal(size=2)
@@ -237,8 +237,10 @@ def test_too_fine_a_mesh_is_refused_before_meshing():
 
 
 def test_a_hole_cut_to_another_hole():
-    """A centre hole walled in by two arc-shaped holes whose gaps turn by 90 degrees: no straight cut
-    reaches the outer ring in both shapes, so the centre hole is cut to an arc hole."""
+    """A centre hole walled in by two arc-shaped holes whose gaps turn by 90 degrees.
+
+    No straight cut reaches the outer ring in both shapes, so the centre hole is cut to an arc hole.
+    """
     def circle(k, r, cw=False):
         th = np.linspace(0, 2 * np.pi, k, endpoint=False) * (-1 if cw else 1)
         return np.c_[r * np.cos(th), r * np.sin(th)]

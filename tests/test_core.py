@@ -6,7 +6,6 @@ import pytest
 import isotween
 from isotween import Shape, interpolate, metrics
 from isotween.errors import IncompatibleShapesError, IsotweenError, ParameterError, ShapeError
-
 from shapes import bend, chain, ellipse, grid_mesh, rotation
 
 

@@ -1,5 +1,7 @@
-"""Automatic correspondence: regions, holes and polylines paired; what has no
-partner grows from a small copy; the in-betweens neither fold nor cross."""
+"""Automatic correspondence: regions, holes and polylines paired; what has no partner grows from a small copy.
+
+The in-betweens neither fold nor cross.
+"""
 
 import sys
 from pathlib import Path

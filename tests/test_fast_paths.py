@@ -7,7 +7,6 @@ from isotween import interpolate, metrics
 from isotween.initialisation import edge_vector_init
 from isotween.optimisation import accelerated, local_solver
 from isotween.optimisation.assembly import FrameAssembler
-
 from shapes import bend, chain, grid_mesh
 
 
@@ -49,9 +48,11 @@ def test_frozen_weights_keep_quality_of_per_frame_weights(bar, scheme):
 @pytest.mark.parametrize("numba", [False, True])
 @pytest.mark.parametrize("assembly", ["shared", "per-frame"])
 def test_eq11_compares_successive_iterations(bar, numba, assembly, monkeypatch):
-    """Eq. (11) measures how far the frames moved between two iterations: positive and,
-    with a tolerance below it, no early stop (a solver that compared the frames with
-    themselves stopped at iteration 2)."""
+    """Eq. (11) measures how far the frames moved between two iterations.
+
+    Positive and, with a tolerance below it, no early stop (a solver that compared the frames with themselves stopped at
+    iteration 2).
+    """
     if numba and not accelerated.ENABLED:
         pytest.skip("numba missing or ISOTWEEN_NUMBA=0")
     monkeypatch.setattr(accelerated, "ENABLED", numba)
@@ -88,8 +89,10 @@ def _methods():
 
 @pytest.mark.parametrize("method", ["banded", "cholmod"])
 def test_factorisations_give_the_same_frames(bar, method):
-    """Every factorisation of Eq. (10) gives sparse LU's frames to 1e-10 of the shape's size
-    (the bar is 4 long), with the same iteration count."""
+    """Every factorisation of Eq. (10) gives sparse LU's frames to 1e-10 of the shape's size.
+
+    The bar is 4 long; the iteration count is the same too.
+    """
     if method not in _methods():
         pytest.skip(f"{method} not available (numba / scikit-sparse)")
     rng = np.random.default_rng(7)
@@ -107,8 +110,10 @@ def test_factorisations_give_the_same_frames(bar, method):
 
 
 def test_cholmod_factorises_once_per_solve_and_analyses_once_per_connectivity(bar, monkeypatch):
-    """Eq. (10) is factorised once for all iterations of a solve; the fill-reducing ordering
-    (symbolic analysis) once for every shape with the same connectivity."""
+    """Eq. (10) is factorised once for all iterations of a solve.
+
+    The fill-reducing ordering (symbolic analysis) once for every shape with the same connectivity.
+    """
     cholmod = pytest.importorskip("sksparse.cholmod")
     from isotween.optimisation import assembly
 

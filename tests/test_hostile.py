@@ -1,5 +1,7 @@
-"""Hostile inputs: every one gets the exact error class (library) or exit code and
-one ``error:`` line (command line), with no traceback and no file left behind.
+"""Hostile inputs.
+
+Every one gets the exact error class (library) or exit code and one ``error:`` line (command line), with no traceback
+and no file left behind.
 
 Signals: SIGINT and SIGTERM during the solve and during rendering keep the old
 output and leave no temporary file.
@@ -19,14 +21,12 @@ import pytest
 from click.testing import CliRunner
 
 import isotween
-from isotween import Shape, interpolate
-from isotween import io
+from isotween import Shape, interpolate, io
 from isotween.cli import main
 from isotween.correspondence import mesh_pair
 from isotween.errors import (
     FileFormatError,
     IncompatibleShapesError,
-    IsotweenError,
     MethodError,
     ParameterError,
     ResourceError,
@@ -222,7 +222,7 @@ def _zip(name, data):
 
 SVG = '<svg xmlns="http://www.w3.org/2000/svg">{}</svg>'
 LAUGHS = ('<?xml version="1.0"?>\n<!DOCTYPE svg [\n<!ENTITY a "aaaaaaaaaa">\n'
-          + "".join(f'<!ENTITY {c} "{("&" + p + ";") * 10}">\n' for p, c in zip("abcdefgh", "bcdefghi"))
+          + "".join(f'<!ENTITY {c} "{("&" + p + ";") * 10}">\n' for p, c in zip("abcdefgh", "bcdefghi", strict=True))
           + ']>\n<svg xmlns="http://www.w3.org/2000/svg"><polygon id="&i;" points="0,0 1,0 1,1"/></svg>')
 
 FILES = [
@@ -270,7 +270,8 @@ FILES = [
     ("svg-entity-file", "a.svg", '<?xml version="1.0"?>\n<!DOCTYPE svg [<!ENTITY x SYSTEM "file:///etc/passwd">]>\n'
      + SVG.format('<polygon id="&x;" points="0,0 1,0 1,1"/>'), "entity"),
     ("svg-billion-laughs", "a.svg", LAUGHS, "entity"),
-    ("svg-parameter-entity", "a.svg", '<?xml version="1.0"?>\n<!DOCTYPE svg [<!ENTITY % p SYSTEM "http://example.invalid/x.dtd"> %p;]>\n'
+    ("svg-parameter-entity", "a.svg",
+     '<?xml version="1.0"?>\n<!DOCTYPE svg [<!ENTITY % p SYSTEM "http://example.invalid/x.dtd"> %p;]>\n'
      + SVG.format('<polygon points="0,0 1,0 1,1"/>'), "entity"),
     ("svg-external-dtd", "a.svg", '<?xml version="1.0"?>\n<!DOCTYPE svg SYSTEM "http://example.invalid/evil.dtd">\n'
      + SVG.format('<polygon points="0,0 1,0 1,1"/>'), "DTD"),
@@ -533,7 +534,7 @@ def test_command_line_max_memory_lets_a_run_through(files, tmp_path):
 
 
 def test_summary_reports_the_written_sequence(files, tmp_path):
-    """transfer and edit print the energy of the frames they wrote, not of another run (nor nan)."""
+    """Transfer and edit print the energy of the frames they wrote, not of another run (nor nan)."""
     from isotween.metrics import isometric_energy
 
     out = tmp_path / "t.npz"

@@ -10,12 +10,10 @@ import zlib
 import numpy as np
 import pytest
 
-from isotween import Sequence, Shape, interpolate, interpolate_keyframes
-from isotween import render
+from browser import screenshot
+from isotween import Sequence, Shape, interpolate, interpolate_keyframes, render
 from isotween.render.html import decode_frames, page_data
 from isotween.render.lottie import lottie_data
-
-from browser import browser, screenshot  # noqa: F401  (fixture)
 from shapes import bend, grid_mesh
 
 

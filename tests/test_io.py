@@ -6,9 +6,8 @@ import os
 import numpy as np
 import pytest
 
-from isotween import Sequence, Shape
 import isotween
-from isotween import io
+from isotween import Sequence, Shape, io
 from isotween.errors import FileFormatError, IncompatibleShapesError, ParameterError
 from isotween.io._files import atomic_path
 
@@ -50,7 +49,7 @@ def soup_shape():
 def same_paths(a, b):
     if a is None or b is None:
         return a is None and b is None
-    return len(a) == len(b) and all(np.array_equal(p, q) and c == d for (p, c), (q, d) in zip(a, b))
+    return len(a) == len(b) and all(np.array_equal(p, q) and c == d for (p, c), (q, d) in zip(a, b, strict=True))
 
 
 def assert_same_shape(a, b, paths=True):
@@ -79,7 +78,8 @@ def test_outline_round_trip_is_exact(tmp_path, ext):
 
 
 @pytest.mark.parametrize("ext", [".obj", ".off", ".json", ".npz"])
-@pytest.mark.parametrize("make", [mesh_shape, lambda: mesh_shape("custom"), soup_shape], ids=["mesh", "mesh-edge-order", "soup"])
+@pytest.mark.parametrize("make", [mesh_shape, lambda: mesh_shape("custom"), soup_shape],
+                         ids=["mesh", "mesh-edge-order", "soup"])
 def test_mesh_and_soup_round_trip_is_exact(tmp_path, ext, make):
     shape = make()
     io.save(shape, tmp_path / f"s{ext}")
@@ -94,7 +94,9 @@ def test_svg_writes_mesh_edges_as_a_drawing(tmp_path):
     back = io.load(tmp_path / "m.svg")
     back = back.with_vertices(back.vertices * [1, -1])  # y-up mesh, written upright
     # every edge of the mesh is drawn: the segments read back are the same set
-    seg = lambda s: {tuple(sorted(map(tuple, s.vertices[e].round(12).tolist()))) for e in s.edges}
+    def seg(s):
+        return {tuple(sorted(map(tuple, s.vertices[e].round(12).tolist()))) for e in s.edges}
+
     assert seg(back) == seg(shape)
 
 

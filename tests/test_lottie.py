@@ -1,5 +1,8 @@
-"""Lottie export: valid against the official schema, keyframes that are the frames, and
-lottie-web in Chromium drawing what isotween's own renderer draws."""
+"""Lottie export.
+
+Valid against the official schema, keyframes that are the frames, and lottie-web in Chromium drawing what isotween's own
+renderer draws.
+"""
 
 import json
 import shutil
@@ -9,13 +12,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from browser import screenshot
 from isotween import Sequence, Shape, interpolate, render
 from isotween.paint import Paint
 from isotween.render._frames import SequenceRenderer
 from isotween.render._view import bbox_of, fit_view
 from isotween.render.lottie import lottie_data
-
-from browser import browser, screenshot  # noqa: F401  (fixture)
 from shapes import bend, grid_mesh
 
 JS = Path(__file__).parent / "js"
@@ -95,12 +97,13 @@ def test_keyframes_are_the_frames_and_the_paint(morph):
     # back from composition pixels to shape units: every tick is exactly its frame
     box = bbox_of(morph.frames)
     x0, x1, y0, y1 = fit_view(box, data["w"], data["h"])
-    for item, (idx, _) in zip(paths, morph.shape.paths):
+    for item, (idx, _) in zip(paths, morph.shape.paths, strict=False):
         px = keyframe_points(item)
         assert px.shape == (len(order), len(idx), 2)
         x = x0 + px[..., 0] * (x1 - x0) / data["w"]
         y = y1 - px[..., 1] * (y1 - y0) / data["h"]
-        np.testing.assert_allclose(np.stack([x, y], -1), morph.frames[order][:, idx], atol=2e-3 * (x1 - x0) / data["w"] * 1000)
+        np.testing.assert_allclose(np.stack([x, y], -1), morph.frames[order][:, idx],
+                                   atol=2e-3 * (x1 - x0) / data["w"] * 1000)
     colours = np.array([k["s"] for k in fill["c"]["k"]])
     assert colours[0].tolist() == [1, 0, 0, 1] and colours[-1].tolist() == [0, 0, 1, 1]
     # the middle frame's fill is the Oklab blend (frame 3 of 7: t = 0.5)

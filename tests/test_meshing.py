@@ -1,5 +1,7 @@
-"""Meshes from outlines: compatible meshes by default, the Triangle path with its harmonic target
-(flips reported), errors, CLI."""
+"""Meshes from outlines.
+
+Compatible meshes by default, the Triangle path with its harmonic target (flips reported), errors, CLI.
+"""
 
 import numpy as np
 import pytest

@@ -3,8 +3,7 @@
 import numpy as np
 import pytest
 
-from isotween import Sequence, Shape, interpolate, metrics
-
+from isotween import Sequence, interpolate, metrics
 from shapes import ellipse, grid_mesh
 
 

@@ -4,14 +4,13 @@ import numpy as np
 import pytest
 
 import isotween
-from isotween import Sequence, Shape, interpolate, metrics
+from isotween import interpolate, metrics
 from isotween.editing import edit
 from isotween.errors import IncompatibleShapesError, ParameterError
 from isotween.keyframes import interpolate_keyframes
 from isotween.transfer import transfer
 from isotween.velocity import relative_velocity_field
-
-from shapes import bend, grid_mesh, rotation
+from shapes import bend, grid_mesh
 
 
 @pytest.fixture(scope="module")
@@ -122,7 +121,7 @@ def test_keyframes_pass_through_and_turn_smoothly(bar):
     k2 = similar(src.with_vertices(bend(src.vertices, 1.2 * np.pi)), np.exp(0.7j), 2 + 3j)
     seq = interpolate_keyframes([src, k1, k2], frames=17)
     idx = seq.info["keyframe_indices"]
-    for i, k in zip(idx, (src, k1, k2)):
+    for i, k in zip(idx, (src, k1, k2), strict=False):
         np.testing.assert_array_equal(seq.frames[i], k.vertices)
 
     def jump(s, i):
@@ -169,7 +168,7 @@ def test_keyframes_with_another_method_or_solver_interpolate_each_segment():
         expected = (1 - u)[:, None, None] * keys[j].vertices + u[:, None, None] * keys[j + 1].vertices
         np.testing.assert_allclose(seq.frames[a : b + 1], expected, atol=1e-12)
     glob = isotween.interpolate_keyframes(keys, frames=9, solver="global")
-    for k, key in zip(idx, keys):
+    for k, key in zip(idx, keys, strict=True):
         np.testing.assert_array_equal(glob.frames[k], key.vertices)
     # a rigid first segment keeps every edge length with the global solver too
     lengths = np.linalg.norm(np.diff(glob.frames[: idx[1] + 1], axis=1), axis=-1)

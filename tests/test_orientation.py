@@ -3,10 +3,9 @@
 import numpy as np
 import pytest
 
+from browser import screenshot
 from isotween import Sequence, Shape, io
 from isotween.render import write_frame_png
-
-from browser import browser, screenshot  # noqa: F401  (fixture)
 
 UP = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, 2.0]])  # y-up: apex on top
 

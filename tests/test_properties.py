@@ -93,8 +93,10 @@ def test_runs_are_deterministic(pair, solver, scheme):
 @settings(max_examples=20, **SETTINGS)
 @given(shape_pair(), st.integers(min_value=3, max_value=12))
 def test_numba_and_numpy_paths_agree_at_a_tight_tolerance(pair, frames):
-    """At tol=1e-9 both paths take the same iterations (chains converge in two; rings
-    approach it slowly and run to max_iter) and agree to 1e-10 of the diagonal."""
+    """At tol=1e-9 both paths take the same iterations and agree to 1e-10 of the diagonal.
+
+    Chains converge in two iterations; rings approach it slowly and run to max_iter.
+    """
     a, b = pair
     runs = {}
     for enabled in (True, False):

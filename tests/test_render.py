@@ -7,11 +7,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from isotween import Sequence, Shape, interpolate
-from isotween import render
+from isotween import Sequence, Shape, interpolate, render
 from isotween.errors import FileFormatError, MethodError, MissingDependencyError, ParameterError, ShapeError
 from isotween.render.texture import rasterize_triangles, texture_uv
-
 from shapes import bend, grid_mesh
 
 WHITE = 255
@@ -358,7 +356,7 @@ def test_svg_animation_of_outlines_and_soups(tmp_path):
     _, values, dur = anim["fill"]
     # the hole is a second subpath of one even-odd path; bounce plays 0 1 2 1; y-down kept as is
     assert set(anim) == {"fill"} and len(values) == 4 and dur == f"{4 / 6:.6g}s"
-    for k, d in zip([0, 1, 2, 1], values):
+    for k, d in zip([0, 1, 2, 1], values, strict=False):
         assert d.count("M") == 2
         np.testing.assert_allclose(_numbers(d), seq.frames[k], atol=1e-4)
     soup = Shape(ring, [[0, 1], [2, 3]])

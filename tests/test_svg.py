@@ -112,7 +112,7 @@ def test_regions_and_paint_read_back_identically(tmp_path):
     np.testing.assert_array_equal(back.vertices, s.vertices)
     assert [(p.tolist(), c) for p, c in back.paths] == [(p.tolist(), c) for p, c in s.paths]
     assert back.regions == s.regions
-    for p, q in zip(back.paint, s.paint):
+    for p, q in zip(back.paint, s.paint, strict=False):
         assert (p.fill is None) == (q.fill is None) and p.stroke == q.stroke
         assert p.stroke_width == q.stroke_width and p.opacity == q.opacity
         if p.fill is not None:

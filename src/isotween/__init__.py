@@ -13,8 +13,8 @@ from .editing import edit
 from .errors import IsotweenError
 from .interpolate import interpolate
 from .io import load, load_sequence, save, save_sequence
-from .outputs import write_output
 from .keyframes import interpolate_keyframes
+from .outputs import write_output
 from .sequence import Sequence
 from .shape import Shape, ShapeLike
 from .transfer import transfer

@@ -1,3 +1,5 @@
+"""``python -m isotween``: the command line."""
+
 from .cli import main
 
 main()

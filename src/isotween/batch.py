@@ -19,7 +19,6 @@ import hashlib
 import json
 import os
 import time
-from collections import deque
 from pathlib import Path
 
 from .errors import FileFormatError, ParameterError
@@ -57,6 +56,7 @@ def read_manifest(path, defaults=None):
         - a folder: every sub-folder holding ``source.EXT`` and ``target.EXT``
           (as ``isotween prepare`` writes them), and every ``NAME.source.EXT``
           beside a ``NAME.target.EXT``; the output is ``NAME.npz``.
+
         Relative input paths are relative to the manifest's folder.
     defaults : dict, optional
         Options for jobs that do not set them.
@@ -235,7 +235,7 @@ def run_jobs(jobs):
 
 
 def _finished(report):
-    """output -> key of its last successful record in an existing report."""
+    """Map each output to the key of its last successful record in an existing report."""
     done = {}
     if report.is_file():
         with open(report, encoding="utf-8") as f:

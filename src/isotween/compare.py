@@ -14,7 +14,6 @@ import io
 import math
 from typing import TYPE_CHECKING
 
-
 from . import metrics
 from .baselines import METHODS as BASELINES
 from .correspondence.compatibility import as_shape, check_compatible
@@ -86,7 +85,8 @@ def compare(source: ShapeLike, target: ShapeLike, methods: Iterable[str] = METHO
     methods = list(methods)
     unknown = [m for m in methods if m not in METHODS]
     if unknown or not methods or len(set(methods)) < len(methods):
-        raise ParameterError(f"methods must be distinct names among {', '.join(METHODS)}; got {', '.join(methods) or 'none'}")
+        raise ParameterError(
+            f"methods must be distinct names among {', '.join(METHODS)}; got {', '.join(methods) or 'none'}")
     source, target = as_shape(source, "source"), as_shape(target, "target")
     check_compatible(source, target)
     rows, sequences = [], {}

@@ -10,9 +10,9 @@ import numpy as np
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import ParameterError
 from .initialisation import edge_rotations
-from .optimisation.assembly import FrameAssembler
 from .interpolate import check_movable
 from .metrics import isometric_energy
+from .optimisation.assembly import FrameAssembler
 from .sequence import Sequence
 from .shape import Shape
 
@@ -171,7 +171,7 @@ def _integrate_held(d, keys, values):
     first, last = keys[0], keys[-1]
     out[:, : first + 1] = values[first][:, None] + x[:, : first + 1] - x[:, first : first + 1]
     out[:, last:] = values[last][:, None] + x[:, last:] - x[:, last : last + 1]
-    for a, b in zip(keys[:-1], keys[1:]):
+    for a, b in zip(keys[:-1], keys[1:], strict=True):
         gap = values[b] - values[a] - (x[:, b] - x[:, a])
         w = np.arange(b - a + 1) / (b - a)
         out[:, a : b + 1] = values[a][:, None] + x[:, a : b + 1] - x[:, a : a + 1] + gap[:, None] * w

@@ -54,5 +54,4 @@ def require(module, extra):
 
 
 class ResourceError(IsotweenError, MemoryError):
-    """A run would need more memory than is available (or allowed); the
-    message gives the estimate and the limit."""
+    """A run would need more memory than is available (or allowed); the message gives the estimate and the limit."""

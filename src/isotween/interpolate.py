@@ -136,6 +136,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
     else:
         check_compatible(source, target)  # raises
     timings = {}
+    info: dict  # energy, iterations, converged and what the solver adds
     if len(t) == 2:
         out, info = np.array([z0, z1]).T, {"energy": [], "iterations": 0, "converged": True}
     else:
@@ -155,11 +156,11 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
                                      max_iter, linear_solver=linear_solver, callback=callback)
         timings["solve"] = time.perf_counter() - t0
         timings.update({f"solve.{k}": v for k, v in info.pop("timings", {}).items()})
-    frames = np.empty((len(t), len(z0), 2))
-    frames.view(complex)[..., 0] = out.T
+    xy = np.empty((len(t), len(z0), 2))
+    xy.view(complex)[..., 0] = out.T
     timings["total"] = time.perf_counter() - start
     seq = Sequence(
-        frames=frames, shape=source, times=t, scheme=scheme,
+        frames=xy, shape=source, times=t, scheme=scheme,
         energy=info.pop("energy"), iterations=info.pop("iterations"),
         converged=info.pop("converged"), timings=timings, method="aiap",
         info={"options": options, **info, **paint_keys([source, target], [0.0, 1.0])},

@@ -116,8 +116,7 @@ def area_deviation(seq: Sequence, reduce: str = "max") -> float: ...
 @overload
 def area_deviation(seq: Sequence, reduce: None) -> np.ndarray: ...
 def area_deviation(seq: Sequence, reduce: str | None = "max") -> float | np.ndarray:
-    """Relative deviation of every face's (or closed loop's) signed area from
-    the linear blend of its two end areas.
+    """Relative deviation of every face's (or closed loop's) signed area from the linear blend of its two end areas.
 
     Examples
     --------
@@ -263,9 +262,9 @@ def outline_crossings(seq, scope="all"):
 
 
 def symmetry_error(seq: Sequence, backward: Sequence | None = None) -> float:
-    """Max distance between frame k of A->B and frame m-k of B->A over the
-    bounding-box diagonal. ``backward`` is recomputed with the same options
-    when not given.
+    """Max distance between frame k of A->B and frame m-k of B->A over the bounding-box diagonal.
+
+    ``backward`` is recomputed with the same options when not given.
 
     Examples
     --------
@@ -292,8 +291,7 @@ def symmetry_error(seq: Sequence, backward: Sequence | None = None) -> float:
 
 
 def report(seq: Sequence, symmetry: bool = False) -> dict:
-    """Every metric of ``seq`` as a dict of floats (symmetry error on request:
-    it costs a second interpolation).
+    """Every metric of ``seq`` as a dict of floats (symmetry error on request: it costs a second interpolation).
 
     Examples
     --------

@@ -100,7 +100,8 @@ def output_kind(out, format=None):
                 raise ParameterError(f"--format lottie writes one .json file, but {out} names a {ext or 'folder'}")
             kind = "lottie"
         elif ext in OUTPUT_KINDS and not out.is_dir():
-            raise ParameterError(f"--format {format} writes one file per frame into a folder, but {out} names a {ext} file")
+            raise ParameterError(
+                f"--format {format} writes one file per frame into a folder, but {out} names a {ext} file")
         else:
             kind = "frames"
     elif out.is_dir() or not ext:
@@ -117,7 +118,8 @@ def output_kind(out, format=None):
                               "or a folder with --format")
     parent = out.parent
     if not parent.is_dir():
-        raise FileFormatError(f"cannot write {out}: {parent} {'is not a folder' if parent.exists() else 'does not exist'}")
+        raise FileFormatError(
+            f"cannot write {out}: {parent} {'is not a folder' if parent.exists() else 'does not exist'}")
     if kind != "frames" and out.is_dir():
         raise FileFormatError(f"cannot write {out}: is a folder")
     if kind == "frames" and out.exists() and not out.is_dir():
@@ -258,7 +260,7 @@ def with_paint(seq, fill=None, stroke=None, stroke_width=None):
     painted.paths = paths
     painted.regions = shape.regions if paths is shape.paths else None
     ends = [painted.with_vertices(painted.vertices), painted.with_vertices(painted.vertices)]
-    for s, paint in zip(ends, keys):
+    for s, paint in zip(ends, keys, strict=False):
         s.paint = paint
     out = dc_replace(seq, shape=painted, info={**seq.info, **paint_keys(ends, [0.0, 1.0])})
     return out

@@ -12,8 +12,8 @@ import numpy as np
 
 from .errors import ParameterError
 
-__all__ = ["Paint", "DEFAULT_FILL", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb", "paint_keys", "sequence_paint", "paint_groups",
-           "svg_paint_attributes"]
+__all__ = ["Paint", "DEFAULT_FILL", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb", "paint_keys", "sequence_paint",
+           "paint_groups", "svg_paint_attributes"]
 
 #: SVG's initial fill: opaque black
 DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
@@ -234,7 +234,7 @@ def sequence_paint(seq):
         span = key_times[s + 1] - key_times[s]
         u = (times[frames] - key_times[s]) / span if span > 0 else np.ones(len(frames))
         for p in range(n_paths):
-            for k, value in zip(frames, lerp_paint(keys[s][p], keys[s + 1][p], u)):
+            for k, value in zip(frames, lerp_paint(keys[s][p], keys[s + 1][p], u), strict=False):
                 out[k][p] = value
     return regions, out
 

@@ -6,7 +6,7 @@ import functools
 import html
 import numbers
 import warnings
-from collections.abc import Sequence
+from collections.abc import Sequence, Sized
 from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
@@ -145,11 +145,11 @@ def _as_paths(paths, n):
         flat = np.concatenate(indices).astype(np.int64) if indices else np.zeros(0, np.int64)
         bad = np.flatnonzero((flat < 0) | (flat >= n))
         if not bad.size:
-            return list(zip(np.split(flat, np.cumsum(sizes)[:-1]), flags)) if indices else []
+            return list(zip(np.split(flat, np.cumsum(sizes)[:-1]), flags, strict=False)) if indices else []
         k = int(np.searchsorted(np.cumsum(sizes), bad[0], side="right"))
         raise ShapeError(f"path {k} has a vertex index out of range [0, {n}): {int(flat[bad[0]])}")
     out = []
-    for k, (idx, closed) in enumerate(zip(indices, flags)):
+    for k, (idx, closed) in enumerate(zip(indices, flags, strict=False)):
         idx = _as_index_array(idx.reshape(-1, 1), 1, f"path {k} index")[:, 0]
         out_of_range = np.flatnonzero((idx < 0) | (idx >= n))
         if out_of_range.size:
@@ -420,7 +420,7 @@ class Shape:
         for r, (ring, c) in enumerate(zip(rings, flags, strict=True)):
             if isinstance(ring, np.ndarray) and np.iscomplexobj(ring) and ring.ndim == 1:
                 ring = np.column_stack([ring.real, ring.imag])
-            empty = hasattr(ring, "__len__") and not isinstance(ring, (str, bytes)) and len(ring) == 0
+            empty = isinstance(ring, Sized) and not isinstance(ring, (str, bytes)) and len(ring) == 0
             ring = np.zeros((0, 2)) if empty else as_vertices(ring, f"ring {r}: ")
             need = 3 if c else 2
             if len(ring) < need:

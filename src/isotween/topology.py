@@ -1,5 +1,8 @@
-"""Connectivity-only data of a shape, computed once and shared by every shape
-with the same connectivity (``Shape.topology``; ``with_vertices`` keeps it)."""
+"""Connectivity-only data of a shape.
+
+Computed once and shared by every shape with the same connectivity
+(``Shape.topology``; ``with_vertices`` keeps it).
+"""
 
 import functools
 

@@ -55,6 +55,5 @@ def propagate_angles(faces, theta, n_vertices):
 
 
 def interpolate(source, target, t):
-    """Frames of the consistent-rotation ARAP interpolation; see
-    :func:`isotween.baselines.arap.interpolate`."""
+    """Frames of the consistent-rotation ARAP interpolation; see :func:`isotween.baselines.arap.interpolate`."""
     return arap.interpolate(source, target, t, method="arap-baxter", propagate=propagate_angles)

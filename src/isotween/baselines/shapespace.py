@@ -142,7 +142,7 @@ class PathEnergy:
         r_iso, _, e = self.residuals(z)
         g_up, g_lo = 2 * e[1:] * self.w, -2 * e[:-1] * self.w  # d r / d e at frames k+1 and k
         data = []
-        for (keep, sign), g in zip(self._slots, (g_up, g_up, g_lo, g_lo)):
+        for (keep, sign), g in zip(self._slots, (g_up, g_up, g_lo, g_lo), strict=False):
             gk = sign * g[keep]
             data += [gk.real, gk.imag]
         J = self._J

@@ -21,11 +21,11 @@ from . import main
               help="Resample both outlines of jobs that do not set it to N vertices.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
 def batch_command(manifest, outdir, workers, scheduler, report, force, frames, resample, quiet):
-    """Run every job of MANIFEST: a .csv or .jsonl file with the columns source,
-    target, output and per-job options (frames, solver, init, scheme, tol,
-    max_iter, method, resample, mesh, format), or a folder of pairs
-    (sub-folders with source.EXT and target.EXT, or NAME.source.EXT beside
-    NAME.target.EXT).
+    """Run every job of MANIFEST.
+
+    A .csv or .jsonl file with the columns source, target, output and per-job options (frames, solver, init, scheme,
+    tol, max_iter, method, resample, mesh, format), or a folder of pairs (sub-folders with source.EXT and target.EXT, or
+    NAME.source.EXT beside NAME.target.EXT).
 
     Outputs are written atomically; a re-run skips jobs whose output exists
     with the same inputs and options. Failed jobs are listed in the report

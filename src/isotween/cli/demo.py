@@ -5,8 +5,8 @@ from pathlib import Path
 import click
 
 from ..errors import FileFormatError, MissingDependencyError, ParameterError
-from . import main
 from ..outputs import with_paint, write_output
+from . import main
 from .options import SOLVER_KEYS, progress, render_options, summary, timer
 
 

@@ -16,8 +16,10 @@ from .options import check_outputs, emit, output_options, timer
               help="Let the first and last frames change too (the paper's procedure).")
 @output_options
 def edit_command(sequence, frames, shapes, free_ends, output, fmt, texture, plot, quiet, **render):
-    """Replace frames of SEQUENCE (.npz/.json or a folder of frames) and carry
-    the change through its motion (Sec. 5.2)."""
+    """Replace frames of SEQUENCE and carry the change through its motion (Sec. 5.2).
+
+    SEQUENCE is a .npz/.json sequence file or a folder of frames.
+    """
     from .. import edit
     from ..errors import ParameterError
     from ..io import load, load_sequence
@@ -27,5 +29,5 @@ def edit_command(sequence, frames, shapes, free_ends, output, fmt, texture, plot
         raise ParameterError(f"give one --shape per --frame ({len(frames)} frames, {len(shapes)} shapes)")
     check_outputs(output, fmt, texture, plot)
     seq = load_sequence(sequence)
-    out = edit(seq, edits={k: load(p) for k, p in zip(frames, shapes)}, keep_ends=not free_ends)
+    out = edit(seq, edits={k: load(p) for k, p in zip(frames, shapes, strict=True)}, keep_ends=not free_ends)
     emit(out, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())

@@ -316,7 +316,8 @@ def check_paths(inputs, outputs):
             continue
         for p in existing:
             if Path(out).exists() and same(out, p):
-                raise FileFormatError(f"{option} {out} names an input file; it would be overwritten (choose another name)")
+                raise FileFormatError(
+                    f"{option} {out} names an input file; it would be overwritten (choose another name)")
 
 
 def ensure_compatible(source, target, source_path, target_path):

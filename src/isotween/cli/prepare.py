@@ -1,5 +1,7 @@
-"""``isotween prepare SOURCE TARGET -o DIR``: a compatible pair written as files,
-and the correspondence options that `interpolate`, `keyframes` and `transfer` share."""
+"""``isotween prepare SOURCE TARGET -o DIR``.
+
+A compatible pair written as files, and the correspondence options that `interpolate`, `keyframes` and `transfer` share.
+"""
 
 import warnings
 
@@ -102,10 +104,11 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
 
 def make_keys_compatible(shapes, paths, quiet=False, points=None, segment=None, rotation=False,
                          unmatched="grow", role="keyframe"):
-    """Several loaded shapes (keyframes, transfer inputs) made compatible together
-    as outlines by `isotween.correspondence.correspond_keys` when they are not;
-    its one-line report is printed unless ``quiet``. ``role`` names the
-    inputs in messages ("keyframe 1", "input 2").
+    """Several loaded shapes (keyframes, transfer inputs) made compatible together.
+
+    They are corresponded as outlines by `isotween.correspondence.correspond_keys`
+    when they are not compatible; its one-line report is printed unless ``quiet``.
+    ``role`` names the inputs in messages ("keyframe 1", "input 2").
 
     Returns
     -------
@@ -139,8 +142,10 @@ def make_keys_compatible(shapes, paths, quiet=False, points=None, segment=None, 
 @click.option("--quiet", "-q", is_flag=True, help="No correspondence report.")
 @correspondence_options
 def prepare_command(source, target, outdir, fmt, quiet, **params):
-    """Make SOURCE and TARGET compatible and write them as OUTDIR/source.FORMAT
-    and OUTDIR/target.FORMAT, ready for `isotween interpolate`.
+    """Make SOURCE and TARGET compatible and write them into OUTDIR.
+
+    The files are OUTDIR/source.FORMAT and OUTDIR/target.FORMAT, ready for
+    `isotween interpolate`.
 
     Give the correspondence options (--points, --segment, --outline,
     --mesh-size, ...) or the older --resample N and/or --mesh.

@@ -66,7 +66,7 @@ def check_compatible(*shapes: Shape, names: Sequence[str] | None = None,
     if names is None:
         names = ["source", "target"] + [f"shape {i}" for i in range(2, len(shapes))]
     ref = shapes[0]
-    for s, name in zip(shapes[1:], names[1:]):
+    for s, name in zip(shapes[1:], names[1:], strict=False):
         if s.n_vertices != ref.n_vertices:
             raise IncompatibleShapesError(
                 f"{names[0]} has {ref.n_vertices} vertices but {name} has {s.n_vertices}; "
@@ -101,7 +101,7 @@ def check_compatible(*shapes: Shape, names: Sequence[str] | None = None,
                 )
     if edge_vectors is None:
         edge_vectors = [s.edge_vectors() for s in shapes]
-    for s, e, name in zip(shapes, edge_vectors, names):
+    for s, e, name in zip(shapes, edge_vectors, names, strict=False):
         _check_edge_lengths(s, e, name, diagonal)
 
 

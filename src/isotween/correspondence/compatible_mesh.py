@@ -1,5 +1,4 @@
-"""Compatible triangle meshes of two corresponding polygons, with no flipped
-triangle in either, by construction.
+"""Compatible triangle meshes of two corresponding polygons, with no flipped triangle in either, by construction.
 
 The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
 2004):
@@ -42,8 +41,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
-from ..errors import (IncompatibleShapesError, MissingDependencyError, ParameterError, ResourceError,
-                      ShapeError, require)
+from ..errors import IncompatibleShapesError, MissingDependencyError, ParameterError, ResourceError, ShapeError, require
 from ..shape import Shape
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
@@ -123,7 +121,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     tgt = _rings(target_rings, "target")
     if len(src) != len(tgt):
         raise IncompatibleShapesError(f"the source has {len(src)} ring(s) but the target has {len(tgt)}")
-    for r, (a, b) in enumerate(zip(src, tgt)):
+    for r, (a, b) in enumerate(zip(src, tgt, strict=True)):
         if len(a) != len(b):
             raise IncompatibleShapesError(
                 f"ring {r} has {len(a)} vertices in the source but {len(b)} in the target")
@@ -255,7 +253,7 @@ def _signed_area(z):
 def _orientation(src, tgt):
     """Per ring, the vertex order that makes the outer ring ccw and the holes cw."""
     order = []
-    for r, (a, b) in enumerate(zip(src, tgt)):
+    for r, (a, b) in enumerate(zip(src, tgt, strict=False)):
         sa, sb = np.sign(_signed_area(a)), np.sign(_signed_area(b))
         if sa != sb:
             raise IncompatibleShapesError(
@@ -305,8 +303,10 @@ def _polygon(z, rings):
 
 
 def _inside(z, poly, pairs):
-    """(m,) whether each segment between vertices ``pairs`` (m, 2) lies inside the polygon and
-    meets its boundary only at its two ends."""
+    """(m,) whether each segment between vertices ``pairs`` (m, 2) lies inside the polygon.
+
+    Inside means that it meets the polygon's boundary only at its two ends.
+    """
     import shapely
 
     if not len(pairs):
@@ -377,8 +377,10 @@ def _triangulate(z, rings, constraints, fixed_keys, name):
 
 
 def _shared_diagonals(f_src, zt, poly_t, fixed):
-    """(m, 2) interior edges of the source triangulation that are also diagonals of the target
-    polygon and cross none of each other there (nor the ``fixed`` segments (c, 2))."""
+    """(m, 2) interior edges of the source triangulation that are also diagonals of the target polygon.
+
+    The edges kept cross none of each other in the target (nor the ``fixed`` segments (c, 2)).
+    """
     import shapely
 
     a, b, _, key, twin = _edge_table(f_src)
@@ -392,7 +394,7 @@ def _shared_diagonals(f_src, zt, poly_t, fixed):
                                           np.c_[zt[allseg[:, 1]].real, zt[allseg[:, 1]].imag]], axis=1))
     i, j = shapely.STRtree(lines).query(lines, predicate="crosses")
     drop = np.zeros(len(allseg), dtype=bool)
-    for u, v in zip(i, j):  # crossings are rare (none for a polygon without holes)
+    for u, v in zip(i, j, strict=True):  # crossings are rare (none for a polygon without holes)
         if u < v and not drop[u] and not drop[v]:
             drop[max(u, v)] = True
     return d[~drop[len(fixed):]]
@@ -446,8 +448,10 @@ def _cuts(zs, zt, rings, near=12):
 
 
 def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
-    """(summed length, ((u1, v1), (u2, v2))) of the shortest two valid cuts from hole h to the
-    vertices ``base``, or None."""
+    """The shortest two valid cuts from hole h to the vertices ``base``, or None.
+
+    Returned as (summed length, ((u1, v1), (u2, v2))).
+    """
     import shapely
 
     hole = rings[h]
@@ -460,14 +464,14 @@ def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
     hi, bi = hi[order], bi[order]
     hv, bv = hole[hi], base[bi]
     ok = ~np.isin(bv, list(used)) & ~np.isin(hv, list(used))
-    for z, poly in zip((zs, zt), polys):
+    for z, poly in zip((zs, zt), polys, strict=False):
         ok[ok] = _inside(z, poly, np.c_[bv[ok], hv[ok]])
     def clear(c, picks):
         """Cut c crosses no chosen cut (nor the picks) in either shape."""
         return not any(np.any(shapely.intersects(
             shapely.linestrings(np.c_[z[[bv[c], hv[c]]].real, z[[bv[c], hv[c]]].imag]),
             t + [shapely.linestrings(np.c_[z[[bv[p], hv[p]]].real, z[[bv[p], hv[p]]].imag]) for p in picks]))
-            for z, t in zip((zs, zt), taken) if len(t) or picks)
+            for z, t in zip((zs, zt), taken, strict=False) if len(t) or picks)
 
     cand = np.flatnonzero(ok)
     first = next((c for c in cand if clear(c, [])), None)
@@ -557,8 +561,10 @@ def _lawson(z, f, fixed_keys, rounds=200, tiny=0.0):
 
 
 def _refine(z, f, fixed_keys, size, rounds=30):
-    """Insert interior Steiner points (triangle centroids) until no triangle is much larger
-    than an equilateral one of side ``size``; Lawson flips keep it Delaunay.
+    """Insert interior Steiner points (triangle centroids) until no triangle is much too large.
+
+    Too large means much larger than an equilateral triangle of side ``size``;
+    Lawson flips keep the mesh Delaunay.
 
     Returns
     -------
@@ -627,7 +633,7 @@ def _open_cuts(f, cuts, first_copy):
     for i, (_, (u, v), _) in enumerate(cuts):
         for vert, other, copy, reached in ((u, v, first_copy + 2 * i, False), (v, u, first_copy + 2 * i + 1, True)):
             rows, cols = np.nonzero(f == vert)
-            nxt = {int(f[r, (c + 1) % 3]): int(r) for r, c in zip(rows, cols)}
+            nxt = {int(f[r, (c + 1) % 3]): int(r) for r, c in zip(rows, cols, strict=True)}
             w, side = other, []
             while w in nxt:  # ccw around vert from the cut to the boundary
                 face = nxt[w]
@@ -639,8 +645,11 @@ def _open_cuts(f, cuts, first_copy):
 
 
 def _disc_cycle(rings, cuts, first_copy):
-    """(B,) boundary cycle of the cut polygon: the outer ring ccw with a detour along the first cut
-    of every hole, around the hole (and the holes joined to it) and back along the cut's copies."""
+    """(B,) boundary cycle of the cut polygon.
+
+    The outer ring ccw with a detour along the first cut of every hole, around the hole (and the holes joined to it) and
+    back along the cut's copies.
+    """
     detour = {u: (h, v, first_copy + 2 * i, first_copy + 2 * i + 1) for i, (h, (u, v), _) in enumerate(cuts)}
     out = []
 
@@ -731,7 +740,7 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
         near = interior[u] & (np.abs(_orient(D[ca[cc]], D[cb[cc]], D[u])) < tol * np.abs(D[cb[cc]] - D[ca[cc]]))
         if not near.any():
             break
-        for vert, ch in zip(*np.unique(np.c_[u[near], cc[near]], axis=0).T):
+        for vert, ch in zip(*np.unique(np.c_[u[near], cc[near]], axis=0).T, strict=True):
             _nudge(D, F1, vert, D[cb[ch]] - D[ca[ch]], tol)
     su, sv = _side(D, pos, B, lo[e], ca[c], cb[c]), _side(D, pos, B, hi[e], ca[c], cb[c])
     hit = su * sv == -1
@@ -878,8 +887,10 @@ def _valid(z, w, f, eps):
 
 
 def _odt(z, f):
-    """(N,) area-weighted mean of the circumcentres of each vertex's triangles (optimal Delaunay
-    triangulation smoothing, Chen and Xu 2004)."""
+    """(N,) area-weighted mean of the circumcentres of each vertex's triangles.
+
+    This is optimal Delaunay triangulation smoothing (Chen and Xu 2004).
+    """
     u, v = z[f[:, 1]] - z[f[:, 0]], z[f[:, 2]] - z[f[:, 0]]
     area = 0.5 * (np.conj(u) * v).imag
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -935,7 +946,7 @@ def _smooth(z, w, f, K, eps, rng, joint):
     if not joint:
         goals.insert(0, [_odt(p, f) for p in (z, w)])
     pos = [z.copy(), w.copy()]
-    old = [judge(p, e)[1] for p, e in zip(pos, eps)]
+    old = [judge(p, e)[1] for p, e in zip(pos, eps, strict=False)]
     done = np.zeros((2, N), dtype=bool)
     for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
         trial, res = [], []
@@ -958,8 +969,11 @@ def _smooth(z, w, f, K, eps, rng, joint):
 
 
 def _joint_flips(z, w, f, eps, limit=0.5):
-    """Flip edges whose flip raises the smallest angle of their two faces in both meshes together,
-    where that angle's sine is below ``limit``; f is changed in place. Returns the number of flips."""
+    """Flip edges whose flip raises the smallest angle of their two faces in both meshes together.
+
+    Only edges where that angle's sine is below ``limit`` are flipped; f is
+    changed in place. Returns the number of flips.
+    """
     a, b, c, key, twin = _edge_table(f)
     qf = _quality(z, w, f)
     h = np.flatnonzero(twin > np.arange(len(a)))
@@ -1046,8 +1060,11 @@ def _collapse(z, w, f, K, eps, limit):
 
 
 def _joint_refine(z, w, f, size, rounds=30):
-    """Split faces larger than an equilateral triangle of side ``size`` (in the source; the target
-    size scaled by the area ratio) at their centroid in both meshes, then flip edges jointly."""
+    """Split large faces at their centroid in both meshes, then flip edges jointly.
+
+    Large means larger than an equilateral triangle of side ``size`` (in the
+    source; the target size is scaled by the area ratio).
+    """
     ratio = np.sqrt(abs(_areas(w, f).sum() / _areas(z, f).sum()))
     big_s = 1.5 * np.sqrt(3) / 4 * size ** 2
     big_t = big_s * ratio ** 2
@@ -1069,8 +1086,9 @@ def _joint_refine(z, w, f, size, rounds=30):
 
 
 def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
-    """Joint edge collapses, edge flips and smoothing of interior vertices in both meshes
-    (Surazhsky and Gotsman 2004 style); every step keeps both meshes valid.
+    """Joint edge collapses, edge flips and smoothing of interior vertices in both meshes.
+
+    In the style of Surazhsky and Gotsman (2004); every step keeps both meshes valid.
 
     Returns
     -------

@@ -224,7 +224,7 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs):
     """Object correspondence and resampling of K drawings; (shapes, report)."""
     _check_options(points, segment, unmatched)
     names = ["source", "target"] if len(shapes) == 2 else [f"keyframe {k}" for k in range(len(shapes))]
-    items = [_regions.items_of(s, n) for s, n in zip(shapes, names)]
+    items = [_regions.items_of(s, n) for s, n in zip(shapes, names, strict=False)]
     frames = _regions.frames_of(items)
     if pairs is not None and len(shapes) != 2:
         raise ParameterError("pairs are for two drawings")
@@ -239,7 +239,7 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs):
         outs[k] = b
     result = []
     regions = [rs for kind, rs in layout if kind == "region"]
-    for k, (shape, out) in enumerate(zip(shapes, outs)):
+    for k, (shape, out) in enumerate(zip(shapes, outs, strict=False)):
         result.append(Shape(out.vertices, out.edges, paths=out.paths, y_down=shape.y_down,
                             regions=regions, paint=paint[k]))
     report = CorrespondenceReport(keys=len(shapes), unmatched=unmatched, points=[int(c) for c in counts])
@@ -371,7 +371,7 @@ def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched):
 
 def _ring_counts(per_key, closed, points, segment):
     """Points per ring: the total shared by length, or from the largest segment."""
-    rings = [[(z, c) for z, c in zip(key, closed)] for key in per_key]
+    rings = [[(z, c) for z, c in zip(key, closed, strict=False)] for key in per_key]
     if segment is None:
         return _counts(points, *rings)
     need = np.array([3 if c else 2 for c in closed])

@@ -236,7 +236,7 @@ def _outline(shape):
         raise ShapeError("the source is already a triangle mesh; mesh_pair takes outlines")
     if not shape.paths:
         raise ShapeError("the source has no outline rings (paths) to mesh")
-    for r, (idx, closed) in enumerate(shape.paths):
+    for r, (_idx, closed) in enumerate(shape.paths):
         if not closed:
             raise ShapeError(f"ring {r} of the source is an open polyline; meshing needs closed rings")
     segments = np.vstack([np.column_stack([p, np.roll(p, -1)]) for p, _ in shape.paths])

@@ -1,5 +1,4 @@
-"""Object correspondence: which region, hole and polyline of one drawing goes
-with which of another.
+"""Object correspondence: which region, hole and polyline of one drawing goes with which of another.
 
 A drawing is cut into *items*: filled regions (outer ring, then holes),
 unfilled closed rings and open polylines. Items of the same kind are paired
@@ -49,7 +48,7 @@ class Item(NamedTuple):
     kind: str
     rings: list
     paint: list
-    index: int
+    index: int  # type: ignore[assignment]  # shadows tuple.index, which nothing here calls
 
 
 class Slot(NamedTuple):
@@ -207,6 +206,7 @@ class Frame(NamedTuple):
 
     @classmethod
     def of(cls, z):
+        """The frame of the complex points ``z`` (any shape): bounding-box centre and diagonal."""
         lo, hi = complex(z.real.min(), z.imag.min()), complex(z.real.max(), z.imag.max())
         return cls(0.5 * (lo + hi), max(abs(hi - lo), 1e-300))
 
@@ -216,8 +216,9 @@ class Frame(NamedTuple):
 
 
 def frames_of(items):
-    """Normalising frame of every drawing: its bounding box, or one box for all
-    when they share a canvas (each box lies mostly, 80 %, inside the first's or
+    """Normalising frame of every drawing.
+
+    Its bounding box, or one box for all when they share a canvas (each box lies mostly, 80 %, inside the first's or
     contains it), so that items keep their absolute places.
 
     Parameters
@@ -284,7 +285,7 @@ def _assign(cost, forced=()):
     pairs = list(forced)
     if rows and cols:
         r, c = linear_sum_assignment(cost[np.ix_(rows, cols)])
-        pairs += [(rows[i], cols[j]) for i, j in zip(r, c)]
+        pairs += [(rows[i], cols[j]) for i, j in zip(r, c, strict=True)]
     return pairs
 
 
@@ -339,7 +340,7 @@ def plan(items, frames, pairs=None):
         kind_slots = [[i] + [None] * (K - 1) for i in own[0]]
         owner = [0] * len(kind_slots)
         for k in range(1, K):
-            refs = [(s[o], o) for s, o in zip(kind_slots, owner)]
+            refs = [(s[o], o) for s, o in zip(kind_slots, owner, strict=False)]
             feats_ref = [_features(items[o][i].rings, closed, frames[o]) for i, o in refs]
             feats_k = [_features(items[k][i].rings, closed, frames[k]) for i in own[k]]
             forced = []
@@ -375,7 +376,7 @@ def _plan_holes(items, frames, members):
         region = items[k][members[k]]
         fk = Frame.of(region.rings[0])
         ks = list(range(1, len(region.rings)))
-        refs = [(s[o], o) for s, o in zip(slots, owner)]
+        refs = [(s[o], o) for s, o in zip(slots, owner, strict=False)]
         feats_ref = [_features([items[o][members[o]].rings[h]], True, Frame.of(items[o][members[o]].rings[0]))
                      for h, o in refs]
         feats_k = [_features([region.rings[h]], True, fk) for h in ks]

@@ -100,7 +100,7 @@ def resample(source_rings: Any, target_rings: Any, points: int | list[int] | Non
             f"the source has {len(src)} ring(s) but the target has {len(tgt)}; rings are paired "
             "in order, so both need the same number"
         )
-    for r, ((_, cs), (_, ct)) in enumerate(zip(src, tgt)):
+    for r, ((_, cs), (_, ct)) in enumerate(zip(src, tgt, strict=False)):
         if cs != ct:
             raise IncompatibleShapesError(
                 f"ring {r} is {'closed' if cs else 'open'} in the source but "
@@ -110,7 +110,7 @@ def resample(source_rings: Any, target_rings: Any, points: int | list[int] | Non
         raise ParameterError(f"corners must be an angle in degrees between 0 and 180, got {corners!r}")
     counts = _counts(points, src, tgt)
     out_s, out_t = [], []
-    for (a, c), (b, _), n in zip(src, tgt, counts):
+    for (a, c), (b, _), n in zip(src, tgt, counts, strict=False):
         sa, sb = _Ring(a, c), _Ring(b, c)
         x = sa.at(sa.grid(0.0, n), corners)
         u, reverse = _best_start(x, sb, rotation, keep_turn)
@@ -150,8 +150,10 @@ class _Ring:
         return np.linspace(0.0, self.length, n)
 
     def at(self, s, corners=None):
-        """Complex points at arc positions ``s`` (any shape); with ``corners``
-        (degrees), the sample nearest each corner moves onto it."""
+        """Complex points at arc positions ``s`` (any shape).
+
+        With ``corners`` (degrees), the sample nearest each corner moves onto it.
+        """
         s = np.array(s, dtype=np.float64)
         if corners is not None:
             s = self._snap(s, corners)
@@ -196,7 +198,7 @@ def _rings(obj, closed, name):
         if len(flags) != len(rings):
             raise ParameterError(f"closed has {len(flags)} value(s) but the {name} has {len(rings)} ring(s)")
     out = []
-    for r, (ring, c) in enumerate(zip(rings, flags)):
+    for r, (ring, c) in enumerate(zip(rings, flags, strict=False)):
         p = np.asarray(ring, dtype=np.float64)
         if p.ndim != 2 or p.shape[1] != 2:
             raise ShapeError(f"{name} ring {r} must be an array of shape (k, 2), got {p.shape}")
@@ -220,8 +222,7 @@ def _rings(obj, closed, name):
 
 
 def _counts(points, src, *others):
-    """Points per ring: given, or the total shared in proportion to length (the
-    mean of every shape's length shares)."""
+    """Points per ring: given, or the total shared in proportion to length (the mean of every shape's length shares)."""
     need = np.array([3 if c else 2 for _, c in src])
     if points is not None and np.ndim(points) == 1:
         counts = np.asarray(points)
@@ -239,7 +240,7 @@ def _counts(points, src, *others):
     if points < need.sum():
         raise ParameterError(f"points={points} is too few for {len(src)} ring(s); at least {need.sum()} needed")
     lengths = [np.array([_Ring(z, c).length for z, c in rings]) for rings in (src, *others)]
-    for name, ls in zip(["source", "target"] + [f"shape {k}" for k in range(2, len(lengths))], lengths):
+    for name, ls in zip(["source", "target"] + [f"shape {k}" for k in range(2, len(lengths))], lengths, strict=False):
         zero = np.flatnonzero(ls <= 0)
         if zero.size:
             raise ShapeError(f"{name} ring {zero[0]} has zero length")
@@ -306,7 +307,7 @@ def _best_start(x, ring, rotation, keep_turn=False):
         turn = np.sign(np.sum((np.conj(x) * np.roll(x, -1)).imag))
         own = np.sign(np.sum((np.conj(ring.z) * np.roll(ring.z, -1)).imag))
         allowed = (bool(turn != own),)
-    for reverse, r in zip((False, True), both):
+    for reverse, r in zip((False, True), both, strict=False):
         if reverse not in allowed:
             continue
         grid = _normalised(r.at(r.length * np.arange(n * q) / (n * q)).reshape(n, q))

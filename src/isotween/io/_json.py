@@ -54,7 +54,8 @@ def _nesting(text):
             active = hit & (prev >= 0)
         quote[idx[run % 2 == 1]] = False
     inside = (np.cumsum(quote) % 2 == 1) & ~quote
-    step = np.where(inside, 0, (raw == ord("[")).astype(np.int64) + (raw == ord("{")) - (raw == ord("]")) - (raw == ord("}")))
+    step = np.where(inside, 0,
+                    (raw == ord("[")).astype(np.int64) + (raw == ord("{")) - (raw == ord("]")) - (raw == ord("}")))
     level = np.cumsum(step)
     depth = _Depth(int(level.max(initial=0)))
     if depth > MAX_DEPTH:

@@ -16,7 +16,8 @@ def planar(path, xyz, lines, base=1):
     wild = np.flatnonzero(~np.all(np.isfinite(xyz[:, :2]) & (np.abs(xyz[:, :2]) <= MAX_COORDINATE), axis=1))
     if wild.size:
         k = int(wild[0])
-        what = "a non-finite coordinate" if not np.all(np.isfinite(xyz[k, :2])) else f"a coordinate beyond +-{MAX_COORDINATE:g}"
+        what = ("a non-finite coordinate" if not np.all(np.isfinite(xyz[k, :2]))
+                else f"a coordinate beyond +-{MAX_COORDINATE:g}")
         raise FileFormatError(f"{path}, line {lines[k]}: vertex {k + base} has {what}: {xyz[k, :2].tolist()}")
     bad = np.flatnonzero(xyz[:, 2] != 0)
     if bad.size:
@@ -154,7 +155,8 @@ def assemble(path, vertices, triangles, tri_lines, polylines, poly_lines, uv=Non
         if loop.size:
             owner = np.repeat(np.asarray(poly_lines), sizes - 1)
             k = int(loop[0])
-            raise FileFormatError(f"{path}, line {owner[k]}: line repeats vertex {int(stacked[k, 0]) + base} consecutively")
+            raise FileFormatError(
+                f"{path}, line {owner[k]}: line repeats vertex {int(stacked[k, 0]) + base} consecutively")
         listed = [stacked]
     parts = listed + ([face_edges(faces)] if faces is not None else [])
     if parts:

@@ -115,7 +115,7 @@ def connectivity_from(path, arrays, vertices):
         closed = _get(path, arrays, "path_closed", 1, kind="b", required=True)
         if sizes.sum() != len(idx) or len(closed) != len(sizes) or np.any(sizes < 0):
             raise FileFormatError(f"{path}: arrays 'path_indices', 'path_sizes' and 'path_closed' disagree")
-        paths = list(zip(np.split(idx, np.cumsum(sizes)[:-1]), closed.tolist()))
+        paths = list(zip(np.split(idx, np.cumsum(sizes)[:-1]), closed.tolist(), strict=False))
     if uv is not None and len(uv) != len(vertices):
         raise FileFormatError(f"{path}: array 'uv' has {len(uv)} rows for {len(vertices)} vertices")
     y_down = _get(path, arrays, "y_down", 0, kind="b")
@@ -126,9 +126,11 @@ def connectivity_from(path, arrays, vertices):
 
 
 def read_npz(path):
-    """Read a shape from ``.npz`` arrays ``vertices`` (n, 2), ``edges`` (E, 2),
-    and optional ``faces`` (F, 3), ``uv`` (n, 2), ``path_indices``,
-    ``path_sizes``, ``path_closed``.
+    """Read a shape from the arrays of a ``.npz`` file.
+
+    The arrays are ``vertices`` (n, 2), ``edges`` (E, 2), and optional
+    ``faces`` (F, 3), ``uv`` (n, 2), ``path_indices``, ``path_sizes``,
+    ``path_closed``.
 
     Raises
     ------

@@ -31,7 +31,7 @@ def _refs(path, lineno, tokens, n_v, n_vt):
     for tok in tokens:
         parts = tok.split("/")
         idx = []
-        for part, count, what in zip(parts[:2], (n_v, n_vt), ("vertex", "texture coordinate")):
+        for part, count, what in zip(parts[:2], (n_v, n_vt), ("vertex", "texture coordinate"), strict=False):
             if part == "" and what != "vertex":
                 idx.append(None)
                 continue
@@ -129,7 +129,7 @@ def _uv(path, n, vts, pairs):
                 "to match them; isotween needs one uv per vertex"
             )
         return vts
-    v, t, lines = (np.array(c, dtype=np.int64) for c in zip(*pairs))
+    v, t, lines = (np.array(c, dtype=np.int64) for c in zip(*pairs, strict=False))
     bad = np.flatnonzero((t >= len(vts)) | (v >= n))
     if bad.size:
         k = int(bad[0])

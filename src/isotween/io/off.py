@@ -19,9 +19,10 @@ def _numbers(path, lineno, tokens, kind):
         values = [kind(t) for t in tokens]
     except ValueError:
         bad = next(t for t in tokens if not _is(kind, t))
-        raise FileFormatError(f"{path}, line {lineno}: '{bad}' is not {'an integer' if kind is int else 'a number'}") from None
+        raise FileFormatError(
+            f"{path}, line {lineno}: '{bad}' is not {'an integer' if kind is int else 'a number'}") from None
     if kind is int:
-        big = [t for t, v in zip(tokens, values) if abs(v) > _MAX_INDEX]
+        big = [t for t, v in zip(tokens, values, strict=False) if abs(v) > _MAX_INDEX]
         if big:
             raise FileFormatError(f"{path}, line {lineno}: '{big[0]:.40}' is out of range")
     return values
@@ -147,9 +148,11 @@ def write_off(shape, path):
     vertices = y_up_vertices(shape)
     faces = shape.faces if shape.faces is not None else np.zeros((0, 3), dtype=np.int64)
     edges = shape.edges if edges_need_listing(shape) else np.zeros((0, 2), dtype=np.int64)
-    lines = ["STOFF" if shape.uv is not None else "OFF", f"{shape.n_vertices} {len(faces) + len(edges)} {shape.n_edges}"]
+    lines = ["STOFF" if shape.uv is not None else "OFF",
+             f"{shape.n_vertices} {len(faces) + len(edges)} {shape.n_edges}"]
     if shape.uv is not None:
-        lines += [f"{_num(x)} {_num(y)} 0 {_num(u)} {_num(v)}" for (x, y), (u, v) in zip(vertices.tolist(), shape.uv.tolist())]
+        lines += [f"{_num(x)} {_num(y)} 0 {_num(u)} {_num(v)}"
+                  for (x, y), (u, v) in zip(vertices.tolist(), shape.uv.tolist(), strict=False)]
     else:
         lines += [f"{_num(x)} {_num(y)} 0" for x, y in vertices.tolist()]
     lines += [f"3 {a} {b} {c}" for a, b, c in faces.tolist()]

@@ -186,7 +186,8 @@ def load_sequence(path: str | PathLike) -> Sequence:
 
 def _frames_array(path, frames, where):
     if frames.ndim != 3 or frames.shape[2] != 2 or frames.shape[0] < 1:
-        raise FileFormatError(f"{path}: {where} must have shape (frames, n, 2) with at least one frame, got {frames.shape}")
+        raise FileFormatError(
+            f"{path}: {where} must have shape (frames, n, 2) with at least one frame, got {frames.shape}")
     if not np.all(np.isfinite(frames)):
         k = int(np.argwhere(~np.isfinite(frames))[0, 0])
         raise FileFormatError(f"{path}: {where}: frame {k} has a non-finite coordinate")
@@ -288,7 +289,8 @@ def _load_folder(folder):
     from .shapes import SHAPE_FORMATS, load
 
     files = sorted(
-        (p for p in folder.iterdir() if p.is_file() and not p.name.startswith(".") and p.suffix.lower() in SHAPE_FORMATS),
+        (p for p in folder.iterdir()
+         if p.is_file() and not p.name.startswith(".") and p.suffix.lower() in SHAPE_FORMATS),
         key=lambda p: _natural_key(p.name),
     )
     if not files:
@@ -299,7 +301,7 @@ def _load_folder(folder):
                  advice="use fewer frame files")
     shapes = [first] + [load(p) for p in files[1:]]
     ref = shapes[0]
-    for p, s in zip(files[1:], shapes[1:]):
+    for p, s in zip(files[1:], shapes[1:], strict=False):
         same_faces = (ref.faces is None) == (s.faces is None) and (
             ref.faces is None or np.array_equal(ref.faces, s.faces)
         )

@@ -72,8 +72,11 @@ def _check_attributes(path, se, el, tag, label):
 
 
 def _points_ok(text):
-    """Whether a ``points`` attribute is numbers in x,y pairs (checked in linear time:
-    a single regular expression for it backtracks exponentially on some texts)."""
+    """Whether a ``points`` attribute is numbers in x,y pairs.
+
+    Checked in linear time: a single regular expression for it backtracks
+    exponentially on some texts.
+    """
     return bool(_SEPARATORS.match(_NUMBERS.sub(" ", text))) and len(_NUMBERS.findall(text)) % 2 == 0
 
 

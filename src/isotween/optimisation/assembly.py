@@ -39,7 +39,7 @@ FACTORISATIONS = ("auto", "banded", "cholmod", "splu")
 HAVE_CHOLMOD = importlib.util.find_spec("sksparse") is not None
 
 #: Topology -> CHOLMOD symbolic factor (ordering and supernodes) of its free-vertex Laplacian
-_ANALYSIS = weakref.WeakKeyDictionary()
+_ANALYSIS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def centroid_path(shape, z0, z1, t):
@@ -230,9 +230,10 @@ class FrameAssembler:
 
 
 def _cholmod(top, L):
-    """Solve function of a CHOLMOD factor of the symmetric matrix ``L`` (None unless
-    it is positive definite); the symbolic analysis (fill-reducing ordering,
-    supernodes) is computed once per ``top``."""
+    """Solve function of a CHOLMOD factor of the symmetric matrix ``L`` (None unless it is positive definite).
+
+    The symbolic analysis (fill-reducing ordering, supernodes) is computed once per ``top``.
+    """
     cholmod = require("sksparse.cholmod", "large")
     symbolic = _ANALYSIS.get(top)
     if symbolic is None:

@@ -89,10 +89,10 @@ def global_solve(shape, z0, z1, t, z, scheme, tol, max_iter, linear_solver="cg",
             x = spsolve(A.tocsc(), b)
         else:
             tri = TridiagonalSolver(*tridiagonal(coeffs, h))
-            M = LinearOperator(A.shape, matvec=lambda g: _precondition(g, asm, tri, m, nf), dtype=complex)
+            M = LinearOperator(A.shape, matvec=lambda g, tri=tri: _precondition(g, asm, tri, m, nf), dtype=complex)
             count = [0]
             x, _ = cg(A, b, x0=x0.ravel(), rtol=cg_rtol, maxiter=10 * nf + 100, M=M,
-                      callback=lambda _x: count.__setitem__(0, count[0] + 1))
+                      callback=lambda _x, count=count: count.__setitem__(0, count[0] + 1))
             cg_iters.append(count[0])
         new = np.zeros((len(z0), m - 1), dtype=complex)
         new[asm.free] = x.reshape(m - 1, nf).T

@@ -112,7 +112,7 @@ def local_solve(shape, z, t, edges, centroids, scheme, tol, max_iter, assembly="
             move = step
         converged = move < tol
 
-        def work(rows, D_rows, out):
+        def work(rows, D_rows, out, converged=converged):
             e = D_rows @ z
             diag, lower, energy = normal_equations(e, h, scheme)  # Eq. (8), Eq. (6)
             if not converged:
@@ -169,7 +169,7 @@ class _EdgeBlocks:
         """work(rows, D_rows, out) -> energy; returns (out, total energy)."""
         out, self._spare = self._spare, self._out
         self._out = out
-        args = list(zip(self.rows, self.D))
+        args = list(zip(self.rows, self.D, strict=False))
         if self.pool is None:
             energies = [work(r, d, out) for r, d in args]
         else:

@@ -30,7 +30,7 @@ SCHEMES = ("midpoint", "paper")
 
 
 def _ratio(num, den):
-    """num / den, and 0 where den vanishes (a degenerate edge has no rotation)."""
+    """The quotient num / den, and 0 where den vanishes (a degenerate edge has no rotation)."""
     tiny = 1e-24 * float(np.mean(den)) if den.size else 0.0
     ok = den > tiny
     return np.divide(num, den, out=np.zeros_like(num), where=ok)

@@ -73,7 +73,7 @@ def image_size(bbox, size, even=False):
         wh = (s, max(8, round(s * h / w))) if w >= h else (max(8, round(s * w / h)), s)
     else:
         wh = tuple(int(v) for v in np.ravel(size))
-        if len(wh) != 2 or min(wh) < 8 or any(v != s for v, s in zip(wh, np.ravel(size))):
+        if len(wh) != 2 or min(wh) < 8 or any(v != s for v, s in zip(wh, np.ravel(size), strict=False)):
             raise ParameterError(f"size must be an integer >= 8 pixels or (width, height), got {size!r}")
     if even:
         wh = tuple(v + (v % 2) for v in wh)

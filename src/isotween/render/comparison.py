@@ -76,8 +76,9 @@ def write_methods_figure(sequences, path, columns=12, cell=160):
     rows, cols = len(seqs), len(picked)
     dpi = 100
     fig = Figure(figsize=((cols * w + 110) / dpi, (rows * (h + 22) + 20) / dpi), dpi=dpi)
-    fig.subplots_adjust(left=100 / (cols * w + 110), right=1 - 10 / (cols * w + 110), top=1 - 24 / (rows * (h + 22) + 20),
-                        bottom=4 / (rows * (h + 22) + 20), wspace=0.02, hspace=22 / h)
+    fig.subplots_adjust(left=100 / (cols * w + 110), right=1 - 10 / (cols * w + 110),
+                        top=1 - 24 / (rows * (h + 22) + 20), bottom=4 / (rows * (h + 22) + 20),
+                        wspace=0.02, hspace=22 / h)
     axes = np.atleast_2d(fig.subplots(rows, cols, squeeze=False))
     for r, (method, seq) in enumerate(sequences.items()):
         for c, k in enumerate(picked):
@@ -128,9 +129,9 @@ def metrics_figure(sequences):
         shift = (i - (len(names) - 1) / 2) * 0.12 * dt
         style = dict(marker=MARKERS[i % len(MARKERS)], linestyle=LINES[i % len(LINES)], ms=5, lw=1.3,
                      mfc="none", label=method)
-        for ax, v in zip(axes, values[method]):
+        for ax, v in zip(axes, values[method], strict=False):
             ax.plot(t + shift, v, **style)
-    for ax, col in zip(axes[:2], (0, 1)):
+    for ax, col in zip(axes[:2], (0, 1), strict=False):
         positive = np.concatenate([values[m][col][values[m][col] > 0] for m in names] or [np.zeros(0)])
         if positive.size and positive.max() > 100 * positive.min():
             ax.set_yscale("symlog", linthresh=float(positive.min()))
@@ -138,7 +139,7 @@ def metrics_figure(sequences):
     axes[2].set_ylim(-0.5, max(most, 1) + 0.5)  # a flat zero line still gets whole-number ticks
     axes[2].yaxis.set_major_locator(MaxNLocator(integer=True))
     titles = ("max edge-length deviation (%)", "max area deviation (%)", "flipped faces")
-    for ax, title in zip(axes, titles):
+    for ax, title in zip(axes, titles, strict=False):
         ax.set_xlabel("t (methods shifted apart slightly)")
         ax.set_title(title)
         ax.grid(alpha=0.3)

@@ -7,8 +7,8 @@ from matplotlib.patches import PathPatch
 from matplotlib.path import Path
 
 from ..errors import ParameterError
-from ..paint import paint_groups
 from ..io import atomic_path
+from ..paint import paint_groups
 from ._view import bbox_of, check_frames, fit_view, image_size
 from .texture import load_texture, render_texture, texture_uv
 
@@ -202,7 +202,8 @@ def draw_frame(ax, shape, texture=None, uv=None, style="auto", *, source=None, c
 
 
 def _is_loaded(texture):
-    return isinstance(texture, np.ndarray) and texture.dtype == np.float32 and texture.ndim == 3 and texture.shape[2] == 4
+    return (isinstance(texture, np.ndarray) and texture.dtype == np.float32 and texture.ndim == 3
+            and texture.shape[2] == 4)
 
 
 class FramePainter:

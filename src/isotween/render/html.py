@@ -15,8 +15,8 @@ import numpy as np
 
 from ..io import atomic_path
 from ..paint import paint_groups, sequence_paint
-from ._framestats import frame_stats
 from ._frames import sequence_frames
+from ._framestats import frame_stats
 from ._view import bbox_of
 from .defaults import FPS
 from .frame import check_colour

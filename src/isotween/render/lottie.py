@@ -121,7 +121,7 @@ def _painted_groups(shape, px, order, regions, paints, unit):
 
 
 def _default_groups(shape, px, dpi_scale):
-    """isotween's default look: light fill (triangles or rings) with thin edges, or wire lines."""
+    """The default look of isotween: light fill (triangles or rings) with thin edges, or wire lines."""
     fill_runs, line_runs = _pieces(shape)
     groups = []
 
@@ -130,7 +130,7 @@ def _default_groups(shape, px, dpi_scale):
 
     if fill_runs:
         items = []
-        for j, (idx, closed) in enumerate(fill_runs):
+        for j, (idx, _closed) in enumerate(fill_runs):
             xy = px[:, idx]
             if shape.n_faces:  # every triangle counter-clockwise on screen: non-zero fill is their union
                 d1, d2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]

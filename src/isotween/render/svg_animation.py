@@ -149,7 +149,8 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
     if background is not None:
         r, g, b, a = check_colour(background)
         back = (f'  <rect x="{box[0]:.{digits}f}" y="{box[1]:.{digits}f}" width="{box[2]:.{digits}f}" '
-                f'height="{box[3]:.{digits}f}" fill="#{round(255 * r):02x}{round(255 * g):02x}{round(255 * b):02x}"/>\n')
+                f'height="{box[3]:.{digits}f}" '
+                f'fill="#{round(255 * r):02x}{round(255 * g):02x}{round(255 * b):02x}"/>\n')
     text = (
         '<?xml version="1.0" encoding="UTF-8"?>\n'
         f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{view}" width="{width:.0f}" height="{height:.0f}">\n'
