@@ -257,7 +257,7 @@ def main():
                                    "isotween": ours, "flubber": theirs}))
     print(f"per-pair details: {details}")
     if not args.no_write:
-        write_section("Any two drawings", text, "python benchmarks/drawings.py")
+        write_section("Any two drawings", text, " ".join(["python benchmarks/drawings.py", *sys.argv[1:]]))
 
 
 if __name__ == "__main__":
