@@ -125,11 +125,7 @@ def write_webp(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=Fa
     """
     if not 0 <= quality <= 100:
         raise ParameterError(f"quality must be in [0, 100], got {quality!r}")
-    Image, rgb, order = _pillow_frames(seq, fps, size, texture, bounce, hold, background, style, progress)
-    images = [Image.fromarray(rgb[int(k)]) for k in order]
-    ms = 1000.0 / fps
-    # integer milliseconds whose running sum stays on the 1/fps grid
-    durations = np.diff(np.round(np.arange(len(images) + 1) * ms)).astype(int).tolist()
+    images, durations = _pillow_images(seq, fps, size, texture, bounce, hold, background, style, progress)
     with atomic_path(path) as tmp:
         images[0].save(tmp, format="WEBP", save_all=True, append_images=images[1:], duration=durations,
                        loop=0 if loop else 1, lossless=quality >= 100, quality=int(quality), method=4)
@@ -142,10 +138,7 @@ def write_apng(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=Fa
     Parameters are those of `write_gif`. Plays in every current browser;
     viewers without APNG support show the first frame.
     """
-    Image, rgb, order = _pillow_frames(seq, fps, size, texture, bounce, hold, background, style, progress)
-    images = [Image.fromarray(rgb[int(k)]) for k in order]
-    ms = 1000.0 / fps
-    durations = np.diff(np.round(np.arange(len(images) + 1) * ms)).astype(int).tolist()
+    images, durations = _pillow_images(seq, fps, size, texture, bounce, hold, background, style, progress)
     with atomic_path(path) as tmp:
         images[0].save(tmp, format="PNG", save_all=True, append_images=images[1:], duration=durations,
                        loop=0 if loop else 1, disposal=0, blend=0)
@@ -194,3 +187,14 @@ def write_mp4(seq, path, fps=FPS, size=SIZE, texture=None, style="auto", *, boun
                 writer.send(np.ascontiguousarray(rgb[int(k)]))
         finally:
             writer.close()
+
+
+def _pillow_images(seq, fps, size, texture, bounce, hold, background, style, progress):
+    """Pillow images in playing order and their durations (animated WebP and APNG).
+
+    Durations are integer milliseconds whose running sum stays on the 1/fps grid.
+    """
+    image, rgb, order = _pillow_frames(seq, fps, size, texture, bounce, hold, background, style, progress)
+    images = [image.fromarray(rgb[int(k)]) for k in order]
+    durations = np.diff(np.round(np.arange(len(images) + 1) * 1000.0 / fps)).astype(int).tolist()
+    return images, durations

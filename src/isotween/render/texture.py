@@ -8,7 +8,8 @@ import os
 
 import numpy as np
 
-from ..errors import FileFormatError, MethodError, ParameterError, ShapeError
+from ..errors import FileFormatError, MethodError, ParameterError
+from ..shape import _as_uv
 
 __all__ = ["load_texture", "texture_uv", "rasterize_triangles", "render_texture"]
 
@@ -80,13 +81,7 @@ def texture_uv(shape, uv=None, source=None):
     if uv is None:
         uv = shape.uv
     if uv is not None:
-        uv = np.asarray(uv, dtype=np.float64)
-        if uv.shape != (n, 2):
-            raise ShapeError(f"uv must have shape ({n}, 2), got {uv.shape}")
-        bad = np.flatnonzero(~np.all(np.isfinite(uv), axis=1))
-        if bad.size:
-            raise ShapeError(f"uv of vertex {bad[0]} is not finite")
-        return uv
+        return _as_uv(uv, n)  # the Shape's own check
     p = shape.vertices if source is None else np.asarray(source, dtype=np.float64)
     lo, hi = p.min(axis=0), p.max(axis=0)
     side = float(np.max(hi - lo)) or 1.0
