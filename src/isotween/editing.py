@@ -10,9 +10,10 @@ import numpy as np
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import ParameterError
 from .initialisation import edge_rotations
-from .interpolate import check_movable
 from .metrics import isometric_energy
 from .optimisation.assembly import FrameAssembler
+from .optimisation.problem import Result
+from .problems import check_movable
 from .sequence import Sequence
 from .shape import Shape
 
@@ -25,7 +26,7 @@ if TYPE_CHECKING:
 __all__ = ["edit"]
 
 
-def edit(sequence: Sequence, frame: int | None = None, shape: Shape | None = None,
+def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = None,
          edits: Mapping[int, Shape] | None = None, keep_ends: bool = True) -> Sequence:
     """Edit frames of a sequence and carry the change through its motion.
 
@@ -33,7 +34,7 @@ def edit(sequence: Sequence, frame: int | None = None, shape: Shape | None = Non
     S~ e(t_k) = e~(t_k). The relative velocities are warped by it (Eq. 14)
     and the edge vectors rebuilt by minimising Eq. (15) with the edited frames
     (and, with ``keep_ends``, the first and last frames) held; frames are then
-    assembled by Eq. (10). With one edit and ``keep_ends=False`` this is the
+    assembled by Eq. (10). Every option is keyword-only. With one edit and ``keep_ends=False`` this is the
     paper's procedure (S~ constant in time). With several held frames, S~ is
     blended between them (log-scale and angle linear in time) and the
     mismatch left by Eq. (15) is spread linearly between held frames, so an
@@ -112,10 +113,9 @@ def edit(sequence: Sequence, frame: int | None = None, shape: Shape | None = Non
     out = asm.positions(new, centroids)  # Eq. (10)
     for k in keys:
         out[:, k] = target[k]
-    result = Sequence(np.stack([out.real.T, out.imag.T], axis=-1), base, times=t.copy(),
-                      scheme=sequence.scheme, method="edit",
-                      info={"edited_frames": sorted(edits), "held_frames": keys.tolist(),
-                            "source": sequence})
+    result = Result(out).sequence(base, t.copy(), method="edit", scheme=sequence.scheme,
+                                  info={"edited_frames": sorted(edits), "held_frames": keys.tolist(),
+                                        "source": sequence})
     result.energy = [isometric_energy(result)]  # of the edited frames
     return result
 

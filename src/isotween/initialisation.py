@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from .optimisation import accelerated
+from .optimisation import backend, reference
 
 __all__ = ["INITIALISERS", "edge_rotations", "edge_vector_init", "linear_init"]
 
@@ -31,19 +31,16 @@ def edge_rotations(shape, e0, e1):
     theta : (E,) float
         Propagated rotation angles.
     """
-    ratio = e1 / e0
-    s, theta = np.abs(ratio), np.angle(ratio)
     if shape.n_edges == 0:
-        return s, theta
-    # k_child = k_parent + round((theta_parent - theta_child) / 2 pi), summed
-    # along every path to the root of the breadth-first tree
-    top = shape.topology
-    k = top.path_sums(np.round((theta[top.parent] - theta) / (2 * np.pi)))
-    return s, theta + 2 * np.pi * k
+        ratio = np.asarray(e1) / np.asarray(e0)
+        return np.abs(ratio), np.angle(ratio)
+    return reference.edge_angles(shape.topology, e0, e1)
 
 
 def edge_vector_init(shape, e0, e1, t):
     """Eq. (13): e(t) = (1 - t + t s) R(t theta) e(0), for every edge and time.
+
+    Computed by the backend in use (:mod:`isotween.optimisation.backend`).
 
     Parameters
     ----------
@@ -55,21 +52,7 @@ def edge_vector_init(shape, e0, e1, t):
     -------
     (E, F) complex
     """
-    if accelerated.ENABLED:
-        return accelerated.edge_init(shape.topology, e0, e1, np.asarray(t, dtype=float))
-    s, theta = edge_rotations(shape, e0, e1)
-    t = np.asarray(t, dtype=float)
-    h = np.diff(t)
-    if len(h) and h.max() - h.min() <= 1e-12 * h[0]:
-        # uniform times: R(t_k theta) = R(h theta)^k, one complex exp per edge
-        rot = np.empty((len(theta), len(t)), dtype=complex)
-        rot[:, 0] = 1.0
-        rot[:, 1:] = np.exp(1j * h[0] * theta)[:, None]
-        rot = np.cumprod(rot, axis=1)
-    else:
-        phase = t[None, :] * theta[:, None]
-        rot = np.cos(phase) + 1j * np.sin(phase)
-    return (1 - t + t * s[:, None]) * rot * e0[:, None]
+    return backend.current().edge_init(shape.topology, e0, e1, np.asarray(t, dtype=float))
 
 
 def linear_init(shape, z0, z1, t):

@@ -8,17 +8,19 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import baselines
 from ._heap import keep_heap_if_asked
 from .correspondence.compatibility import as_shape, check_compatible
-from .errors import MethodError, ParameterError, ShapeError
-from .initialisation import INITIALISERS, edge_vector_init, linear_init
-from .optimisation.assembly import FrameAssembler, centroid_path
-from .optimisation.global_solver import LINEAR_SOLVERS, global_solve
-from .optimisation.local_solver import ASSEMBLY, local_solve
+from .errors import MethodError
+from .initialisation import INITIALISERS
+from .optimisation.global_solver import LINEAR_SOLVERS
+from .optimisation.local_solver import ASSEMBLY
+from .optimisation.problem import Result, bbox_diagonal
 from .optimisation.schemes import SCHEMES
+from .optimisation.solve import SOLVERS, solve
 from .paint import paint_keys
+from .problems import check_choice, check_movable, check_stopping, keyed_problem
 from .resources import check_memory, solve_bytes
-from .sequence import Sequence
 from .times import frame_times
 
 if TYPE_CHECKING:
@@ -30,17 +32,21 @@ if TYPE_CHECKING:
 
 __all__ = ["interpolate", "SOLVERS", "check_movable", "check_stopping"]
 
-SOLVERS = ("local", "global")
 FOLDS = ("allow", "fallback")
 
 
-def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: str = "local",
+def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver: str = "local",
                 init: str = "edge", scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
                 callback: Callable[[int, float, float], object] | None = None, method: str = "aiap",
                 times: ArrayLike | None = None, assembly: str = "shared",
                 linear_solver: str = "cg", max_memory: float | None = None,
                 fold: str = "allow") -> Sequence:
     """Interpolate two compatible shapes as-isometrically-as-possible.
+
+    The two-key case of :func:`isotween.interpolate_keyframes`: both solve a
+    :class:`~isotween.optimisation.problem.Problem` built by
+    :func:`isotween.problems.keyed_problem`. Every option after ``frames`` is
+    keyword-only.
 
     Parameters
     ----------
@@ -112,12 +118,12 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
                      f"interpolating {frames} frames of {source.n_vertices} vertices and {source.n_edges} edges",
                      max_memory)
     t = frame_times(frames, times)
-    _check_choice("solver", solver, SOLVERS)
-    _check_choice("init", init, INITIALISERS)
-    _check_choice("scheme", scheme, SCHEMES)
-    _check_choice("assembly", assembly, ASSEMBLY)
-    _check_choice("linear_solver", linear_solver, LINEAR_SOLVERS)
-    _check_choice("fold", fold, FOLDS)
+    check_choice("solver", solver, SOLVERS)
+    check_choice("init", init, INITIALISERS)
+    check_choice("scheme", scheme, SCHEMES)
+    check_choice("assembly", assembly, ASSEMBLY)
+    check_choice("linear_solver", linear_solver, LINEAR_SOLVERS)
+    check_choice("fold", fold, FOLDS)
     check_stopping(tol, max_iter)
     options = dict(frames=len(t), solver=solver, init=init, scheme=scheme, tol=tol,
                    max_iter=max_iter, method=method, times=times, assembly=assembly,
@@ -125,9 +131,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
     if method != "aiap":
         seq = _baseline(method, source, target, t, options, callback)
         return _fallback(seq, source, target, t, options) if fold == "fallback" else seq
-    both = np.concatenate((source.vertices, target.vertices))
-    size = both.max(axis=0) - both.min(axis=0)
-    diag = float(np.sqrt(size @ size))  # of both inputs' bounding box
+    diag = bbox_diagonal(source.vertices, target.vertices)
     top = source.topology
     z0, z1 = _complex(source.vertices), _complex(target.vertices)
     if source.n_vertices == target.n_vertices:
@@ -135,58 +139,20 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, solver: s
         check_compatible(source, target, edge_vectors=(e0, e1), diagonal=diag)
     else:
         check_compatible(source, target)  # raises
-    timings = {}
-    info: dict  # energy, iterations, converged and what the solver adds
     if len(t) == 2:
-        out, info = np.array([z0, z1]).T, {"energy": [], "iterations": 0, "converged": True}
+        result = Result(np.array([z0, z1]).T)
     else:
         t0 = time.perf_counter()
-        edges = edge_vector_init(source, e0, e1, t) if init == "edge" else linear_init(source, z0, z1, t)
-        timings["init"] = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        z = np.empty((len(z0), len(t)), dtype=complex)
-        z[:, 0], z[:, -1] = z0, z1
-        centroids = centroid_path(source, z0, z1, t)
-        if solver == "local":
-            out, info = local_solve(source, z, t, edges, centroids, scheme, tol * diag, max_iter,
-                                    assembly=assembly, callback=callback, overwrite_edges=True)
-        else:
-            z[:, 1:-1] = FrameAssembler(source).positions(edges[:, 1:-1], centroids[:, 1:-1])
-            out, info = global_solve(source, z0, z1, t, z, scheme, tol * diag,
-                                     max_iter, linear_solver=linear_solver, callback=callback)
-        timings["solve"] = time.perf_counter() - t0
-        timings.update({f"solve.{k}": v for k, v in info.pop("timings", {}).items()})
-    xy = np.empty((len(t), len(z0), 2))
-    xy.view(complex)[..., 0] = out.T
-    timings["total"] = time.perf_counter() - start
-    seq = Sequence(
-        frames=xy, shape=source, times=t, scheme=scheme,
-        energy=info.pop("energy"), iterations=info.pop("iterations"),
-        converged=info.pop("converged"), timings=timings, method="aiap",
-        info={"options": options, **info, **paint_keys([source, target], [0.0, 1.0])},
-    )
+        problem = keyed_problem([source, target], t, np.array([0, len(t) - 1]), init=init, scheme=scheme,
+                                tol=tol, max_iter=max_iter, diagonal=diag)
+        init_time = time.perf_counter() - t0
+        result = solve(problem, solver=solver, assembly=assembly, linear_solver=linear_solver, callback=callback)
+        result.timings = {"init": init_time, **result.timings}
+    result.timings["total"] = time.perf_counter() - start
+    seq = result.sequence(source, t, method="aiap", scheme=scheme,
+                          info={"options": options, "max_move": result.max_move,
+                                **paint_keys([source, target], [0.0, 1.0])})
     return _fallback(seq, source, target, t, options) if fold == "fallback" else seq
-
-
-def check_movable(shape, name="source"):
-    """Refuse a shape with no edge: there is nothing to keep isometric.
-
-    Raises
-    ------
-    ShapeError
-        Naming ``name`` and its vertex count.
-    """
-    if shape.n_edges == 0:
-        what = "no vertices" if shape.n_vertices == 0 else f"{shape.n_vertices} vertex(es) but no edges"
-        raise ShapeError(f"{name} has {what}; interpolation needs at least one edge (two vertices joined)")
-
-
-def check_stopping(tol, max_iter):
-    """Refuse a ``tol`` that is not a finite positive number or a ``max_iter`` below 1."""
-    if isinstance(tol, bool) or not (isinstance(tol, numbers.Real) and np.isfinite(tol) and tol > 0):
-        raise ParameterError(f"tol must be a positive number, got {tol!r}")
-    if isinstance(max_iter, bool) or not (isinstance(max_iter, numbers.Integral) and max_iter >= 1):
-        raise ParameterError(f"max_iter must be an integer >= 1, got {max_iter!r}")
 
 
 def _complex(v):
@@ -194,16 +160,7 @@ def _complex(v):
     return np.ascontiguousarray(v, dtype=np.float64).view(complex)[:, 0]
 
 
-def _check_choice(name, value, choices):
-    if value not in choices:
-        raise ParameterError(f"unknown {name} {value!r}; choose one of {', '.join(choices)}")
-
-
 def _baseline(method, source, target, t, options, callback):
-    try:
-        from . import baselines
-    except ImportError as exc:  # pragma: no cover - baselines ship with the package
-        raise MethodError(f"unknown method {method!r}") from exc
     start = time.perf_counter()
     seq = baselines.run(method, source, target, len(t), times=t, tol=options["tol"],
                         max_iter=options["max_iter"], callback=callback)

@@ -12,11 +12,13 @@ from ._heap import keep_heap_if_asked
 from .correspondence.compatibility import as_shape, check_compatible
 from .easing import frame_times
 from .errors import ParameterError
-from .initialisation import edge_vector_init, linear_init
-from .interpolate import _check_choice, check_movable, check_stopping
-from .optimisation.local_solver import ASSEMBLY, local_solve
+from .interpolate import interpolate
+from .optimisation.local_solver import ASSEMBLY
+from .optimisation.problem import bbox_diagonal
 from .optimisation.schemes import SCHEMES
+from .optimisation.solve import solve
 from .paint import paint_keys
+from .problems import check_choice, check_movable, check_stopping, keyed_problem
 from .resources import check_memory, solve_bytes
 from .sequence import Sequence
 
@@ -31,7 +33,7 @@ if TYPE_CHECKING:
 __all__ = ["interpolate_keyframes"]
 
 
-def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = None,
+def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None = None,
                           frames: int | None = None,
                           easing: str | Callable[[np.ndarray], np.ndarray] = "linear", init: str = "edge",
                           scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
@@ -47,7 +49,9 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
     ``smooth``; 0 makes the segments independent, as if separate two-shape
     runs were glued). Component centroids follow a natural cubic spline
     through the keyframes' centroids (linear for two keyframes). With two
-    keyframes the result equals :func:`isotween.interpolate`.
+    keyframes the result equals :func:`isotween.interpolate` (both solve the
+    :class:`~isotween.optimisation.problem.Problem` of
+    :func:`isotween.problems.keyed_problem`). Every option is keyword-only.
 
     Parameters
     ----------
@@ -98,8 +102,8 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
     shapes = [as_shape(s, f"keyframe {i}") for i, s in enumerate(keyframes)]
     check_movable(shapes[0], "keyframe 0")
     check_compatible(*shapes, names=[f"keyframe {i}" for i in range(len(shapes))])
-    _check_choice("scheme", scheme, SCHEMES)
-    _check_choice("assembly", assembly, ASSEMBLY)
+    check_choice("scheme", scheme, SCHEMES)
+    check_choice("assembly", assembly, ASSEMBLY)
     check_stopping(tol, max_iter)
     if isinstance(smooth, bool) or not (isinstance(smooth, numbers.Real) and np.isfinite(smooth) and smooth >= 0):
         raise ParameterError(f"smooth must be a finite number >= 0, got {smooth!r}")
@@ -128,42 +132,14 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], times: ArrayLike | None = N
     if solver != "local" or method != "aiap":
         return _segments(shapes, t, idx, key_t, start, solver=solver, method=method, init=init, scheme=scheme,
                          tol=tol, max_iter=max_iter, max_memory=max_memory)
-    base = shapes[0]
-    zk = np.stack([s.z for s in shapes], axis=1)  # (n, K)
-    edges = np.empty((base.n_edges, len(t)), dtype=complex)
-    for j in range(K - 1):  # Eq. (13) (or linear) per segment
-        a, b = idx[j], idx[j + 1]
-        u = (t[a : b + 1] - t[a]) / (t[b] - t[a])
-        if init == "edge":
-            seg = edge_vector_init(base, base.edge_vectors(zk[:, j]), base.edge_vectors(zk[:, j + 1]), u)
-        elif init == "linear":
-            seg = linear_init(base, zk[:, j], zk[:, j + 1], u)
-        else:
-            _check_choice("init", init, ("edge", "linear"))
-        edges[:, a : b + 1] = seg
-    avg = base.topology.avg
-    ck = avg @ zk  # (C, K)
-    if K == 2:
-        centroids = ck[:, :1] * (1 - t) + ck[:, 1:] * t
-    else:
-        from scipy.interpolate import CubicSpline  # imported here: scipy.interpolate takes 0.3 s
-
-        centroids = CubicSpline(key_t, ck.T, bc_type="natural")(t).T
-    z = np.zeros((base.n_vertices, len(t)), dtype=complex)
-    z[:, idx] = zk
-    fixed = np.zeros(len(t), dtype=bool)
-    fixed[idx] = True
-    diag = float(np.hypot(*np.ptp(np.vstack([s.vertices for s in shapes]), axis=0)))
-    out, info = local_solve(base, z, t, edges, centroids, scheme, tol * diag, max_iter,
-                            assembly=assembly, callback=callback, fixed=fixed, smooth=smooth)
-    out[:, idx] = zk
-    timings = {f"solve.{k}": v for k, v in info.pop("timings").items()}
-    timings["total"] = time.perf_counter() - start
-    return Sequence(np.stack([out.real.T, out.imag.T], axis=-1), base, times=t, scheme=scheme,
-                    energy=info["energy"], iterations=info["iterations"],
-                    converged=info["converged"], timings=timings, method="aiap-keyframes",
-                    info={"keyframe_indices": idx.tolist(), "max_move": info["max_move"],
-                          **paint_keys(shapes, key_t)})
+    diag = bbox_diagonal(*(s.vertices for s in shapes))
+    problem = keyed_problem(shapes, t, idx, init=init, scheme=scheme, tol=tol, max_iter=max_iter, diagonal=diag)
+    result = solve(problem, assembly=assembly, smooth=smooth, callback=callback)
+    del result.timings["solve"]
+    result.timings["total"] = time.perf_counter() - start
+    return result.sequence(shapes[0], t, method="aiap-keyframes", scheme=scheme,
+                           info={"keyframe_indices": idx.tolist(), "max_move": result.max_move,
+                                 **paint_keys(shapes, key_t)})
 
 
 def _segments(shapes, t, idx, key_t, start, **options):
@@ -172,8 +148,6 @@ def _segments(shapes, t, idx, key_t, start, **options):
     The segments meet at the keyframes (positions continuous, velocities not
     smoothed there: that needs the joint local solve).
     """
-    from .interpolate import interpolate
-
     z = np.empty((len(t), shapes[0].n_vertices, 2))
     energy, iterations, converged = 0.0, 0, True
     for j in range(len(shapes) - 1):

@@ -7,15 +7,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .correspondence.compatibility import as_shape, check_compatible
-from .interpolate import check_movable, interpolate
+from .interpolate import interpolate
 from .metrics import isometric_energy
 from .optimisation.assembly import FrameAssembler
-from .sequence import Sequence
+from .optimisation.problem import Result
+from .problems import check_movable
 from .velocity import relative_velocity_field
 
 if TYPE_CHECKING:
     from typing import Any
 
+    from .sequence import Sequence
     from .shape import Shape, ShapeLike
 
 __all__ = ["transfer", "component_similarities"]
@@ -113,8 +115,7 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     z = np.empty((target_start.n_vertices, len(field.times)), dtype=complex)
     z[:, 0] = target_start.z
     z[:, 1:] = asm.positions(e[:, 1:], centroids[:, 1:])  # Eq. (10)
-    out = Sequence(np.stack([z.real.T, z.imag.T], axis=-1), target_start, times=field.times,
-                   scheme=seq.scheme, iterations=seq.iterations, converged=seq.converged,
-                   timings=dict(seq.timings), method="transfer", info={"source": seq})
+    done = Result(z, iterations=seq.iterations, converged=seq.converged, timings=dict(seq.timings))
+    out = done.sequence(target_start, field.times, method="transfer", scheme=seq.scheme, info={"source": seq})
     out.energy = [isometric_energy(out)]  # of the frames returned, not of the source run
     return out

@@ -62,7 +62,7 @@ class RelativeVelocityField:
         return self.velocities - 1j * self.angular_speeds * 0.5 * (e0 + e1)
 
 
-def relative_velocity_field(seq: Sequence, scheme: str = "midpoint") -> RelativeVelocityField:
+def relative_velocity_field(seq: Sequence, *, scheme: str = "midpoint") -> RelativeVelocityField:
     """The :class:`RelativeVelocityField` of a :class:`Sequence`.
 
     Examples

@@ -24,11 +24,9 @@ method         what is blended                              needs
 
 import time
 
-import numpy as np
-
 from ..correspondence.compatibility import as_shape, check_compatible
 from ..errors import MethodError
-from ..sequence import Sequence
+from ..optimisation.problem import Result
 from ..times import frame_times
 from . import arap, arap_baxter, convex, intrinsic, linear, shapespace
 
@@ -46,7 +44,7 @@ _MODULES = {
 METHODS = tuple(_MODULES)
 
 
-def run(method, source, target, n_frames, times=None, **options):
+def run(method, source, target, n_frames, *, times=None, **options):
     """Interpolate two compatible shapes with a baseline method.
 
     Parameters
@@ -58,7 +56,8 @@ def run(method, source, target, n_frames, times=None, **options):
     n_frames : int
         Frames, both inputs included.
     times : (n_frames,) array_like, optional
-        Increasing frame times from 0 to 1 (default: uniform).
+        Increasing frame times from 0 to 1 (default: uniform). Keyword-only,
+        as every option.
     **options
         ``tol``, ``max_iter``, ``callback`` (iterative methods only; others
         ignore them).
@@ -66,7 +65,7 @@ def run(method, source, target, n_frames, times=None, **options):
     Returns
     -------
     Sequence
-        ``method``, ``iterations``, ``energy`` (iterative methods), ``timings``
+        Built from a :class:`~isotween.optimisation.problem.Result`: ``method``, ``iterations``, ``energy`` (iterative methods), ``timings``
         and, in ``info``, what the method needs to say (see each module).
 
     Raises
@@ -94,13 +93,9 @@ def run(method, source, target, n_frames, times=None, **options):
     module = _MODULES[method]
     frames, info = module.interpolate(source, target, t, **_accepted(module, options))
     total = time.perf_counter() - start
-    energy = info.pop("energy", [])
-    return Sequence(
-        frames=np.stack([frames.real, frames.imag], axis=-1), shape=source, times=t,
-        scheme="midpoint", energy=energy, iterations=info.pop("iterations", 0),
-        converged=info.pop("converged", True), timings={"solve": total, "total": total},
-        method=method, info=info,
-    )
+    result = Result(frames.T, energy=info.pop("energy", []), iterations=info.pop("iterations", 0),
+                    converged=info.pop("converged", True), timings={"solve": total, "total": total}, info=info)
+    return result.sequence(source, t, method=method)
 
 
 def _accepted(module, options):

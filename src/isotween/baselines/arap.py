@@ -116,7 +116,7 @@ def predicted_edges(source, mesh, theta, P, Q, t):
     return out / count[:, None], count
 
 
-def interpolate(source, target, t, method="arap", propagate=None):
+def interpolate(source, target, t, *, method="arap", propagate=None):
     """Frames of the ARAP interpolation.
 
     Parameters

@@ -158,7 +158,7 @@ class PathEnergy:
         return dx, 2.0 * float(grad @ dx)
 
 
-def interpolate(source, target, t, tol=5e-4, max_iter=100, callback=None, regularisation=1e-2):
+def interpolate(source, target, t, *, tol=5e-4, max_iter=100, callback=None, regularisation=1e-2):
     """Frames of the shape-space geodesic.
 
     Parameters

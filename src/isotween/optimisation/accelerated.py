@@ -14,17 +14,14 @@
 - :func:`edge_init`: Eqs. (12)-(13): angles along the edge tree, then every
   edge's frames (threaded over edges for large inputs).
 
-``ENABLED`` is False when numba is missing or the environment sets
-``ISOTWEEN_NUMBA=0``; the numpy / scipy path is then used (and is the reference
-the tests compare these kernels with).
+The numpy twins are in :mod:`isotween.optimisation.reference`;
+:mod:`isotween.optimisation.backend` chooses between the two (the tests
+compare them).
 """
-
-import importlib.util
-import os
 
 import numpy as np
 
-__all__ = ["ENABLED", "PARALLEL_SIZE", "midpoint_edge_pass", "band_cholesky", "banded_positions",
+__all__ = ["PARALLEL_SIZE", "midpoint_edge_pass", "band_cholesky", "banded_positions",
            "edge_init"]
 
 #: below this many edge-frames one thread does the pass (thread start-up costs more)
@@ -32,9 +29,8 @@ PARALLEL_SIZE = 4_000_000
 #: edges solved side by side by one thread
 EDGE_BLOCK = 16
 
-#: numba is installed and not switched off; it is imported (a third of a second) and the
-#: kernels loaded from its cache on the first call of a kernel, not with isotween
-ENABLED = os.environ.get("ISOTWEEN_NUMBA", "1") != "0" and importlib.util.find_spec("numba") is not None
+#: numba, imported (a third of a second) and the kernels loaded from its cache on the first
+#: call of a kernel, not with isotween
 numba = None
 
 
@@ -363,9 +359,11 @@ def band_cholesky(band):
 def edge_init(top, e0, e1, t):
     """Eqs. (12)-(13) with angles propagated along the edge tree: (E, F) complex.
 
-    The same as :func:`isotween.initialisation.edge_vector_init`.
+    The same as :func:`isotween.optimisation.reference.edge_angles` followed by
+    :func:`~isotween.optimisation.reference.edge_frames`.
     """
     _compile()
+    t = np.asarray(t, dtype=float)
     out = np.empty((len(e0), len(t)), dtype=complex)
     angle, scale = _edge_angles(e0, e1, top.parent, top.tree_order)
     kernel = _edge_frames_parallel if out.size >= PARALLEL_SIZE else _edge_frames_serial

@@ -29,7 +29,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from ..errors import MissingDependencyError, ParameterError, require
-from . import accelerated
+from . import backend
 
 __all__ = ["centroid_path", "FrameAssembler", "FACTORISATIONS", "HAVE_CHOLMOD"]
 
@@ -90,19 +90,20 @@ class FrameAssembler:
         self._factor = self._band = None
         nf = self.free.size
         method, self._forced = factorisation, factorisation != "auto"
+        self._backend = backend.current()
         if method == "auto":
-            if nf and accelerated.ENABLED and top.band_pattern[1] <= self.BANDED:
+            if nf and self._backend.banded and top.band_pattern[1] <= self.BANDED:
                 method = "banded"
             else:
                 method = "cholmod" if HAVE_CHOLMOD and nf >= self.CHOLMOD_SIZE else "splu"
         if method == "banded":
-            if not accelerated.ENABLED:
-                raise ParameterError("the banded factorisation needs numba: pip install 'isotween[fast]'")
+            if not self._backend.banded:
+                raise ParameterError("the banded factorisation needs the numba backend: pip install 'isotween[fast]'")
             if nf:
                 rows, bw, edge, sign, position, Dt = top.band_pattern
                 band = np.bincount(position, sign * self.weights[edge], minlength=(bw + 1) * nf)
                 band = band.reshape(nf, bw + 1)
-                if accelerated.band_cholesky(band):
+                if self._backend.band_cholesky(band):
                     self._band = (band, Dt.indptr, Dt.indices, Dt.data * self.weights[Dt.indices], rows,
                                   top.anchors, top.components, top.inv_count)
                     self.method = method
@@ -158,7 +159,7 @@ class FrameAssembler:
         """
         if self._band is not None:
             z = np.zeros((self.n, e.shape[1]), dtype=complex)
-            accelerated.banded_positions(z, e, centroids, *self._band)
+            self._backend.banded_positions(z, e, centroids, *self._band)
             return z
         if self._factor is None:
             self._factorise()
@@ -210,7 +211,7 @@ class FrameAssembler:
         centroids : (C, k) complex
         """
         if self._band is not None and isinstance(frames, slice):  # z[:, frames] is a view
-            return accelerated.banded_positions(z[:, frames], e, centroids, *self._band)
+            return self._backend.banded_positions(z[:, frames], e, centroids, *self._band)
         new = self.positions(e, centroids)
         old = z[:, frames]
         old -= new

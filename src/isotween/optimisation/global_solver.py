@@ -19,8 +19,9 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator, cg, spsolve
 
 from ..errors import ParameterError
-from .assembly import FrameAssembler, centroid_path
+from .assembly import FrameAssembler
 from .edge_solve import TridiagonalSolver, tridiagonal
+from .problem import Result
 from .schemes import coefficients, isometric_energy
 
 __all__ = ["LINEAR_SOLVERS", "global_solve"]
@@ -28,21 +29,14 @@ __all__ = ["LINEAR_SOLVERS", "global_solve"]
 LINEAR_SOLVERS = ("cg", "direct")
 
 
-def global_solve(shape, z0, z1, t, z, scheme, tol, max_iter, linear_solver="cg",
-                 cg_rtol=1e-9, callback=None):
+def global_solve(problem, *, linear_solver="cg", cg_rtol=1e-9, callback=None):
     """Run Algorithm 1.
 
     Parameters
     ----------
-    shape : Shape
-    z0, z1 : (n,) complex
-    t : (m+1,) float
-    z : (n, m+1) complex
-        Initial frames (ends equal to z0 and z1).
-    scheme : {'midpoint', 'paper'}
-    tol : float
-        Absolute tolerance of Eq. (11).
-    max_iter : int
+    problem : Problem
+        Only the first and the last frame held; ``problem.z`` holds the
+        initial frames (:class:`~isotween.optimisation.problem.Problem`).
     linear_solver : {'cg', 'direct'}
     cg_rtol : float
         Relative residual at which conjugate gradients stop.
@@ -50,18 +44,20 @@ def global_solve(shape, z0, z1, t, z, scheme, tol, max_iter, linear_solver="cg",
 
     Returns
     -------
-    z : (n, m+1) complex
-    info : dict
+    Result
+        ``z`` (n, m+1) complex; ``info['cg_iterations']`` per iteration.
     """
     if linear_solver not in LINEAR_SOLVERS:
         raise ParameterError(f"unknown linear solver {linear_solver!r}; choose one of {', '.join(LINEAR_SOLVERS)}")
+    shape, t, scheme, tol, max_iter = problem.shape, problem.times, problem.scheme, problem.tol, problem.max_iter
+    z0 = problem.z[:, 0]
     h = np.diff(t)
     m = len(h)
     asm = FrameAssembler(shape)
     D, nf = asm.D_free, asm.free.size
-    centroids = centroid_path(shape, z0, z1, t[1:-1])
+    centroids = problem.centroids[:, 1:-1]
     Dfull = shape.topology.D
-    z = z.copy()
+    z = problem.z.copy()
     e = Dfull @ z
     energies = [isometric_energy(e, h, scheme)]
     converged, move, cg_iters = False, np.inf, []
@@ -106,8 +102,7 @@ def global_solve(shape, z0, z1, t, z, scheme, tol, max_iter, linear_solver="cg",
         if move < tol:
             converged = True
             break
-    return z, {"energy": energies, "iterations": it, "converged": converged,
-                    "max_move": move, "cg_iterations": cg_iters}
+    return Result(z, energies, it, converged, move, info={"cg_iterations": cg_iters})
 
 
 def _precondition(g, asm, tri, m, nf):

@@ -1,0 +1,196 @@
+"""Compute backends of the solver's hot loops, and the one place that picks one.
+
+Two backends do the same arithmetic behind one interface (``edge_init``,
+``edge_pass``, ``banded``):
+
+'numpy'
+    The reference (:mod:`isotween.optimisation.reference`): numpy / scipy on
+    blocks of edges, LAPACK's tridiagonal solve for Eq. (9), sparse
+    factorisations for Eq. (10).
+'numba'
+    The kernels of :mod:`isotween.optimisation.accelerated` (``pip install
+    isotween[fast]``): Eqs. (6), (8) and (9) fused in one pass over the edges
+    (midpoint scheme with only the two ends held; other cases take the
+    reference pass), Eqs. (12)-(13), and a banded Cholesky for Eq. (10).
+
+:func:`current` is the backend in use: 'numba' when numba is installed and
+the environment does not set ``ISOTWEEN_NUMBA=0`` (read here and nowhere
+else), otherwise 'numpy'. :func:`use` switches it.
+
+Examples
+--------
+>>> from isotween.optimisation import backend
+>>> with backend.use("numpy"):
+...     print(backend.current().name)
+numpy
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib.util
+import os
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import MissingDependencyError, ParameterError
+from . import accelerated, reference
+
+if TYPE_CHECKING:
+    from collections.abc import Iterator
+
+__all__ = ["BACKENDS", "NumpyBackend", "NumbaBackend", "available", "current", "use"]
+
+BACKENDS = ("numpy", "numba")
+
+
+class NumpyBackend:
+    """The numpy / scipy reference.
+
+    Attributes
+    ----------
+    name : str
+    banded : bool
+        Whether this backend factorises Eq. (10) in banded form (here: no).
+    """
+
+    name = "numpy"
+    banded = False
+
+    def edge_init(self, top, e0, e1, t):
+        """Eqs. (12)-(13) with angles propagated along the edge tree.
+
+        Parameters
+        ----------
+        top : Topology
+        e0, e1 : (E,) complex
+            Source and target edge vectors.
+        t : (F,) float
+
+        Returns
+        -------
+        (E, F) complex
+        """
+        s, theta = reference.edge_angles(top, e0, e1)
+        return reference.edge_frames(e0, s, theta, t)
+
+    def edge_pass(self, top, t, scheme, fixed, smooth):
+        """The edge work of one iteration of Algorithm 2 (Eqs. 8, 6, 9).
+
+        Parameters
+        ----------
+        top : Topology
+        t : (F,) float
+        scheme : {'midpoint', 'paper'}
+        fixed : (F,) bool
+            Held frames.
+        smooth : float
+            Weight of the smooth turn through interior held frames.
+
+        Returns
+        -------
+        callable
+            ``pass_(z, solve) -> (edges, energy)`` on (n, F) complex frames,
+            with ``pass_.reuse(edges)`` (may write into the caller's (E, F)
+            array) and ``pass_.close()``.
+        """
+        return reference.EdgePass(top, t, scheme, fixed, smooth)
+
+
+class NumbaBackend(NumpyBackend):
+    """The numba kernels; the numpy reference where no kernel covers a case."""
+
+    name = "numba"
+    banded = True
+
+    def edge_init(self, top, e0, e1, t):
+        """As :meth:`NumpyBackend.edge_init`."""
+        return accelerated.edge_init(top, e0, e1, t)
+
+    def edge_pass(self, top, t, scheme, fixed, smooth):
+        """As :meth:`NumpyBackend.edge_pass`; fused for the midpoint scheme with only the ends held."""
+        if scheme == "midpoint" and fixed[0] and fixed[-1] and not fixed[1:-1].any():
+            return _FusedPass(top, t)
+        return super().edge_pass(top, t, scheme, fixed, smooth)
+
+    def band_cholesky(self, band):
+        """See :func:`isotween.optimisation.accelerated.band_cholesky`."""
+        return accelerated.band_cholesky(band)
+
+    def banded_positions(self, *args):
+        """See :func:`isotween.optimisation.accelerated.banded_positions`."""
+        return accelerated.banded_positions(*args)
+
+
+class _FusedPass:
+    """Eqs. (8), (6), (9) in one numba pass: `reference.EdgePass` on all edges at once."""
+
+    def __init__(self, top, t):
+        self.first, self.second, self.inv_h = top.first, top.second, 1.0 / np.diff(t)
+        self.out = None
+
+    def reuse(self, edges):
+        if edges.dtype == complex and edges.flags.c_contiguous:
+            self.out = edges
+
+    def __call__(self, z, solve):
+        if self.out is None:
+            self.out = np.empty((len(self.first), z.shape[1]), dtype=complex)
+        return self.out, accelerated.midpoint_edge_pass(z, self.first, self.second, self.inv_h, solve, self.out)
+
+    def close(self):
+        self.out = None
+
+
+#: numba is installed (imported, a third of a second, on the first kernel call, not with isotween)
+_HAVE_NUMBA = importlib.util.find_spec("numba") is not None
+_INSTANCES = {"numpy": NumpyBackend(), "numba": NumbaBackend()}
+_state = {"name": "numba" if _HAVE_NUMBA and os.environ.get("ISOTWEEN_NUMBA", "1") != "0" else "numpy"}
+
+
+def available() -> tuple[str, ...]:
+    """Names of the backends that can run here ('numba' needs numba installed).
+
+    Examples
+    --------
+    >>> from isotween.optimisation import backend
+    >>> "numpy" in backend.available()
+    True
+    """
+    return BACKENDS if _HAVE_NUMBA else ("numpy",)
+
+
+def current() -> NumpyBackend:
+    """The backend in use: a :class:`NumpyBackend` or :class:`NumbaBackend`."""
+    return _INSTANCES[_state["name"]]
+
+
+@contextlib.contextmanager
+def _restoring(previous: str) -> Iterator[None]:
+    try:
+        yield
+    finally:
+        _state["name"] = previous
+
+
+def use(name: str) -> contextlib.AbstractContextManager[None]:
+    """Switch the backend now; used as a ``with`` block, switch back at its end.
+
+    Parameters
+    ----------
+    name : {'numpy', 'numba'}
+
+    Raises
+    ------
+    ParameterError
+        Unknown name.
+    MissingDependencyError
+        'numba' without numba installed.
+    """
+    if name not in BACKENDS:
+        raise ParameterError(f"unknown backend {name!r}; choose one of {', '.join(BACKENDS)}")
+    if name not in available():
+        raise MissingDependencyError("the numba backend needs numba: pip install 'isotween[fast]'")
+    previous, _state["name"] = _state["name"], name
+    return _restoring(previous)
