@@ -5,11 +5,11 @@ import pytest
 
 from isotween import Shape, interpolate
 from isotween.initialisation import edge_vector_init
-from isotween.optimisation import accelerated
+from isotween.optimisation import accelerated, backend
 from isotween.optimisation.assembly import FrameAssembler
 from shapes import bend, chain, ellipse, grid_mesh, rotation
 
-pytestmark = pytest.mark.skipif(not accelerated.ENABLED, reason="numba missing or ISOTWEEN_NUMBA=0")
+pytestmark = pytest.mark.skipif(backend.current().name != "numba", reason="numba missing or ISOTWEEN_NUMBA=0")
 
 
 def two_bars():
@@ -31,19 +31,19 @@ def pairs():
     }
 
 
-def run(pair, enabled, monkeypatch, **kw):
-    monkeypatch.setattr(accelerated, "ENABLED", enabled)
-    return interpolate(*pair, **kw)
+def run(pair, enabled, **kw):
+    with backend.use("numba" if enabled else "numpy"):
+        return interpolate(*pair, **kw)
 
 
 @pytest.mark.parametrize("name", list(pairs()))
 @pytest.mark.parametrize("frames", [3, 4, 17])
-def test_kernels_give_the_numpy_frames(name, frames, monkeypatch):
+def test_kernels_give_the_numpy_frames(name, frames):
     pair = pairs()[name]
     moves = {True: [], False: []}
     seq = {}
     for enabled in (True, False):
-        seq[enabled] = run(pair, enabled, monkeypatch, frames=frames, tol=1e-12, max_iter=4,
+        seq[enabled] = run(pair, enabled, frames=frames, tol=1e-12, max_iter=4,
                            callback=lambda it, energy, move, out=moves[enabled]: out.append(move))
     size = pair[0].bbox_diagonal()
     np.testing.assert_allclose(seq[True].frames, seq[False].frames, atol=1e-10 * size)
@@ -68,8 +68,8 @@ def test_banded_assembly_solves_eq10_and_reports_the_move(monkeypatch):
     centroids = rng.standard_normal((2, 6)) + 1j * rng.standard_normal((2, 6))
     banded = FrameAssembler(src, w)
     assert banded._band is not None
-    monkeypatch.setattr(accelerated, "ENABLED", False)
-    reference = FrameAssembler(src, w)
+    with backend.use("numpy"):
+        reference = FrameAssembler(src, w)
     want = reference.positions(e, centroids)
     np.testing.assert_allclose(banded.positions(e, centroids), want, atol=1e-10)
     # the normal equations of Eq. (10) hold and the centroids are where they were asked to be
@@ -93,8 +93,8 @@ def test_edge_init_kernel_matches_numpy(uniform, threaded, monkeypatch):
     if threaded:
         monkeypatch.setattr(accelerated, "PARALLEL_SIZE", 0)
     fast = edge_vector_init(src, src.edge_vectors(), tgt.edge_vectors(), t)
-    monkeypatch.setattr(accelerated, "ENABLED", False)
-    slow = edge_vector_init(src, src.edge_vectors(), tgt.edge_vectors(), t)
+    with backend.use("numpy"):
+        slow = edge_vector_init(src, src.edge_vectors(), tgt.edge_vectors(), t)
     np.testing.assert_allclose(fast, slow, atol=1e-12)
     np.testing.assert_allclose(fast[:, -1], tgt.edge_vectors(), atol=1e-12)
 

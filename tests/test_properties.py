@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from isotween import Shape, interpolate
-from isotween.optimisation import accelerated
+from isotween.optimisation import backend
 
 SETTINGS = dict(derandomize=True, database=None, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -89,7 +89,7 @@ def test_runs_are_deterministic(pair, solver, scheme):
     assert np.array_equal(first.frames, second.frames) and first.energy == second.energy
 
 
-@pytest.mark.skipif(not accelerated.ENABLED, reason="numba missing or ISOTWEEN_NUMBA=0")
+@pytest.mark.skipif("numba" not in backend.available(), reason="numba missing")
 @settings(max_examples=20, **SETTINGS)
 @given(shape_pair(), st.integers(min_value=3, max_value=12))
 def test_numba_and_numpy_paths_agree_at_a_tight_tolerance(pair, frames):
@@ -100,11 +100,8 @@ def test_numba_and_numpy_paths_agree_at_a_tight_tolerance(pair, frames):
     a, b = pair
     runs = {}
     for enabled in (True, False):
-        accelerated.ENABLED = enabled
-        try:
+        with backend.use("numba" if enabled else "numpy"):
             runs[enabled] = interpolate(a, b, frames=frames, tol=1e-9, max_iter=300)
-        finally:
-            accelerated.ENABLED = True
     fast, reference = runs[True], runs[False]
     assert fast.iterations == reference.iterations and fast.converged == reference.converged
     assert np.max(np.abs(fast.z - reference.z)) <= 1e-10 * diagonal(reference)

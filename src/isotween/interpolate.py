@@ -28,6 +28,7 @@ if TYPE_CHECKING:
 
     from numpy.typing import ArrayLike
 
+    from .sequence import Sequence
     from .shape import ShapeLike
 
 __all__ = ["interpolate", "SOLVERS", "check_movable", "check_stopping"]

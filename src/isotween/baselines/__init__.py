@@ -65,7 +65,8 @@ def run(method, source, target, n_frames, *, times=None, **options):
     Returns
     -------
     Sequence
-        Built from a :class:`~isotween.optimisation.problem.Result`: ``method``, ``iterations``, ``energy`` (iterative methods), ``timings``
+        Built from a :class:`~isotween.optimisation.problem.Result`:
+        ``method``, ``iterations``, ``energy`` (iterative methods), ``timings``
         and, in ``info``, what the method needs to say (see each module).
 
     Raises

@@ -166,5 +166,6 @@ class EdgeBlocks:
         return out, float(sum(energies))
 
     def close(self):
+        """Stop the threads."""
         if self.pool is not None:
             self.pool.shutdown()
