@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .optimisation.schemes import step_angle
+from .optimisation.schemes import midpoint_angle, step_angle
 from .sequence import Sequence
 from .shape import Shape
 
@@ -81,5 +81,5 @@ def relative_velocity_field(seq: Sequence, *, scheme: str = "midpoint") -> Relat
     e = seq.edge_vectors().T.copy()
     h = np.diff(seq.times)
     de = np.diff(e, axis=1)
-    at = e[:, :-1] + 0.5 * de if scheme == "midpoint" else e[:, :-1]
-    return RelativeVelocityField(seq.shape, seq.times.copy(), e, de / h, step_angle(at, de) / h)
+    omega = midpoint_angle(e[:, :-1], e[:, 1:])[0] if scheme == "midpoint" else step_angle(e[:, :-1], de)  # Eq. (8)
+    return RelativeVelocityField(seq.shape, seq.times.copy(), e, de / h, omega / h)

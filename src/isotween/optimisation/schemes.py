@@ -23,7 +23,7 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["SCHEMES", "step_angle", "coefficients", "energy_terms", "isometric_energy",
+__all__ = ["SCHEMES", "step_angle", "midpoint_angle", "coefficients", "energy_terms", "isometric_energy",
            "normal_equations"]
 
 SCHEMES = ("midpoint", "paper")
@@ -52,6 +52,31 @@ def step_angle(e, de):
     return _ratio((e.conj() * de).imag, e.real**2 + e.imag**2)
 
 
+def midpoint_angle(e0, e1):
+    """Corrected Eq. (8) times h, fitted at the midpoint (e0 + e1) / 2.
+
+    omega = Im(conj(s) d) / (|s|^2 / 2) with s = e0 + e1, d = e1 - e0; zero
+    where s vanishes. The numba twin is in
+    :mod:`isotween.optimisation.accelerated` (``_edge_solve``).
+
+    Parameters
+    ----------
+    e0, e1 : (E, m) complex
+        Edge vectors at the start and the end of every interval.
+
+    Returns
+    -------
+    omega : (E, m) float
+    p_imag : (E, m) float
+        Im(conj(s) d), which the energy needs as well.
+    d : (E, m) complex
+        e1 - e0.
+    """
+    s, d = e0 + e1, e1 - e0
+    p_imag = (s.conj() * d).imag
+    return 2.0 * _ratio(p_imag, s.real**2 + s.imag**2), p_imag, d
+
+
 def coefficients(e, scheme):
     """Residual coefficients of every edge and interval.
 
@@ -68,10 +93,10 @@ def coefficients(e, scheme):
         midpoint scheme, two (forward, reverse) for the paper scheme.
     """
     e0, e1 = e[:, :-1], e[:, 1:]
-    de = e1 - e0
     if scheme == "midpoint":
-        w = 0.5j * step_angle(e0 + e1, 2.0 * de)  # i omega / 2, omega at the midpoint
+        w = 0.5j * midpoint_angle(e0, e1)[0]  # i omega / 2, omega at the midpoint
         return [(1.0 - w, -(1.0 + w), 1.0)]
+    de = e1 - e0
     if scheme == "paper":
         fwd = 1j * step_angle(e0, de)  # Eq. (7)-(8): forward difference at t_k
         rev = 1j * step_angle(e1, -de)  # Sec. 3.2 reverse sampling at t_{k+1}
@@ -129,10 +154,7 @@ def normal_equations(e, h, scheme):
     if scheme == "midpoint":
         # alpha = 1 - i w/2, beta = -(1 + i w/2): |alpha|^2 = |beta|^2 = 1 + w^2/4,
         # conj(alpha) beta = -(1 - w^2/4 + i w)
-        s = e0 + e1
-        p = s.conj() * (e1 - e0)
-        s2 = s.real**2 + s.imag**2
-        w = 2.0 * _ratio(p.imag, s2)
+        w, p_imag, d = midpoint_angle(e0, e1)  # Eq. (8)
         q = 0.25 * w * w
         a2 = (1.0 + q) * inv_h
         diag[:, 1:] += a2
@@ -140,9 +162,9 @@ def normal_equations(e, h, scheme):
         lower = np.empty(w.shape, dtype=complex)
         lower.real = -(1.0 - q) * inv_h
         lower.imag = -w * inv_h
-        # |r|^2 = |d|^2 - (Im p)^2 / |s|^2 = (Re p)^2 / |s|^2, also where s = 0
-        d2 = (e1 - e0).real ** 2 + (e1 - e0).imag ** 2
-        energy = float(np.sum((d2 - 0.5 * w * p.imag) @ inv_h))
+        # |r|^2 = |d|^2 - (Im p)^2 / |s|^2 = (Re p)^2 / |s|^2, also where s = 0 (p = conj(s) d)
+        d2 = d.real**2 + d.imag**2
+        energy = float(np.sum((d2 - 0.5 * w * p_imag) @ inv_h))
         return diag, lower, energy
     if scheme == "paper":
         d = e1 - e0
