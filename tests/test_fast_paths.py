@@ -68,8 +68,8 @@ def test_eq11_compares_successive_iterations(bar, numba, assembly):
 
 def _local(pair, frames, factorisation, tol=1e-7, max_iter=100):
     """`interpolate`'s local solve with a chosen factorisation of Eq. (10): (z (n, F), Result)."""
-    from isotween.problems import keyed_problem
     from isotween.optimisation.solve import solve
+    from isotween.problems import keyed_problem
 
     src, tgt = pair
     t = np.linspace(0.0, 1.0, frames)

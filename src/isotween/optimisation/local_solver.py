@@ -3,8 +3,9 @@
 Each iteration assembles every frame from the current edge vectors (Eq. 10),
 fits the angular speeds to the assembled frames (Eq. 8) and re-solves every
 edge's vector sequence (Eq. 9), until the assembled frames move less than the
-tolerance (Eq. 11). Arrays are laid out with time last: edges (E, m+1),
-vertices (n, m+1).
+tolerance (Eq. 11). The edge work runs on the compute backend in use
+(:mod:`isotween.optimisation.backend`). Arrays are laid out with time last:
+edges (E, m+1), vertices (n, m+1).
 """
 
 import time
