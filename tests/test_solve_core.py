@@ -145,3 +145,16 @@ def test_no_import_cycle(module):
     code = (f"import importlib, sys; importlib.import_module({module!r}); "
             "m = sys.modules['isotween.interpolate']; import isotween.baselines as b; assert m.baselines is b")
     subprocess.run([sys.executable, "-c", code], env={"PYTHONPATH": str(SRC.parent), "PATH": ""}, check=True)
+
+
+@pytest.mark.parametrize("times, message", [
+    ("soon", "times must give one number per frame"),
+    ([0.0, 1.0], r"one value per frame \(3\)"),
+    ([0.0, 0.7, 0.5], "frame times must increase strictly from 0 to 1"),
+])
+def test_frame_times_are_checked_in_one_place(bar, times, message):
+    """interpolate and interpolate_keyframes refuse bad times with the same check, naming frames or keyframes."""
+    with pytest.raises(ParameterError, match=message):
+        interpolate(*bar, frames=3, times=times)
+    with pytest.raises(ParameterError, match=message.replace("frame", "keyframe")):
+        interpolate_keyframes([bar[0], bar[1], bar[0]], times=times, frames=9)

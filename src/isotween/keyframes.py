@@ -10,7 +10,7 @@ import numpy as np
 
 from ._heap import keep_heap_if_asked
 from .correspondence.compatibility import as_shape, check_compatible
-from .easing import frame_times
+from .easing import frame_times as eased_times
 from .errors import ParameterError
 from .interpolate import interpolate
 from .optimisation.local_solver import ASSEMBLY
@@ -21,6 +21,7 @@ from .paint import paint_keys
 from .problems import check_choice, check_movable, check_stopping, keyed_problem
 from .resources import check_memory, solve_bytes
 from .sequence import Sequence
+from .times import frame_times
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -114,15 +115,8 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
     check_memory(solve_bytes(frames, shapes[0].n_vertices, shapes[0].n_edges),
                  f"interpolating {frames} frames of {shapes[0].n_vertices} vertices and {shapes[0].n_edges} edges",
                  max_memory)
-    try:
-        key_t = np.linspace(0.0, 1.0, K) if times is None else np.asarray(times, dtype=float)
-    except (ValueError, TypeError):
-        raise ParameterError(f"times must give one number per keyframe ({K}), got {times!r:.80}") from None
-    if key_t.shape != (K,) or not np.all(np.isfinite(key_t)):
-        raise ParameterError(f"times must give one finite time per keyframe ({K})")
-    if key_t[0] != 0.0 or key_t[-1] != 1.0 or np.any(np.diff(key_t) <= 0):
-        raise ParameterError(f"keyframe times must increase strictly from 0 to 1, got {key_t.tolist()}")
-    t = frame_times(frames, easing)
+    key_t = frame_times(K, times, per="keyframe")
+    t = eased_times(frames, easing)
     idx = np.abs(t[None, :] - key_t[:, None]).argmin(axis=1)
     if np.any(np.diff(idx) <= 0):
         raise ParameterError(f"{frames} frames are too few to give each of the {K} keyframes its own frame")

@@ -13,7 +13,7 @@ from .errors import ParameterError
 __all__ = ["frame_times", "uniform_times"]
 
 
-def frame_times(frames: int, times: ArrayLike | None = None) -> NDArray[np.float64]:
+def frame_times(frames: int, times: ArrayLike | None = None, *, per: str = "frame") -> NDArray[np.float64]:
     """Validated frame times, both inputs included.
 
     Parameters
@@ -23,6 +23,9 @@ def frame_times(frames: int, times: ArrayLike | None = None) -> NDArray[np.float
     times : (frames,) array_like of float, optional
         Strictly increasing times from exactly 0 to exactly 1; uniform when
         omitted.
+    per : str
+        What the times belong to, for the error messages ('frame',
+        'keyframe').
 
     Returns
     -------
@@ -32,8 +35,8 @@ def frame_times(frames: int, times: ArrayLike | None = None) -> NDArray[np.float
     Raises
     ------
     ParameterError
-        ``frames`` is not an integer >= 2, or ``times`` has the wrong length,
-        is not finite, does not start at 0 and end at 1, or does not increase.
+        ``frames`` is not an integer >= 2, or ``times`` is not numbers, has
+        the wrong length, is not finite, does not start at 0 and end at 1, or does not increase.
 
     Examples
     --------
@@ -47,11 +50,14 @@ def frame_times(frames: int, times: ArrayLike | None = None) -> NDArray[np.float
         raise ParameterError(f"frames must be an integer >= 2 (both inputs included), got {frames!r}")
     if times is None:
         return uniform_times(int(frames)).copy()
-    t = np.asarray(times, dtype=np.float64)
+    try:
+        t = np.asarray(times, dtype=np.float64)
+    except (ValueError, TypeError):
+        raise ParameterError(f"times must give one number per {per} ({frames}), got {times!r:.80}") from None
     if t.shape != (frames,):
-        raise ParameterError(f"times must have one value per frame ({frames}), got shape {t.shape}")
+        raise ParameterError(f"times must have one value per {per} ({frames}), got shape {t.shape}")
     if not np.all(np.isfinite(t)) or t[0] != 0.0 or t[-1] != 1.0 or np.any(np.diff(t) <= 0):
-        raise ParameterError("times must increase strictly from 0 to 1")
+        raise ParameterError(f"{per} times must increase strictly from 0 to 1, got {t.tolist()!s:.80}")
     return t.copy()
 
 
