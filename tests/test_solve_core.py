@@ -153,7 +153,7 @@ def test_no_import_cycle(module):
     ([0.0, 0.7, 0.5], "frame times must increase strictly from 0 to 1"),
 ])
 def test_frame_times_are_checked_in_one_place(bar, times, message):
-    """interpolate and interpolate_keyframes refuse bad times with the same check, naming frames or keyframes."""
+    """Bad times: `interpolate` and `interpolate_keyframes` refuse them with one check, naming frames or keyframes."""
     with pytest.raises(ParameterError, match=message):
         interpolate(*bar, frames=3, times=times)
     with pytest.raises(ParameterError, match=message.replace("frame", "keyframe")):

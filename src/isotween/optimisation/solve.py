@@ -29,7 +29,8 @@ def solve(problem: Problem, *, solver: str = "local", assembly: str = "shared", 
     ----------
     problem : Problem
     solver : {'local', 'global'}
-        The global solver holds only the first and the last frame.
+        The global solver holds only the first and the last frame and starts
+        from Eq. (10) of the initial edges (written into ``problem.z``).
     assembly : {'shared', 'per-frame'}
         Local solver: Eq. (10) weights (see :func:`~isotween.optimisation.local_solver.local_solve`).
     linear_solver : {'cg', 'direct'}
