@@ -120,7 +120,7 @@ class FrameAssembler:
         Dt = top.D_free_T
         self._DtW = sp.csr_matrix((Dt.data * self.weights[Dt.indices], Dt.indices, Dt.indptr),
                                   shape=Dt.shape)
-        self._DtW_rows = {}
+        self._DtW_rows, self._rhs = {}, None
         if nf == 0:
             self._factor = np.zeros_like
             return
@@ -188,7 +188,9 @@ class FrameAssembler:
         an (n_free, F') product is made.
         """
         nf, F = self.free.size, e.shape[1]
-        rhs = np.empty((nf, 2 * F), order="F")
+        rhs = self._rhs
+        if rhs is None or rhs.shape != (nf, 2 * F):  # kept for the next iteration: no fresh pages to fault in
+            rhs = self._rhs = np.empty((nf, 2 * F), order="F")
         whole, first = _parent_columns(e)
         if whole is None:  # blocks of frames copied contiguous, (E, step) copies of <= 64 MiB
             step = max(1, (64 << 20) // (16 * max(e.shape[0], 1)))
@@ -230,7 +232,6 @@ class FrameAssembler:
         F = e.shape[1]
         rhs = self._cholmod_rhs(e)
         x = self._factor(rhs)  # (n_free, 2F) Fortran-ordered, frames' real and imaginary parts side by side
-        del rhs
         top = self._top
         # centroid of each component with its anchor at 0, then the translation onto `centroids`
         if self.n_components == 1:
