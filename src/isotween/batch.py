@@ -241,7 +241,7 @@ def run_jobs_one_thread(jobs):
     return run_jobs(jobs)
 
 
-_LIMITS = []  # threadpoolctl's limits, held for the life of the worker process
+_LIMITS: list = []  # threadpoolctl's limits, held for the life of the worker process
 
 
 def single_threaded():
