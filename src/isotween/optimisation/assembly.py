@@ -17,7 +17,10 @@ Three factorisations, chosen by size (benchmarks/RESULTS.md, Performance):
 - 'cholmod': CHOLMOD's supernodal Cholesky with a fill-reducing ordering
   (scikit-sparse, ``pip install isotween[large]``); the symbolic analysis is
   kept per connectivity, so a new set of weights costs only the numeric
-  factorisation;
+  factorisation. One solve takes every frame's real and imaginary parts as
+  columns; the right-hand sides are read from the frames' edge vectors in
+  place and the solution is written into the frames a block of rows at a
+  time, so the only (n, F)-sized arrays are the solve's own;
 - 'splu': scipy's SuperLU (always available).
 """
 
