@@ -394,7 +394,11 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
     outdir : path-like
         Relative outputs go here (created if missing).
     workers : int, optional
-        Local worker processes (default: all cores). 1 runs in this process.
+        Local worker processes (default: all cores), each on one thread
+        (`single_threaded`). 1 runs in this process. Workers are forked from
+        this process, or from a fork server once this process has started
+        numba's OpenMP pool (by running jobs itself); a script that then
+        calls `batch` needs the ``if __name__ == "__main__":`` guard.
     client : distributed.Client, optional
         Run on this Dask cluster instead of local processes.
     scheduler : str, optional
