@@ -19,6 +19,7 @@ import argparse
 import itertools
 import json
 import os
+import resource
 import shutil
 import sys
 import tempfile
@@ -49,24 +50,34 @@ def make_jobs(folder, count, points, frames):
              "options": {"resample": points, "frames": frames}} for i, (a, b) in enumerate(pairs)]
 
 
+def _children_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def run(jobs, workers=None, client=None, runs=3):
-    """Median wall time, sum of in-job seconds (of the median run) and the counts."""
+    """Wall, in-job seconds, in-job CPU, client CPU and worker CPU seconds of the median run; all walls.
+
+    Worker CPU: of the worker processes that ended during the run and are this process's children
+    (local workers forked from here); 0 otherwise.
+    """
     import isotween
 
     results = []
     for _ in range(runs):
         out = Path(tempfile.mkdtemp(prefix="isotween-batch-"))
         try:
-            t0 = time.perf_counter()
+            c0, w0, t0 = time.process_time(), _children_cpu(), time.perf_counter()
             res = isotween.batch(jobs, outdir=out, workers=workers, client=client, resume=False)
-            wall = time.perf_counter() - t0
-            busy = sum(json.loads(line)["seconds"] for line in open(res["report"], encoding="utf-8"))
+            wall, client_cpu, workers_cpu = time.perf_counter() - t0, time.process_time() - c0, _children_cpu() - w0
+            recs = [json.loads(line) for line in open(res["report"], encoding="utf-8")]
         finally:
             shutil.rmtree(out, ignore_errors=True)
         assert res["done"] == len(jobs), res["failures"][:3]
-        results.append((wall, busy))
+        results.append((wall, sum(r["seconds"] for r in recs), sum(r["cpu_seconds"] for r in recs), client_cpu,
+                        workers_cpu))
     results.sort()
-    return results[len(results) // 2], [w for w, _ in results]
+    return results[len(results) // 2], [r[0] for r in results]
 
 
 def main():
@@ -83,38 +94,64 @@ def main():
     folder = Path(tempfile.mkdtemp(prefix="isotween-glyphs-"))
     try:
         jobs = make_jobs(folder, args.jobs, args.points, args.frames)
-        run(jobs[:20], workers=1, runs=1)  # warm-up: imports, numba cache
-        rows = []
-        (one, busy1), all1 = run(jobs, workers=1, runs=args.runs)
-        rows.append(["1 process", 1, one, busy1, all1])
-        (loc, busyl), alll = run(jobs, workers=cores, runs=args.runs)
-        rows.append([f"local processes (all {cores} cores)", cores, loc, busyl, alll])
+        from isotween.batch import single_threaded
+
+        # local processes first: this process has run no job yet, so the workers are forked from it
+        # (as `isotween batch` starts them); a batch after jobs ran here starts them from a fork server
+        run(jobs[:20], workers=cores, runs=1)  # warm-up: numba's on-disk cache
+        (loc, *restl), alll = run(jobs, workers=cores, runs=args.runs)
         from distributed import Client, LocalCluster
 
         with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                           dashboard_address=None) as cluster, Client(cluster) as client:
             client.run(lambda: __import__("isotween").interpolate)  # workers import isotween first
             run(jobs[:20], client=client, runs=1)
-            (dsk, busyd), alld = run(jobs, client=client, runs=args.runs)
-        rows.append(["Dask LocalCluster (2 workers x 1 thread)", 2, dsk, busyd, alld])
+            (dsk, *restd), alld = run(jobs, client=client, runs=args.runs)
+        threads = single_threaded()  # the 1-process baseline runs on one thread, as every worker does
+        run(jobs[:20], workers=1, runs=1)
+        (one, *rest1), all1 = run(jobs, workers=1, runs=args.runs)
+        rows = [["1 process", 1, one, *rest1, all1],
+                [f"local processes (all {cores} cores)", cores, loc, *restl, alll],
+                ["Dask LocalCluster (2 workers x 1 thread)", 2, dsk, *restd, alld]]
     finally:
         shutil.rmtree(folder, ignore_errors=True)
+    cpu_one = rest1[2]  # the whole process's CPU time: jobs and bookkeeping
+    cpu_all = (restl[3] if restl[3] > 0 else restl[1]) + restl[2]  # workers (whole, or in jobs) + client
     out = []
-    for name, w, wall, busy, walls in rows:
+    for name, w, wall, busy, cpu, client_cpu, workers_cpu, walls in rows:
         out.append([name, w, f"{wall:.2f} ({min(walls):.2f}-{max(walls):.2f})", f"{args.jobs / wall:.1f}",
-                    f"{1e3 * busy / args.jobs:.1f}", f"{100 * one / (w * wall):.0f} %",
-                    f"{1e3 * (w * wall - busy) / args.jobs:.1f}"])
+                    f"{1e3 * busy / args.jobs:.1f}", f"{1e3 * cpu / args.jobs:.1f}",
+                    f"{100 * one / (w * wall):.0f} %", f"{1e3 * (w * wall - busy) / args.jobs:.1f}",
+                    f"{1e3 * (client_cpu - (cpu if w == 1 else 0.0)) / args.jobs:.2f}",
+                    f"{1e3 * (workers_cpu - cpu) / args.jobs:.2f}" if workers_cpu > 0 else "n/a"])
         print(out[-1], flush=True)
     body = (f"{args.jobs} glyph morphs (DejaVu Sans Bold outlines, pairs of {len(CHARS)} single-outline "
             f"characters, each resampled to {args.points} vertices in the job, {args.frames} frames, "
             "written as .npz), run by `isotween.batch`; median (min-max) of "
             f"{args.runs} runs into a fresh folder.\n\n"
-            + table(["runner", "workers", "wall s", "jobs / s", "ms in a job (mean)", "parallel efficiency",
-                     "overhead ms / job"], out)
+            + table(["runner", "workers", "wall s", "jobs / s", "ms in a job (mean)", "CPU ms in a job (mean)",
+                     "parallel efficiency", "overhead ms / job", "client CPU ms / job",
+                     "worker CPU ms / job outside jobs"], out)
             + "\n\nParallel efficiency: 1-process wall time / (workers x wall time). Overhead per job: "
             "(workers x wall time - time spent inside the jobs) / jobs, i.e. what a job costs the "
             "workers beyond its own work (process start-up, scheduling, transfer of the job and its "
-            "record, the client's hashing of the input files).\n\n"
+            "record, the client's hashing of the input files). CPU in a job: the worker process's CPU "
+            "time during the job (all its threads); above the wall time in a job when threads run side "
+            "by side, below it when the job waits for a core. Client CPU per job: CPU time of the "
+            "process that calls `isotween.batch` outside the jobs (hashing the inputs, submitting, "
+            "waiting, writing the report), which competes with the workers for the cores. Worker CPU outside "
+            "jobs: the local workers' whole CPU time (start-up, imports, loading numba's kernels, "
+            "receiving jobs, sending records) less their CPU inside jobs, per job (n/a for Dask, whose "
+            "workers are not measured).\n\n"
+            f"Threads: every worker runs numba, the BLAS and OpenMP on one thread "
+            f"(`isotween.batch.single_threaded`, applied by the local workers and Dask tasks), and so does "
+            f"the 1-process baseline here (threads in use: {threads}). Order: local processes, Dask, "
+            "then 1 process, so that the local workers are forked from a process that has run no job, "
+            "as the command line starts them.\n\n"
+            f"CPU time per job with {cores} local processes, everything included (in jobs, workers outside "
+            f"jobs, client): {1e3 * cpu_all / args.jobs:.1f} ms against {1e3 * cpu_one / args.jobs:.1f} ms in "
+            f"1 process, i.e. {100 * cpu_one / cpu_all:.0f} % CPU efficiency, the parallel efficiency an "
+            "otherwise idle machine would give if no worker ever waited.\n\n"
             f"Parallel efficiency on {cores} cores: {100 * one / (cores * loc):.0f} % with local processes, "
             f"{100 * one / (2 * dsk):.0f} % with Dask (target 80 %: "
             f"{'met' if one / (cores * loc) >= 0.8 else 'NOT met'} locally).\n\n"

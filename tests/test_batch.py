@@ -167,3 +167,31 @@ def test_jobs_are_pulled_lazily_within_the_window(pairs, tmp_path):
     assert res["done"] == len(jobs) == len(seen)
     assert all(i - finished <= 2 for i, finished in seen)
     assert max(i - finished for i, finished in seen) >= 1  # jobs run side by side
+
+
+def test_local_workers_run_single_threaded_after_jobs_in_this_process(pairs, tmp_path):
+    """Workers run numba and the BLAS on one thread each (two workers share two cores).
+
+    They start even after this process has run jobs itself and so started numba's OpenMP pool, which
+    does not survive a fork (workers forked from here were terminated).
+    """
+    from isotween.batch import _Local, threads_in_use
+
+    folder, names = pairs
+    serial = isotween.batch(jobs_of(folder, names, frames=7), outdir=tmp_path / "serial", workers=1)
+    local = isotween.batch(jobs_of(folder, names, frames=7), outdir=tmp_path / "local", workers=2)
+    assert serial["done"] == local["done"] == 3
+    for n in names:
+        np.testing.assert_array_equal(io.load_sequence(tmp_path / "local" / f"{n}.npz").frames,
+                                      io.load_sequence(tmp_path / "serial" / f"{n}.npz").frames)
+    for rec in records(tmp_path / "local" / "batch-report.jsonl"):  # one busy thread: CPU time <= wall time
+        assert 0.0 <= rec["cpu_seconds"] <= rec["seconds"] + 0.05
+    here = threads_in_use()
+    runner = _Local(2)
+    try:
+        seen = [f.result() for f in [runner.pool.submit(threads_in_use) for _ in range(4)]]
+    finally:
+        runner.close()
+    expected = {k: (None if v is None else 1) for k, v in here.items()}
+    assert seen == [expected] * 4
+    assert threads_in_use() == here  # this process keeps its own settings

@@ -23,7 +23,8 @@ from pathlib import Path
 
 from .errors import FileFormatError, ParameterError
 
-__all__ = ["batch", "read_manifest", "run_job", "run_jobs", "JOB_OPTIONS"]
+__all__ = ["batch", "read_manifest", "run_job", "run_jobs", "run_jobs_one_thread", "single_threaded",
+           "threads_in_use", "JOB_OPTIONS"]
 
 #: per-job options and how a text value (a CSV cell) becomes one
 JOB_OPTIONS = {
@@ -195,10 +196,11 @@ def run_job(job):
     Returns
     -------
     dict
-        output, key, status ('done' or 'failed'), seconds, and iterations,
-        energy, vertices (done) or error (failed).
+        output, key, status ('done' or 'failed'), seconds (wall clock),
+        cpu_seconds (CPU time of this process during the job, all its
+        threads), and iterations, energy, vertices (done) or error (failed).
     """
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     record = {"output": job["output"], "key": job["key"], "line": job.get("line")}
     try:
         import warnings
@@ -226,12 +228,102 @@ def run_job(job):
     except Exception as exc:  # noqa: BLE001 - one job's failure is recorded, the others go on
         record.update(status="failed", error=f"{type(exc).__name__}: {exc}")
     record["seconds"] = round(time.perf_counter() - start, 6)
+    record["cpu_seconds"] = round(time.process_time() - cpu, 6)
     return record
 
 
 def run_jobs(jobs):
     """`run_job` on each of a list of jobs (one task of several small jobs): list of records."""
     return [run_job(job) for job in jobs]
+
+
+def run_jobs_one_thread(jobs):
+    """`run_jobs` in a worker that shares the cores with other workers: `single_threaded` first."""
+    single_threaded()
+    return run_jobs(jobs)
+
+
+_LIMITS: list = []  # threadpoolctl's limits, held for the life of the worker process
+
+
+def single_threaded():
+    """Run this thread's numba kernels, and this process's BLAS and OpenMP pools, on one thread.
+
+    Every batch worker is one of several processes sharing the cores, so
+    threads inside a worker would only compete with the other workers.
+    numba's setting is per thread (applied on every call); the BLAS and
+    OpenMP limits (threadpoolctl, with the 'fast' extra) once per process.
+
+    Returns
+    -------
+    dict
+        Threads now in use, as `threads_in_use` gives them.
+    """
+    try:
+        import numba
+    except ImportError:
+        pass
+    else:
+        numba.set_num_threads(1)
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        pass
+    else:
+        if not _LIMITS:
+            _LIMITS.append(threadpool_limits(1))
+    return threads_in_use()
+
+
+def threads_in_use():
+    """Threads this thread's numba kernels and this process's BLAS would use.
+
+    Returns
+    -------
+    dict
+        ``numba`` (None without numba) and ``blas`` (the largest BLAS pool;
+        None without threadpoolctl or without a BLAS loaded).
+    """
+    threads = {"numba": None, "blas": None}
+    try:
+        import numba
+    except ImportError:
+        pass
+    else:
+        threads["numba"] = numba.get_num_threads()
+    try:
+        from threadpoolctl import threadpool_info
+    except ImportError:
+        return threads
+    threads["blas"] = max((p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"), default=None)
+    return threads
+
+
+def _start_method():
+    """How local workers start: forked from this process unless that is unsafe here.
+
+    Forking shares the imports already made (workers start at once), but GNU
+    OpenMP, which numba's default threading layer uses, does not survive a
+    fork once its pool runs in the parent (the child is terminated): then a
+    fork server, a fresh process that imports isotween once, forks the workers.
+    """
+    import multiprocessing as mp
+    import sys
+
+    if "fork" not in mp.get_all_start_methods() or sys.platform == "darwin":
+        return mp.get_context()
+    numba = sys.modules.get("numba")
+    if numba is not None:
+        try:
+            numba.threading_layer()
+        except ValueError:  # no thread pool started in this process
+            pass
+        else:
+            ctx = mp.get_context("forkserver")
+            ctx.set_forkserver_preload(["isotween.batch", "isotween.interpolate", "isotween.correspondence",
+                                        "isotween.io", "isotween.outputs"])
+            return ctx
+    return mp.get_context("fork")
 
 
 def _finished(report):
@@ -257,7 +349,7 @@ class _Local:
     def __init__(self, workers):
         from concurrent.futures import ProcessPoolExecutor
 
-        self.pool = ProcessPoolExecutor(workers)
+        self.pool = ProcessPoolExecutor(workers, mp_context=_start_method(), initializer=single_threaded)
 
     def submit(self, jobs):
         return self.pool.submit(run_jobs, jobs)
@@ -280,7 +372,7 @@ class _Dask:
         self.client, self._wait = client, wait
 
     def submit(self, jobs):
-        return self.client.submit(run_jobs, jobs, pure=False)
+        return self.client.submit(run_jobs_one_thread, jobs, pure=False)
 
     def wait(self, futures):
         return self._wait(list(futures), return_when="FIRST_COMPLETED").done
@@ -302,7 +394,11 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
     outdir : path-like
         Relative outputs go here (created if missing).
     workers : int, optional
-        Local worker processes (default: all cores). 1 runs in this process.
+        Local worker processes (default: all cores), each on one thread
+        (`single_threaded`). 1 runs in this process. Workers are forked from
+        this process, or from a fork server once this process has started
+        numba's OpenMP pool (by running jobs itself); a script that then
+        calls `batch` needs the ``if __name__ == "__main__":`` guard.
     client : distributed.Client, optional
         Run on this Dask cluster instead of local processes.
     scheduler : str, optional

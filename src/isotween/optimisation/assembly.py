@@ -17,7 +17,10 @@ Three factorisations, chosen by size (benchmarks/RESULTS.md, Performance):
 - 'cholmod': CHOLMOD's supernodal Cholesky with a fill-reducing ordering
   (scikit-sparse, ``pip install isotween[large]``); the symbolic analysis is
   kept per connectivity, so a new set of weights costs only the numeric
-  factorisation;
+  factorisation. One solve takes every frame's real and imaginary parts as
+  columns; the right-hand sides are read from the frames' edge vectors in
+  place and the solution is written into the frames a block of rows at a
+  time, so the only (n, F)-sized arrays are the solve's own;
 - 'splu': scipy's SuperLU (always available).
 """
 
@@ -78,6 +81,9 @@ class FrameAssembler:
     BANDED = 128
     #: with scikit-sparse and a larger bandwidth (or no numba), CHOLMOD from this many free vertices
     CHOLMOD_SIZE = 20_000
+    #: the CHOLMOD path's passes over the vertices work on blocks of rows of at most this size
+    #: (below glibc's mmap threshold, so the blocks reuse heap memory)
+    BLOCK_BYTES = 4 << 20
 
     def __init__(self, shape, weights=None, factorisation="auto"):
         if factorisation not in FACTORISATIONS:
@@ -118,6 +124,7 @@ class FrameAssembler:
         Dt = top.D_free_T
         self._DtW = sp.csr_matrix((Dt.data * self.weights[Dt.indices], Dt.indices, Dt.indptr),
                                   shape=Dt.shape)
+        self._DtW_rows, self._rhs = {}, None
         if nf == 0:
             self._factor = np.zeros_like
             return
@@ -164,12 +171,10 @@ class FrameAssembler:
         if self._factor is None:
             self._factorise()
         F = e.shape[1]
-        if self.method == "cholmod":  # no two (n, F) arrays beyond the solve's at any time
-            free = self._cholmod_positions(e)
-            z = np.zeros((self.n, F), dtype=complex)
-            z[self.free] = free
-            del free
-            return self.place(z, centroids)
+        if self.method == "cholmod":
+            z = np.empty((self.n, F), dtype=complex)
+            self._cholmod_into(z, slice(None), e, centroids, measure=False)
+            return z
         z = np.zeros((self.n, F), dtype=complex)
         rhs = self._DtW @ e
         step = max(1, (4 << 20) // (16 * max(self.free.size, 1)))  # blocks of <= 4 MiB
@@ -177,26 +182,83 @@ class FrameAssembler:
             z[self.free, c : c + step] = self.solve_laplacian(rhs[:, c : c + step])
         return self.place(z, centroids)
 
-    def _cholmod_positions(self, e):
-        """(n_free, F) complex: L^{-1} D^T W e for all frames in one CHOLMOD solve.
+    def _cholmod_rhs(self, e):
+        """(n_free, 2F) Fortran-ordered real: D^T W e, real and imaginary parts of every frame side by side.
 
-        The right-hand sides are built a few frames at a time straight into one
-        Fortran-ordered real array (real parts of every frame, then imaginary
-        parts), the layout CHOLMOD solves without copying; ``e`` may be a
-        column slice (no (E, F) copy of it is made).
+        This is the layout CHOLMOD solves without copying. When ``e`` is a
+        column slice of a C-ordered (E, F') array (the local solver's frames
+        between the inputs), the sparse product reads that array's rows whole,
+        a block of vertices at a time, so neither an (E, F) copy of ``e`` nor
+        an (n_free, F') product is made.
         """
         nf, F = self.free.size, e.shape[1]
-        rhs = np.empty((nf, 2 * F), order="F")
-        step = max(1, (64 << 20) // (16 * e.shape[0]))  # (E, step) copies of <= 64 MiB
-        for c in range(0, F, step):
-            d = min(F, c + step)
-            block = self._DtW @ np.ascontiguousarray(e[:, c:d])
-            rhs[:, c:d], rhs[:, F + c : F + d] = block.real, block.imag
-        x = self._factor(rhs)
-        del rhs
-        out = np.empty((nf, F), dtype=complex)
-        out.real, out.imag = x[:, :F], x[:, F:]
-        return out
+        rhs = self._rhs
+        if rhs is None or rhs.shape != (nf, 2 * F):  # kept for the next iteration: no fresh pages to fault in
+            rhs = self._rhs = np.empty((nf, 2 * F), order="F")
+        whole, first = _parent_columns(e)
+        if whole is None:  # blocks of frames copied contiguous, (E, step) copies of <= 64 MiB
+            step = max(1, (64 << 20) // (16 * max(e.shape[0], 1)))
+            for c in range(0, F, step):
+                d = min(F, c + step)
+                rhs[:, 2 * c : 2 * d] = self._DtW @ np.ascontiguousarray(e[:, c:d], dtype=complex).view(np.float64)
+            return rhs
+        real = whole.view(np.float64)
+        cols = slice(2 * first, 2 * (first + F))
+        for rows, DtW in self._DtW_blocks(real.shape[1]):
+            rhs[rows] = (DtW @ real)[:, cols]
+        return rhs
+
+    def _row_blocks(self, width):
+        """Slices of the free vertices whose (rows, width) float blocks stay below `BLOCK_BYTES`."""
+        nf = self.free.size
+        step = max(1, self.BLOCK_BYTES // (8 * max(width, 1)))
+        return [slice(r, min(r + step, nf)) for r in range(0, nf, step)]
+
+    def _DtW_blocks(self, width):
+        """[(rows, DtW[rows])] over `_row_blocks` (kept per width)."""
+        blocks = self._DtW_rows.get(width)
+        if blocks is None:
+            blocks = self._DtW_rows[width] = [(r, self._DtW[r]) for r in self._row_blocks(width)]
+        return blocks
+
+    def _cholmod_into(self, z, frames, e, centroids, measure=True):
+        """Eq. (10) with CHOLMOD into ``z[:, frames]``: one solve for all frames, then one pass over the rows.
+
+        The solution is translated onto the centroids and written into ``z``
+        a block of rows at a time (with the largest move, Eq. 11, measured in
+        the same pass), so no (n, F) array is made beyond the solve's.
+
+        Returns
+        -------
+        float
+            The largest vertex move (0.0 unless ``measure``).
+        """
+        F = e.shape[1]
+        rhs = self._cholmod_rhs(e)
+        x = self._factor(rhs)  # (n_free, 2F) Fortran-ordered, frames' real and imaginary parts side by side
+        top = self._top
+        # centroid of each component with its anchor at 0, then the translation onto `centroids`
+        if self.n_components == 1:
+            sums = np.add.reduce(x, axis=0)[None, :]
+        else:
+            comp = self.components[self.free]
+            sums = np.stack([np.bincount(comp, x[:, j], minlength=self.n_components)
+                             for j in range(2 * F)], axis=1)
+        shift = centroids - np.ascontiguousarray(sums).view(complex) * top.inv_count[:, None]  # (C, F)
+        move = _write_rows(z, self.anchors, frames, shift, measure)
+        rows_of = self._free_rows()
+        for rows in self._row_blocks(2 * F):
+            new = np.ascontiguousarray(x[rows]).view(complex)
+            new += shift if self.n_components == 1 else shift[self.components[self.free[rows]]]
+            move = max(move, _write_rows(z, rows_of(rows), frames, new, measure))
+        return move
+
+    def _free_rows(self):
+        """Map a slice of free-vertex positions to vertex rows: a slice when the free vertices are consecutive."""
+        free = self.free
+        if free.size and free[-1] - free[0] + 1 == free.size:
+            return lambda rows: slice(free[0] + rows.start, free[0] + rows.stop)
+        return lambda rows: free[rows]
 
     def update(self, z, frames, e, centroids):
         """Eq. (10) into ``z[:, frames]``; returns the largest vertex move (Eq. 11).
@@ -212,6 +274,10 @@ class FrameAssembler:
         """
         if self._band is not None and isinstance(frames, slice):  # z[:, frames] is a view
             return self._backend.banded_positions(z[:, frames], e, centroids, *self._band)
+        if self._factor is None:
+            self._factorise()
+        if self.method == "cholmod":
+            return self._cholmod_into(z, frames, e, centroids)
         new = self.positions(e, centroids)
         old = z[:, frames]
         old -= new
@@ -228,6 +294,40 @@ class FrameAssembler:
         shift = centroids - self._top.centroids(z)
         z += shift if self.n_components == 1 else shift[self.components]
         return z
+
+
+def _parent_columns(e):
+    """(whole, first): ``e`` is ``whole[:, first : first + F]`` in memory, ``whole`` a C-ordered (E, F') view.
+
+    ``whole`` is ``e`` itself when it is C-ordered; otherwise a view of the
+    contiguous array that owns ``e``'s memory, one row per row of ``e``.
+    (None, 0) when there is no such view.
+    """
+    if e.ndim != 2 or e.dtype != complex:
+        return None, 0
+    if e.flags.c_contiguous:
+        return e, 0
+    root, (rows, cols), (s0, s1) = e.base, e.shape, e.strides
+    if not isinstance(root, np.ndarray) or not root.flags.c_contiguous or s1 != 16 or s0 % 16 or s0 < 16 * cols:
+        return None, 0
+    start = e.__array_interface__["data"][0] - root.__array_interface__["data"][0]
+    first = (start % s0) // 16
+    begin = start - 16 * first
+    if start % 16 or first + cols > s0 // 16 or begin < 0 or begin + rows * s0 > root.nbytes:
+        return None, 0
+    memory = root.reshape(-1).view(np.uint8)[begin : begin + rows * s0]
+    return memory.view(complex).reshape(rows, s0 // 16), first
+
+
+def _write_rows(z, rows, frames, new, measure):
+    """``z[rows, frames] = new``; the largest |new - old| when ``measure`` (Eq. 11), else 0.0."""
+    index = (rows, frames) if isinstance(frames, slice) else np.ix_(np.arange(z.shape[0])[rows], frames)
+    move = 0.0
+    if measure:
+        d = z[index] - new
+        move = float(np.sqrt(np.max(d.real**2 + d.imag**2, initial=0.0)))
+    z[index] = new
+    return move
 
 
 def _cholmod(top, L):
