@@ -886,86 +886,114 @@ def _valid(z, w, f, eps):
     return (_areas(z, f) > eps[0]) & (_areas(w, f) > eps[1])
 
 
-def _odt(z, f):
-    """(N,) area-weighted mean of the circumcentres of each vertex's triangles.
+def _colour_classes(f, N, K, seed=0):
+    """Independent sets of the vertices K.. that have faces, covering all of them.
 
-    This is optimal Delaunay triangulation smoothing (Chen and Xu 2004).
+    Greedy by random priority (Luby): a vertex joins the current class when
+    its priority beats that of every neighbour not yet in a class.
+
+    Returns
+    -------
+    (N,) int : the class of every vertex, -1 for the first K and unused ones
     """
-    u, v = z[f[:, 1]] - z[f[:, 0]], z[f[:, 2]] - z[f[:, 0]]
-    area = 0.5 * (np.conj(u) * v).imag
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cc = z[f[:, 0]] + (np.abs(u) ** 2 * v - np.abs(v) ** 2 * u) / (4j * area)
-    cc = np.where(np.isfinite(cc), cc, z[f].mean(axis=1))
-    idx = f.ravel()
-    wts = np.repeat(area, 3)
-    num = np.bincount(idx, weights=wts * np.repeat(cc.real, 3), minlength=len(z)) + 1j * np.bincount(
-        idx, weights=wts * np.repeat(cc.imag, 3), minlength=len(z))
-    den = np.bincount(idx, weights=wts, minlength=len(z))
-    return np.where(den > 0, num / np.where(den > 0, den, 1), z)
+    a, b = f.ravel(), np.roll(f, -1, axis=1).ravel()  # in a closed fan every neighbour once
+    prio = np.random.default_rng(seed).random(N)
+    left = np.bincount(a, minlength=N) > 0
+    left[:K] = False
+    colour = np.full(N, -1, dtype=np.int64)
+    k = 0
+    while left.any():
+        e = left[a] & left[b]
+        top = np.full(N, -1.0)
+        np.maximum.at(top, a[e], prio[b[e]])
+        pick = left & (prio > top)
+        colour[pick] = k
+        left &= ~pick
+        k += 1
+    return colour
 
 
-def _smooth(z, w, f, K, eps, rng, joint):
-    """Move an independent set of interior vertices to better places.
+def _smooth(z, w, f, K, eps, joint):
+    """Move every interior vertex to a better place, one independent set (colour class) at a time.
 
-    Goals: the circumcentre mean of `_odt` (not with ``joint``), else the
-    neighbours' mean, at full, half and quarter step. A move is accepted
-    where no incident face loses positive area and the smallest angle around
-    the vertex grows. ``joint``: a vertex moves in both
-    meshes or in neither, judged on the smaller angle of the two (this keeps
-    a target that is an affine image of the source one); otherwise each mesh
-    on its own (the meshes share connectivity, not positions).
+    Goals, from the current positions: the area-weighted mean of the
+    circumcentres of the star (optimal Delaunay triangulation smoothing, Chen
+    and Xu 2004; not with ``joint``), else the neighbours' mean, at full,
+    half and quarter step. All vertices of a class move together (their
+    stars share no face) and each is judged on its own star: a move is
+    kept where every face of the star keeps a positive area and the star's
+    smallest angle grows. ``joint``: a vertex moves in both meshes or in
+    neither, judged on the smaller angle of the two (this keeps a target
+    that is an affine image of the source one); otherwise each mesh on its
+    own (the meshes share connectivity, not positions).
 
     Returns
     -------
     z, w : (N,) complex, moved : int
     """
     N = len(z)
-    a, b, _, _, _ = _edge_table(f)
-    deg = np.bincount(a, minlength=N).astype(float)
-    prio = rng.random(N)
-    prio[:K] = -1.0
-    top = np.full(N, -1.0)
-    np.maximum.at(top, a, prio[b])
-    move = np.flatnonzero((prio > top) & (deg > 0))
-    if not len(move):
-        return z, w, 0
-    star = np.any(np.isin(f, move), axis=1)
-    fs = f[star]
-    owner = np.max(np.where(np.isin(fs, move), fs, -1), axis=1)
-
-    def judge(p, e):
-        """(N,) valid star, (N,) smallest star angle."""
-        ok = np.ones(N, dtype=bool)
-        np.logical_and.at(ok, owner, _areas(p, fs) > e)
-        q = np.full(N, np.inf)
-        np.minimum.at(q, owner, _sine(p, fs))
-        return ok, q
-
-    goals = [[(np.bincount(a, weights=p[b].real, minlength=N) + 1j * np.bincount(a, weights=p[b].imag, minlength=N))
-              / np.maximum(deg, 1) for p in (z, w)]]  # Laplacian: affine images stay affine images
-    if not joint:
-        goals.insert(0, [_odt(p, f) for p in (z, w)])
+    colour = _colour_classes(f, N, K)
+    v = f.ravel()
+    order = np.argsort(colour[v] * (N + 1) + v, kind="stable")  # corners by class, then vertex
+    order = order[colour[v[order]] >= 0]
+    vc, fc = v[order], order // 3
+    cls = colour[vc]
+    bounds = np.r_[0, np.cumsum(np.bincount(cls))]
     pos = [z.copy(), w.copy()]
-    old = [judge(p, e)[1] for p, e in zip(pos, eps, strict=False)]
-    done = np.zeros((2, N), dtype=bool)
-    for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
-        trial, res = [], []
-        for i in (0, 1):
-            p2 = pos[i].copy()
-            cand = move[~done[i, move]]
-            p2[cand] += step * (goal[i][cand] - pos[i][cand])
-            trial.append(p2)
-            res.append(judge(p2, eps[i]))
-        if joint:
-            gain = np.minimum(res[0][1], res[1][1]) > np.minimum(old[0], old[1]) + 1e-9
-            ok = [res[0][0] & res[1][0] & gain] * 2
-        else:
-            ok = [res[i][0] & (res[i][1] > old[i] + 1e-9) for i in (0, 1)]
-        for i in (0, 1):
-            take = move[ok[i][move] & ~done[i, move]]
-            pos[i][take] = trial[i][take]
-            done[i, take] = True
-    return pos[0], pos[1], int(done.any(axis=0).sum())
+    moved = 0
+    for k in range(len(bounds) - 1):
+        vk, tri = vc[bounds[k]:bounds[k + 1]], f[fc[bounds[k]:bounds[k + 1]]]
+        st = np.flatnonzero(np.r_[True, vk[1:] != vk[:-1]])
+        own = vk[st]
+        count = np.diff(np.r_[st, len(vk)])
+        went = np.zeros(len(own), dtype=bool)
+        for group in ((0, 1),) if joint else ((0,), (1,)):
+            goals = [{i: np.add.reduceat(pos[i][tri].sum(axis=1) - pos[i][vk], st) / (2 * count)
+                      for i in group}]  # Laplacian (each neighbour twice): affine images stay affine images
+            if not joint:
+                goals.insert(0, {i: _circumcentre_mean(pos[i][tri], st) for i in group})
+            old = np.min([np.minimum.reduceat(_sine(pos[i], tri), st) for i in group], axis=0)
+            done = np.zeros(len(own), dtype=bool)
+            for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
+                trial = {}
+                for i in group:
+                    trial[i] = pos[i].copy()
+                    trial[i][own[~done]] += step * (goal[i] - pos[i][own])[~done]
+                ok = np.all([np.minimum.reduceat((_areas(trial[i], tri) > eps[i]).astype(np.int8), st) > 0
+                             for i in group], axis=0)
+                q = np.min([np.minimum.reduceat(_sine(trial[i], tri), st) for i in group], axis=0)
+                take = own[~done & ok & (q > old + 1e-9)]
+                for i in group:
+                    pos[i][take] = trial[i][take]
+                done |= ~done & ok & (q > old + 1e-9)
+            went |= done
+        moved += int(went.sum())
+    return pos[0], pos[1], moved
+
+
+def _circumcentre_mean(p, st):
+    """Area-weighted mean of the circumcentres of consecutive groups of triangles.
+
+    Parameters
+    ----------
+    p : (m, 3) complex
+        Corner positions of the triangles, grouped.
+    st : (g,) int
+        First triangle of every group.
+
+    Returns
+    -------
+    (g,) complex
+    """
+    u, v = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    area = 0.5 * (np.conj(u) * v).imag
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cc = p[:, 0] + (np.abs(u) ** 2 * v - np.abs(v) ** 2 * u) / (4j * area)
+    cc = np.where(np.isfinite(cc), cc, p.mean(axis=1))
+    den = np.add.reduceat(area, st)
+    num = np.add.reduceat(area * cc, st)
+    mean = np.add.reduceat(p.mean(axis=1), st) / np.diff(np.r_[st, len(p)])
+    return np.where(den > 0, num / np.where(den > 0, den, 1), mean)
 
 
 def _joint_flips(z, w, f, eps, limit=0.5):
@@ -1085,7 +1113,7 @@ def _joint_refine(z, w, f, size, rounds=30):
     return z, w, f
 
 
-def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
+def _improve(z, w, f, K, joint, rounds=40, limit=20.0):
     """Joint edge collapses, edge flips and smoothing of interior vertices in both meshes.
 
     In the style of Surazhsky and Gotsman (2004); every step keeps both meshes valid.
@@ -1095,16 +1123,12 @@ def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
     z, w : (N',) complex, f : (F', 3); vertices no face uses any more are dropped
     (the first K, the rings, are kept in place).
     """
-    rng = np.random.default_rng(seed)
     eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
     f = f.copy()
     for _ in range(rounds):
         f, collapsed = _collapse(z, w, f, K, eps, np.sin(np.radians(limit)))
         flips = _joint_flips(z, w, f, eps)
-        moved = 0
-        for _ in range(4):  # an independent set each time: most interior vertices get a turn
-            z, w, m = _smooth(z, w, f, K, eps, rng, joint)
-            moved += m
+        z, w, moved = _smooth(z, w, f, K, eps, joint)
         if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):
             break
     used = np.zeros(len(z), dtype=bool)
