@@ -871,14 +871,20 @@ def _sine(z, f):
     is the sine of the sum of the other two, so the smallest sine is the
     sine of the smallest angle.)
     """
+    return _sine_area(z, f)[0]
+
+
+def _sine_area(z, f):
+    """(F,) `_sine` and (F,) signed area of triangles ``f`` (F, 3), from one pass over the sides."""
     u = z[f[:, 1]] - z[f[:, 0]]
     v = z[f[:, 2]] - z[f[:, 0]]
     cross = (np.conj(u) * v).imag  # 2 A
-    l1, l2, l3 = u.real ** 2 + u.imag ** 2, v.real ** 2 + v.imag ** 2, (v - u).real ** 2 + (v - u).imag ** 2
+    d = v - u
+    l1, l2, l3 = u.real ** 2 + u.imag ** 2, v.real ** 2 + v.imag ** 2, d.real ** 2 + d.imag ** 2
     prod = l1 * l2 * l3
     with np.errstate(divide="ignore", invalid="ignore"):
         q = cross * np.sqrt(np.minimum(np.minimum(l1, l2), l3) / prod)
-    return np.where(prod > 0, q, 0.0)
+    return np.where(prod > 0, q, 0.0), 0.5 * cross
 
 
 def _quality(z, w, f):
@@ -959,17 +965,21 @@ def _smooth(z, w, f, K, eps, joint):
             old = np.min([np.minimum.reduceat(_sine(pos[i], tri), st) for i in group], axis=0)
             done = np.zeros(len(own), dtype=bool)
             for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
+                if done.all():
+                    break
+                ok = np.ones(len(own), dtype=bool)
+                q = np.full(len(own), np.inf)
                 trial = {}
                 for i in group:
                     trial[i] = pos[i].copy()
                     trial[i][own[~done]] += step * (goal[i] - pos[i][own])[~done]
-                ok = np.all([np.minimum.reduceat((_areas(trial[i], tri) > eps[i]).astype(np.int8), st) > 0
-                             for i in group], axis=0)
-                q = np.min([np.minimum.reduceat(_sine(trial[i], tri), st) for i in group], axis=0)
-                take = own[~done & ok & (q > old + 1e-9)]
+                    sine, area = _sine_area(trial[i], tri)
+                    ok &= np.minimum.reduceat((area > eps[i]).astype(np.int8), st) > 0
+                    q = np.minimum(q, np.minimum.reduceat(sine, st))
+                gain = ~done & ok & (q > old + 1e-9)
                 for i in group:
-                    pos[i][take] = trial[i][take]
-                done |= ~done & ok & (q > old + 1e-9)
+                    pos[i][own[gain]] = trial[i][own[gain]]
+                done |= gain
             went |= done
         moved += int(went.sum())
     return pos[0], pos[1], moved
