@@ -28,9 +28,11 @@ The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
    target triangle. Faces larger than ``mesh_size`` (in either mesh) are then
    split at their centroid in both meshes.
 4. Quality: edge collapses, edge flips (both meshes at once, as they share
-   connectivity) and smoothing of interior vertices (each mesh on its own),
-   every change accepted only when every triangle keeps a positive area and
-   the smallest angle around it grows.
+   connectivity) and smoothing of interior vertices (each mesh on its own,
+   one colour class of vertices, an independent set, at a time), every
+   change accepted only when every triangle keeps a positive area and the
+   smallest angle around it grows. Rounds stop when three in a row gained
+   neither smallest angle nor faces above the angle limit.
 """
 
 import time
@@ -47,7 +49,7 @@ from ..shape import Shape
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
 
 MAX_FACES = 2_000_000  # refused before meshing: the overlay and quality step hold several copies
-STALL_SINE = 0.0005  # the quality step stops after two rounds that raise the smallest angle's sine less
+STALL_SINE = 0.0005  # the quality step stops after three rounds that raise the smallest angle's sine less
 STALL_FACES = 0.002  # and free fewer than this fraction of the faces from below the angle limit
 
 
@@ -1148,8 +1150,8 @@ def _improve(z, w, f, K, joint, rounds=40, limit=20.0):
         z, w, moved = _smooth(z, w, f, K, eps, joint)
         if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):
             break
-        # effort in proportion to the gain: stop after two rounds that raised neither the smallest
-        # angle (by 0.1 degree) nor the count of faces above the limit (by 1 % of the faces)
+        # effort in proportion to the gain: stop after three rounds that raised neither the smallest
+        # angle's sine (by STALL_SINE) nor the count of faces above the limit (by STALL_FACES of the faces)
         q = _quality(z, w, f)
         gain = (q.min() > worst + STALL_SINE) or np.count_nonzero(q < sin_limit) < bad - STALL_FACES * len(f)
         worst, bad = max(worst, q.min()), min(bad, np.count_nonzero(q < sin_limit))
