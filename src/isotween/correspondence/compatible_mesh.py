@@ -909,14 +909,14 @@ def _colour_classes(f, N, K, seed=0):
     (N,) int : the class of every vertex, -1 for the first K and unused ones
     """
     a, b = f.ravel(), np.roll(f, -1, axis=1).ravel()  # in a closed fan every neighbour once
-    prio = np.random.default_rng(seed).random(N)
+    prio = np.argsort(np.argsort(np.random.default_rng(seed).random(N)))  # distinct ranks: the best left vertex joins
     left = np.bincount(a, minlength=N) > 0
     left[:K] = False
     colour = np.full(N, -1, dtype=np.int64)
     k = 0
     while left.any():
         e = left[a] & left[b]
-        top = np.full(N, -1.0)
+        top = np.full(N, -1)
         np.maximum.at(top, a[e], prio[b[e]])
         pick = left & (prio > top)
         colour[pick] = k
