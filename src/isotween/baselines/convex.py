@@ -143,20 +143,14 @@ def _component(zs, zt, f, t):
 
 
 def _mesh(rings_s, rings_a):
-    """Compatible meshes of corresponding rings (complex arrays); ring vertices kept first.
-
-    The mesh size is the mean edge length of the coarsest ring (the 32-gon
-    around a component): the completing mesh only has to be valid, and a
-    coarse one keeps the per-frame solves small.
-    """
+    """Compatible meshes of corresponding rings (complex arrays); ring vertices kept first."""
     from ..correspondence.compatible_mesh import compatible_meshes
 
     def xy(rings):
         return [np.c_[r.real, r.imag] for r in rings]
 
-    size = max(float(np.mean(np.abs(r - np.roll(r, 1)))) for r in rings_s)
     try:
-        ms, ma, _ = compatible_meshes(xy(rings_s), xy(rings_a), mesh_size=size)
+        ms, ma, _ = compatible_meshes(xy(rings_s), xy(rings_a))
     except IncompatibleShapesError as exc:
         raise MethodError(str(exc)) from None
     k = sum(len(r) for r in rings_s)
