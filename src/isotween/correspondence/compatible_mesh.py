@@ -28,9 +28,11 @@ The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
    target triangle. Faces larger than ``mesh_size`` (in either mesh) are then
    split at their centroid in both meshes.
 4. Quality: edge collapses, edge flips (both meshes at once, as they share
-   connectivity) and smoothing of interior vertices (each mesh on its own),
-   every change accepted only when every triangle keeps a positive area and
-   the smallest angle around it grows.
+   connectivity) and smoothing of interior vertices (each mesh on its own,
+   one colour class of vertices, an independent set, at a time), every
+   change accepted only when every triangle keeps a positive area and the
+   smallest angle around it grows. Rounds stop when three in a row gained
+   neither smallest angle nor faces above the angle limit.
 """
 
 import time
@@ -47,6 +49,8 @@ from ..shape import Shape
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
 
 MAX_FACES = 2_000_000  # refused before meshing: the overlay and quality step hold several copies
+STALL_SINE = 0.0005  # the quality step stops after three rounds that raise the smallest angle's sine less
+STALL_FACES = 0.002  # and free fewer than this fraction of the faces from below the angle limit
 
 
 class CompatibleMeshes(NamedTuple):
@@ -869,12 +873,20 @@ def _sine(z, f):
     is the sine of the sum of the other two, so the smallest sine is the
     sine of the smallest angle.)
     """
-    p = z[f]
-    sides = np.abs(p[:, [1, 2, 0]] - p)
-    prod = sides.prod(axis=1)
+    return _sine_area(z, f)[0]
+
+
+def _sine_area(z, f):
+    """(F,) `_sine` and (F,) signed area of triangles ``f`` (F, 3), from one pass over the sides."""
+    u = z[f[:, 1]] - z[f[:, 0]]
+    v = z[f[:, 2]] - z[f[:, 0]]
+    cross = (np.conj(u) * v).imag  # 2 A
+    d = v - u
+    l1, l2, l3 = u.real ** 2 + u.imag ** 2, v.real ** 2 + v.imag ** 2, d.real ** 2 + d.imag ** 2
+    prod = l1 * l2 * l3
     with np.errstate(divide="ignore", invalid="ignore"):
-        q = 2 * _areas(z, f) * sides.min(axis=1) / prod
-    return np.where(prod > 0, q, 0.0)
+        q = cross * np.sqrt(np.minimum(np.minimum(l1, l2), l3) / prod)
+    return np.where(prod > 0, q, 0.0), 0.5 * cross
 
 
 def _quality(z, w, f):
@@ -886,86 +898,118 @@ def _valid(z, w, f, eps):
     return (_areas(z, f) > eps[0]) & (_areas(w, f) > eps[1])
 
 
-def _odt(z, f):
-    """(N,) area-weighted mean of the circumcentres of each vertex's triangles.
+def _colour_classes(f, N, K, seed=0):
+    """Independent sets of the vertices K.. that have faces, covering all of them.
 
-    This is optimal Delaunay triangulation smoothing (Chen and Xu 2004).
+    Greedy by random priority (Luby): a vertex joins the current class when
+    its priority beats that of every neighbour not yet in a class.
+
+    Returns
+    -------
+    (N,) int : the class of every vertex, -1 for the first K and unused ones
     """
-    u, v = z[f[:, 1]] - z[f[:, 0]], z[f[:, 2]] - z[f[:, 0]]
-    area = 0.5 * (np.conj(u) * v).imag
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cc = z[f[:, 0]] + (np.abs(u) ** 2 * v - np.abs(v) ** 2 * u) / (4j * area)
-    cc = np.where(np.isfinite(cc), cc, z[f].mean(axis=1))
-    idx = f.ravel()
-    wts = np.repeat(area, 3)
-    num = np.bincount(idx, weights=wts * np.repeat(cc.real, 3), minlength=len(z)) + 1j * np.bincount(
-        idx, weights=wts * np.repeat(cc.imag, 3), minlength=len(z))
-    den = np.bincount(idx, weights=wts, minlength=len(z))
-    return np.where(den > 0, num / np.where(den > 0, den, 1), z)
+    a, b = f.ravel(), np.roll(f, -1, axis=1).ravel()  # in a closed fan every neighbour once
+    prio = np.argsort(np.argsort(np.random.default_rng(seed).random(N)))  # distinct ranks: the best left vertex joins
+    left = np.bincount(a, minlength=N) > 0
+    left[:K] = False
+    colour = np.full(N, -1, dtype=np.int64)
+    k = 0
+    while left.any():
+        e = left[a] & left[b]
+        top = np.full(N, -1)
+        np.maximum.at(top, a[e], prio[b[e]])
+        pick = left & (prio > top)
+        colour[pick] = k
+        left &= ~pick
+        k += 1
+    return colour
 
 
-def _smooth(z, w, f, K, eps, rng, joint):
-    """Move an independent set of interior vertices to better places.
+def _smooth(z, w, f, K, eps, joint):
+    """Move every interior vertex to a better place, one independent set (colour class) at a time.
 
-    Goals: the circumcentre mean of `_odt` (not with ``joint``), else the
-    neighbours' mean, at full, half and quarter step. A move is accepted
-    where no incident face loses positive area and the smallest angle around
-    the vertex grows. ``joint``: a vertex moves in both
-    meshes or in neither, judged on the smaller angle of the two (this keeps
-    a target that is an affine image of the source one); otherwise each mesh
-    on its own (the meshes share connectivity, not positions).
+    Goals, from the current positions: the area-weighted mean of the
+    circumcentres of the star (optimal Delaunay triangulation smoothing, Chen
+    and Xu 2004; not with ``joint``), else the neighbours' mean, at full,
+    half and quarter step. All vertices of a class move together (their
+    stars share no face) and each is judged on its own star: a move is
+    kept where every face of the star keeps a positive area and the star's
+    smallest angle grows. ``joint``: a vertex moves in both meshes or in
+    neither, judged on the smaller angle of the two (this keeps a target
+    that is an affine image of the source one); otherwise each mesh on its
+    own (the meshes share connectivity, not positions).
 
     Returns
     -------
     z, w : (N,) complex, moved : int
     """
     N = len(z)
-    a, b, _, _, _ = _edge_table(f)
-    deg = np.bincount(a, minlength=N).astype(float)
-    prio = rng.random(N)
-    prio[:K] = -1.0
-    top = np.full(N, -1.0)
-    np.maximum.at(top, a, prio[b])
-    move = np.flatnonzero((prio > top) & (deg > 0))
-    if not len(move):
-        return z, w, 0
-    star = np.any(np.isin(f, move), axis=1)
-    fs = f[star]
-    owner = np.max(np.where(np.isin(fs, move), fs, -1), axis=1)
-
-    def judge(p, e):
-        """(N,) valid star, (N,) smallest star angle."""
-        ok = np.ones(N, dtype=bool)
-        np.logical_and.at(ok, owner, _areas(p, fs) > e)
-        q = np.full(N, np.inf)
-        np.minimum.at(q, owner, _sine(p, fs))
-        return ok, q
-
-    goals = [[(np.bincount(a, weights=p[b].real, minlength=N) + 1j * np.bincount(a, weights=p[b].imag, minlength=N))
-              / np.maximum(deg, 1) for p in (z, w)]]  # Laplacian: affine images stay affine images
-    if not joint:
-        goals.insert(0, [_odt(p, f) for p in (z, w)])
+    colour = _colour_classes(f, N, K)
+    v = f.ravel()
+    order = np.argsort(colour[v] * (N + 1) + v, kind="stable")  # corners by class, then vertex
+    order = order[colour[v[order]] >= 0]
+    vc, fc = v[order], order // 3
+    cls = colour[vc]
+    bounds = np.r_[0, np.cumsum(np.bincount(cls))]
     pos = [z.copy(), w.copy()]
-    old = [judge(p, e)[1] for p, e in zip(pos, eps, strict=False)]
-    done = np.zeros((2, N), dtype=bool)
-    for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
-        trial, res = [], []
-        for i in (0, 1):
-            p2 = pos[i].copy()
-            cand = move[~done[i, move]]
-            p2[cand] += step * (goal[i][cand] - pos[i][cand])
-            trial.append(p2)
-            res.append(judge(p2, eps[i]))
-        if joint:
-            gain = np.minimum(res[0][1], res[1][1]) > np.minimum(old[0], old[1]) + 1e-9
-            ok = [res[0][0] & res[1][0] & gain] * 2
-        else:
-            ok = [res[i][0] & (res[i][1] > old[i] + 1e-9) for i in (0, 1)]
-        for i in (0, 1):
-            take = move[ok[i][move] & ~done[i, move]]
-            pos[i][take] = trial[i][take]
-            done[i, take] = True
-    return pos[0], pos[1], int(done.any(axis=0).sum())
+    moved = 0
+    for k in range(len(bounds) - 1):
+        vk, tri = vc[bounds[k]:bounds[k + 1]], f[fc[bounds[k]:bounds[k + 1]]]
+        st = np.flatnonzero(np.r_[True, vk[1:] != vk[:-1]])
+        own = vk[st]
+        count = np.diff(np.r_[st, len(vk)])
+        went = np.zeros(len(own), dtype=bool)
+        for group in ((0, 1),) if joint else ((0,), (1,)):
+            goals = [{i: np.add.reduceat(pos[i][tri].sum(axis=1) - pos[i][vk], st) / (2 * count)
+                      for i in group}]  # Laplacian (each neighbour twice): affine images stay affine images
+            if not joint:
+                goals.insert(0, {i: _circumcentre_mean(pos[i][tri], st) for i in group})
+            old = np.min([np.minimum.reduceat(_sine(pos[i], tri), st) for i in group], axis=0)
+            done = np.zeros(len(own), dtype=bool)
+            for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
+                if done.all():
+                    break
+                ok = np.ones(len(own), dtype=bool)
+                q = np.full(len(own), np.inf)
+                trial = {}
+                for i in group:
+                    trial[i] = pos[i].copy()
+                    trial[i][own[~done]] += step * (goal[i] - pos[i][own])[~done]
+                    sine, area = _sine_area(trial[i], tri)
+                    ok &= np.minimum.reduceat((area > eps[i]).astype(np.int8), st) > 0
+                    q = np.minimum(q, np.minimum.reduceat(sine, st))
+                gain = ~done & ok & (q > old + 1e-9)
+                for i in group:
+                    pos[i][own[gain]] = trial[i][own[gain]]
+                done |= gain
+            went |= done
+        moved += int(went.sum())
+    return pos[0], pos[1], moved
+
+
+def _circumcentre_mean(p, st):
+    """Area-weighted mean of the circumcentres of consecutive groups of triangles.
+
+    Parameters
+    ----------
+    p : (m, 3) complex
+        Corner positions of the triangles, grouped.
+    st : (g,) int
+        First triangle of every group.
+
+    Returns
+    -------
+    (g,) complex
+    """
+    u, v = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    area = 0.5 * (np.conj(u) * v).imag
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cc = p[:, 0] + (np.abs(u) ** 2 * v - np.abs(v) ** 2 * u) / (4j * area)
+    cc = np.where(np.isfinite(cc), cc, p.mean(axis=1))
+    den = np.add.reduceat(area, st)
+    num = np.add.reduceat(area * cc, st)
+    mean = np.add.reduceat(p.mean(axis=1), st) / np.diff(np.r_[st, len(p)])
+    return np.where(den > 0, num / np.where(den > 0, den, 1), mean)
 
 
 def _joint_flips(z, w, f, eps, limit=0.5):
@@ -1085,7 +1129,7 @@ def _joint_refine(z, w, f, size, rounds=30):
     return z, w, f
 
 
-def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
+def _improve(z, w, f, K, joint, rounds=40, limit=20.0):
     """Joint edge collapses, edge flips and smoothing of interior vertices in both meshes.
 
     In the style of Surazhsky and Gotsman (2004); every step keeps both meshes valid.
@@ -1095,17 +1139,24 @@ def _improve(z, w, f, K, joint, rounds=40, limit=20.0, seed=0):
     z, w : (N',) complex, f : (F', 3); vertices no face uses any more are dropped
     (the first K, the rings, are kept in place).
     """
-    rng = np.random.default_rng(seed)
     eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
+    sin_limit = np.sin(np.radians(limit))
     f = f.copy()
+    q = _quality(z, w, f)
+    worst, bad, stalled = q.min(), np.count_nonzero(q < sin_limit), 0
     for _ in range(rounds):
-        f, collapsed = _collapse(z, w, f, K, eps, np.sin(np.radians(limit)))
+        f, collapsed = _collapse(z, w, f, K, eps, sin_limit)
         flips = _joint_flips(z, w, f, eps)
-        moved = 0
-        for _ in range(4):  # an independent set each time: most interior vertices get a turn
-            z, w, m = _smooth(z, w, f, K, eps, rng, joint)
-            moved += m
+        z, w, moved = _smooth(z, w, f, K, eps, joint)
         if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):
+            break
+        # effort in proportion to the gain: stop after three rounds that raised neither the smallest
+        # angle's sine (by STALL_SINE) nor the count of faces above the limit (by STALL_FACES of the faces)
+        q = _quality(z, w, f)
+        gain = (q.min() > worst + STALL_SINE) or np.count_nonzero(q < sin_limit) < bad - STALL_FACES * len(f)
+        worst, bad = max(worst, q.min()), min(bad, np.count_nonzero(q < sin_limit))
+        stalled = 0 if gain else stalled + 1
+        if stalled == 3:
             break
     used = np.zeros(len(z), dtype=bool)
     used[f] = True
