@@ -242,6 +242,7 @@ class ConvexFrames:
         self._bs, self._ba = Ws[self.free][:, d.boundary] @ d.circle, Wa[self.free][:, d.boundary] @ d.circle
 
     def __call__(self, tk):
+        """(N,) complex embedding of the disc at time ``tk`` (the 32-gon fixed)."""
         A = (self._eye - (1 - tk) * self._As - tk * self._Aa).tocsc()  # blended convex-combination weights
         b = (1 - tk) * self._bs + tk * self._ba
         sol = splu(A).solve(np.c_[b.real, b.imag])
