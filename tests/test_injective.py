@@ -8,11 +8,11 @@ morph's, and the line search never leaves the embeddings.
 
 import numpy as np
 import pytest
-from test_convex import pair
 
 import isotween
 from isotween.baselines import convex, injective
 from isotween.metrics import edge_length_deviation, flipped_faces, outline_crossings
+from test_convex import pair
 
 
 def outline_deviation(seq):
