@@ -113,7 +113,7 @@ def per_component(source, target, t, name, solve):
     n_comp, label = connected_components(
         coo_matrix((np.ones(2 * len(f)), (f[:, [0, 1]].ravel(), f[:, [1, 2]].ravel())),
                    shape=(len(zs),) * 2), directed=False)
-    info: dict = {"components": []}
+    info = {"components": []}
     for c in range(n_comp):
         verts = np.flatnonzero(label == c)
         local = np.full(len(zs), -1)

@@ -47,6 +47,7 @@ from scipy.sparse import csc_matrix
 from scipy.sparse.linalg import splu
 
 from ..errors import MethodError
+from ..optimisation.assembly import HAVE_CHOLMOD
 from . import convex
 
 __all__ = ["interpolate", "max_step", "SCAFFOLD", "MAX_ITER", "TOL", "BUDGET"]
@@ -155,7 +156,7 @@ def _minimise(energy, z):
     for it in range(MAX_ITER):
         g, H = energy.derivatives(z)
         step = np.zeros_like(z)
-        sol = splu(H).solve(-g)
+        sol = energy.solve(H, -g)
         n = len(energy.free)
         step[energy.free] = sol[:n] + 1j * sol[n:]
         slope = float(g @ sol)
@@ -171,7 +172,7 @@ def _minimise(energy, z):
             if s < 1e-12:
                 return z, it + 1
         z, drop, e = trial, e - e_new, e_new
-        if drop < TOL * e:
+        if drop < TOL * (e - energy.least):  # of the energy above its minimum (every face isometric)
             return z, it + 1
     return z, MAX_ITER
 
@@ -200,9 +201,28 @@ class _Energy:
         rows = np.broadcast_to(dof[:, :, None], (len(f), 6, 6))
         cols = np.broadcast_to(dof[:, None, :], (len(f), 6, 6))
         self._keep = (rows >= 0) & (cols >= 0)
-        self._rows, self._cols = rows[self._keep], cols[self._keep]
+        # the Hessian's fixed pattern: entry -> its slot among the sorted (row, column) pairs
+        key, self._slot = np.unique(rows[self._keep] * (2 * m) + cols[self._keep], return_inverse=True)
+        self._indices = key % (2 * m)
+        self._indptr = np.searchsorted(key // (2 * m), np.arange(2 * m + 1))
         self._dof = dof
         self._size = 2 * m
+        self._symbolic = None
+
+    def solve(self, H, b):
+        """``H^-1 b`` for a positive definite ``H`` of `derivatives`: CHOLMOD (symbolic analysis once) or SuperLU."""
+        if HAVE_CHOLMOD:
+            from sksparse.cholmod import CholmodNotPositiveDefiniteError, analyze
+
+            if self._symbolic is None:
+                self._symbolic = analyze(H, mode="supernodal", ordering_method="amd")
+            try:
+                return self._symbolic.cholesky(H)(b)
+            except CholmodNotPositiveDefiniteError:
+                pass
+        # a symmetric pattern: minimum degree on H + H^T, pivots on the diagonal
+        lu = splu(H, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        return lu.solve(b)
 
     def rest(self, tk):
         """Set the rest triangles of time ``tk``: edge lengths blended linearly."""
@@ -211,6 +231,7 @@ class _Energy:
         x2 = (a * a + c * c - b * b) / (2 * a)
         y2 = np.sqrt(np.maximum(c * c - x2 * x2, (1e-12 * a) ** 2))
         self._area = self.weight * 0.5 * a * y2
+        self.least = 4 * float(self._area.sum())  # |J|^2 + |J^-1|^2 >= 4, equal for rotations
         # J = X R^-1 with X = [p1 - p0, p2 - p0] and R = [[a, x2], [0, y2]]; rows of J = G (x0, x1, x2)
         r00, r01, r11 = 1 / a, -x2 / (a * y2), 1 / y2
         G = np.zeros((len(a), 2, 3))
@@ -248,17 +269,28 @@ class _Energy:
         H = H - (4 * inv3)[:, None, None] * (J[:, :, None] * gd[:, None, :] + gd[:, :, None] * J[:, None, :])
         H = H + (6 * norm * inv2 * inv2)[:, None, None] * gd[:, :, None] * gd[:, None, :]
         H = H - (2 * norm * inv3)[:, None, None] * Hdet
-        lam, vec = np.linalg.eigh(H)  # projected to positive definite (projected Newton)
-        lam = np.maximum(lam, 1e-8 * lam.max(axis=1, keepdims=True))
-        H = np.einsum("kij,kj,klj->kil", vec, lam * w[:, None], vec)
+        # projected to positive semi-definite (Smith, de Goes and Kim 2019, "Analytic eigensystems for
+        # isotropic distortion energies"): with singular values s1 >= s2 > 0 the scaling and flip
+        # eigenvalues 2 + 6 / s^4 and 2 + 2 (s1^2 + s1 s2 + s2^2) / (s1 s2)^3 are positive; only the
+        # twist's, 2 - 2 (s1^2 - s1 s2 + s2^2) / (s1 s2)^3, can be negative. Its eigenvector is
+        # the polar rotation of J turned by a right angle, over sqrt(2).
+        conf = 0.5 * ((J[:, 0] + J[:, 3]) + 1j * (J[:, 2] - J[:, 1]))  # J z = conf z + anti conj(z)
+        anti = 0.5 * ((J[:, 0] - J[:, 3]) + 1j * (J[:, 2] + J[:, 1]))
+        s1, s2 = np.abs(conf) + np.abs(anti), np.abs(conf) - np.abs(anti)
+        twist = 2 - 2 * (s1 * s1 - s1 * s2 + s2 * s2) / (s1 * s2) ** 3
+        r = 1j * conf / np.abs(conf)
+        vec = np.c_[r.real, -r.imag, r.imag, r.real] / np.sqrt(2)
+        H = H + np.maximum(-twist, 0)[:, None, None] * vec[:, :, None] * vec[:, None, :]
+        H = H * w[:, None, None]
         # back to the six coordinates (x0 x1 x2 y0 y1 y2): D = blockdiag(G, G)
         K = len(w)
         D = np.zeros((K, 4, 6))
         D[:, :2, :3] = self._G
         D[:, 2:, 3:] = self._G
-        H6 = np.einsum("kai,kab,kbj->kij", D, H, D)
+        H6 = np.matmul(D.transpose(0, 2, 1), np.matmul(H, D))
         g6 = np.einsum("kai,ka->ki", D, grad)
         keep = self._dof >= 0
         g = np.bincount(self._dof[keep], weights=g6[keep], minlength=self._size)
-        A = csc_matrix((H6[self._keep], (self._rows, self._cols)), shape=(self._size,) * 2)
+        data = np.bincount(self._slot, weights=H6[self._keep], minlength=len(self._indices))
+        A = csc_matrix((data, self._indices, self._indptr), shape=(self._size,) * 2)  # symmetric: CSR = CSC
         return g, A
