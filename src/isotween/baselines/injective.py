@@ -29,9 +29,12 @@ made as isometric as the embedding allows:
 5. Start: whichever of the convex frame at t and the previous refined frame
    (an embedding of the same disc with the same boundary: warm start and
    temporal coherence) has the lower energy. Stop when an iteration lowers
-   the energy by less than ``TOL`` (relative), after ``MAX_ITER`` iterations,
-   or when the component's time ``BUDGET`` is spent (then the frame is the
-   last iterate, still an embedding).
+   the energy above its minimum by less than ``TOL`` (relative), after
+   ``MAX_ITER`` iterations, or when its share of the component's time
+   ``BUDGET`` is spent (the budget left over the frames left; every frame
+   gets at least one iteration, and its last iterate is an embedding). Only
+   very large meshes reach the budget; their result then depends on the
+   machine's speed.
 
 The rigid motion of the convex morph (best rotation of the target onto the
 source, interpolated, centroid on a straight line) is kept; the first and
@@ -55,7 +58,7 @@ __all__ = ["interpolate", "max_step", "SCAFFOLD", "MAX_ITER", "TOL", "BUDGET"]
 SCAFFOLD = 1e-2  # weight of the completing (exterior and hole) faces against the region's
 MAX_ITER = 20  # Newton iterations per frame at most
 TOL = 1e-3  # stop when an iteration lowers the energy by less than this fraction
-BUDGET = 10.0  # seconds per component for all its frames; later frames then keep their start
+BUDGET = 10.0  # seconds per component for all its frames, shared out as they come
 ARMIJO = 1e-4
 
 
@@ -143,15 +146,18 @@ def _component(zs, zt, f, t):
         z0 = convex_frame(tk)
         if energy(z0) < energy(z):
             z = z0
-        if time.perf_counter() - start < BUDGET:
-            z, used = _minimise(energy, z)
-            iterations += used
+        share = (BUDGET - (time.perf_counter() - start)) / (len(t) - 1 - k)
+        z, used = _minimise(energy, z, time.perf_counter() + share)
+        iterations += used
         out[k] = convex.place(d, z[:d.n], tk)
     return out, {"vertices": len(d.ws), "faces": len(d.faces), "rotation": d.theta, "iterations": iterations}
 
 
-def _minimise(energy, z):
-    """Projected Newton with the flip-preventing line search; every iterate an embedding."""
+def _minimise(energy, z, deadline):
+    """Projected Newton with the flip-preventing line search; every iterate an embedding.
+
+    Stops after the first iteration that ends past ``deadline`` (a `time.perf_counter` value).
+    """
     e = energy(z)
     for it in range(MAX_ITER):
         g, H = energy.derivatives(z)
@@ -172,8 +178,8 @@ def _minimise(energy, z):
             if s < 1e-12:
                 return z, it + 1
         z, drop, e = trial, e - e_new, e_new
-        if drop < TOL * (e - energy.least):  # of the energy above its minimum (every face isometric)
-            return z, it + 1
+        if drop < TOL * (e - energy.least) or time.perf_counter() > deadline:  # TOL: of the energy above
+            return z, it + 1  # its minimum (every face isometric)
     return z, MAX_ITER
 
 
