@@ -65,7 +65,7 @@ def main():
         if len(res) < 2:
             continue
         added.append(res["injective"][0] - res["convex"][0])
-        rows.append([k, kind, src.n_vertices, f"{res['convex'][0]:.2f}", f"{res['injective'][0]:.2f}",
+        rows.append([int(k), kind, src.n_vertices, f"{res['convex'][0]:.2f}", f"{res['injective'][0]:.2f}",
                      f"{added[-1]:+.2f}", res["injective"][3], f"{res['convex'][1]:.3f}",
                      f"{res['injective'][1]:.3f}", res["convex"][2] + res["injective"][2]])
         print(rows[-1], flush=True)

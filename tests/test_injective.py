@@ -87,3 +87,16 @@ def test_fallback_says_what_it_did():
     assert seq.method == "injective"
     assert "replaced by the fold-free injective morph" in seq.info["fallback"]
     assert seq.info["components"][0]["iterations"] > 0
+
+
+def test_superlu_and_cholmod_give_the_same_frames(monkeypatch):
+    src, tgt = pair("square->U")
+    monkeypatch.setattr(injective, "HAVE_CHOLMOD", False)  # SuperLU, as where scikit-sparse is missing
+    lu = isotween.interpolate(src, tgt, frames=5, method="injective")
+    assert flipped_faces(lu) == 0
+    monkeypatch.undo()
+    if not injective.HAVE_CHOLMOD:
+        pytest.skip("scikit-sparse is not installed")
+    chol = isotween.interpolate(src, tgt, frames=5, method="injective")
+    assert lu.iterations == chol.iterations
+    assert np.abs(lu.z - chol.z).max() < 1e-9 * src.bbox_diagonal()

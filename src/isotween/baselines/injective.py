@@ -49,7 +49,7 @@ import numpy as np
 from scipy.sparse import csc_matrix
 from scipy.sparse.linalg import splu
 
-from ..errors import MethodError
+from ..errors import MethodError, require
 from ..optimisation.assembly import HAVE_CHOLMOD
 from . import convex
 
@@ -218,13 +218,12 @@ class _Energy:
     def solve(self, H, b):
         """``H^-1 b`` for a positive definite ``H`` of `derivatives`: CHOLMOD (symbolic analysis once) or SuperLU."""
         if HAVE_CHOLMOD:
-            from sksparse.cholmod import CholmodNotPositiveDefiniteError, analyze
-
+            cholmod = require("sksparse.cholmod", "large")
             if self._symbolic is None:
-                self._symbolic = analyze(H, mode="supernodal", ordering_method="amd")
+                self._symbolic = cholmod.analyze(H, mode="supernodal", ordering_method="amd")
             try:
                 return self._symbolic.cholesky(H)(b)
-            except CholmodNotPositiveDefiniteError:
+            except cholmod.CholmodNotPositiveDefiniteError:
                 pass
         # a symmetric pattern: minimum degree on H + H^T, pivots on the diagonal
         lu = splu(H, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
