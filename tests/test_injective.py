@@ -100,3 +100,17 @@ def test_superlu_and_cholmod_give_the_same_frames(monkeypatch):
     chol = isotween.interpolate(src, tgt, frames=5, method="injective")
     assert lu.iterations == chol.iterations
     assert np.abs(lu.z - chol.z).max() < 1e-9 * src.bbox_diagonal()
+
+
+def test_a_singular_newton_system_is_a_method_error_and_the_fallback_is_convex(monkeypatch):
+    src, tgt = pair("square->U")
+    monkeypatch.setattr(injective, "HAVE_CHOLMOD", False)
+    monkeypatch.setattr(injective._Energy, "derivatives", lambda self, z: (
+        np.ones(self._size), injective.csc_matrix((self._size, self._size))))  # all zeros: singular
+    with pytest.raises(isotween.errors.MethodError, match="method 'injective', component 0.*cannot be solved"):
+        isotween.interpolate(src, tgt, frames=5, method="injective")
+    # a folding AIAP result then falls back to the plain convex morph, and says why
+    src, tgt = pair("W->T")
+    seq = isotween.interpolate(src, tgt, frames=5, fold="fallback")
+    assert seq.method == "convex" and "injective failed" in seq.info["fallback"]
+    assert flipped_faces(seq) == 0 and np.array_equal(seq.frames[-1], tgt.vertices)

@@ -226,7 +226,10 @@ class _Energy:
             except cholmod.CholmodNotPositiveDefiniteError:
                 pass
         # a symmetric pattern: minimum degree on H + H^T, pivots on the diagonal
-        lu = splu(H, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        try:
+            lu = splu(H, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        except RuntimeError as exc:  # exactly singular
+            raise MethodError(f"the Newton system of the completed disc cannot be solved ({exc})") from None
         return lu.solve(b)
 
     def rest(self, tk):
