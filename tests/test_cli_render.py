@@ -45,7 +45,7 @@ def test_help_short_option_and_method_choices():
     assert result.exit_code == 0 and "render" in result.output and "interpolate" in result.output
     result = run("interpolate", "-h")
     assert result.exit_code == 0
-    choices = "[aiap|linear|intrinsic|arap|arap-baxter|shapespace|convex]"
+    choices = "[aiap|linear|intrinsic|arap|arap-baxter|shapespace|convex|injective]"
     assert choices in result.output.replace("\n", "").replace(" ", "")
     for name in ("--fps", "--size", "--hold", "--bounce", "--loop", "--title", "--background", "--fill"):
         assert name in result.output

@@ -1,7 +1,8 @@
 """Method 'convex' and the fold fallback of `isotween.interpolate`.
 
 The Floater-Gotsman convex-combination morph: no in-between frame folds, the
-ends are the inputs, and a folding AIAP result is replaced.
+ends are the inputs, and a folding AIAP result is replaced (by its refinement,
+method 'injective': tests/test_injective.py).
 """
 
 import sys
@@ -70,13 +71,13 @@ def test_convex_never_folds_and_ends_are_the_inputs(name):
     assert np.array_equal(seq.frames[-1], tgt.vertices)
 
 
-def test_folding_aiap_falls_back_to_convex():
+def test_folding_aiap_falls_back_to_the_injective_morph():
     src, tgt = pair("W->T")
     aiap = isotween.interpolate(src, tgt, frames=9)
     assert flipped_faces(aiap) > 0  # the premise: AIAP folds on this pair
     seq = isotween.interpolate(src, tgt, frames=9, fold="fallback")
-    assert seq.method == "convex"
-    assert "folded" in seq.info["fallback"] and "convex" in seq.info["fallback"]
+    assert seq.method == "injective"
+    assert "folded" in seq.info["fallback"] and "injective" in seq.info["fallback"]
     assert flipped_faces(seq) == 0 and not outline_crossings(seq, scope="region").any()
     assert np.array_equal(seq.frames[-1], tgt.vertices)
 
@@ -106,6 +107,7 @@ def test_convex_cannot_be_built_keeps_the_first_result_and_says_why():
     seq = isotween.interpolate(src, tgt, frames=9, fold="fallback")
     assert seq.method == "aiap"
     assert "kept" in seq.info["fallback"] and "flipped against the source" in seq.info["fallback"]
+    assert "injective" in seq.info["fallback"] and "convex" in seq.info["fallback"]
 
 
 def test_bad_input_raises_method_error():
@@ -138,9 +140,9 @@ def test_cli_falls_back_and_says_so(tmp_path):
     result = CliRunner().invoke(main, ["interpolate", svg(glyph("W"), "w.svg"), svg(glyph("T"), "t.svg"),
                                        "-o", str(out)])
     assert result.exit_code == 0, result.output
-    assert "fold check" in result.output and "convex" in result.output
+    assert "fold check" in result.output and "injective" in result.output
     seq = isotween.io.load_sequence(str(out))
-    assert seq.method == "convex" and flipped_faces(seq) == 0
+    assert seq.method == "injective" and flipped_faces(seq) == 0
 
 
 def test_components_move_independently():

@@ -73,7 +73,8 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         Called after every iteration.
     method : str
         'aiap' (this paper) or a baseline from :mod:`isotween.baselines`
-        ('linear', 'intrinsic', 'arap', 'arap-baxter', 'shapespace', 'convex').
+        ('linear', 'intrinsic', 'arap', 'arap-baxter', 'shapespace', 'convex',
+        'injective').
     times : (frames,) array_like, optional
         Increasing frame times from 0 to 1 (default: uniform).
     assembly : {'shared', 'per-frame'}
@@ -89,10 +90,10 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     fold : {'allow', 'fallback'}
         'allow' keeps the result as it is (the paper's behaviour). 'fallback':
         when an in-between frame has a flipped triangle or an outline that
-        crosses itself within a region, the ``method='convex'`` morph (which
-        never folds) is returned instead; ``info['fallback']`` says why, or
-        why the convex morph could not be built (the first result is then
-        kept).
+        crosses itself within a region, the ``method='injective'`` morph
+        (never folds, nearly isometric; ``'convex'`` if it cannot be built) is
+        returned instead; ``info['fallback']`` says why, or why neither could
+        be built (the first result is then kept).
 
     Returns
     -------
@@ -172,10 +173,10 @@ def _baseline(method, source, target, t, options, callback):
 
 
 def _fallback(seq, source, target, t, options):
-    """``seq``, or the fold-free 'convex' morph when an in-between frame of ``seq`` folds."""
+    """``seq``, or the fold-free 'injective' morph (else 'convex') when an in-between frame of ``seq`` folds."""
     from . import metrics
 
-    if seq.method == "convex" or len(t) < 3:
+    if seq.method in ("convex", "injective") or len(t) < 3:
         return seq
     flips = metrics.flipped_faces(seq, None)[1:-1]
     crossings = metrics.outline_crossings(seq, scope="region")[1:-1]
@@ -184,10 +185,14 @@ def _fallback(seq, source, target, t, options):
     folded = (f"{seq.method} folded in {int(np.count_nonzero(flips | crossings))} of {len(t) - 2} "
               f"in-between frames ({int(flips.sum())} flipped triangles, {int(crossings.sum())} outline crossings)")
     try:
-        convex = _baseline("convex", source, target, t, options, None)
+        free = _baseline("injective", source, target, t, options, None)
+        free.info["fallback"] = f"{folded}; replaced by the fold-free injective morph"
     except MethodError as exc:
-        seq.info["fallback"] = f"{folded}; kept, as the convex morph cannot be built: {exc}"
-        return seq
-    convex.info["fallback"] = f"{folded}; replaced by the fold-free convex morph"
-    convex.timings["total"] = convex.timings.get("total", 0.0) + seq.timings.get("total", 0.0)
-    return convex
+        try:
+            free = _baseline("convex", source, target, t, options, None)
+        except MethodError:
+            seq.info["fallback"] = f"{folded}; kept, as no fold-free morph (injective, convex) can be built: {exc}"
+            return seq
+        free.info["fallback"] = f"{folded}; replaced by the fold-free convex morph (injective failed: {exc})"
+    free.timings["total"] = free.timings.get("total", 0.0) + seq.timings.get("total", 0.0)
+    return free

@@ -19,6 +19,9 @@ method         what is blended                              needs
 'convex'       convex-combination (mean-value) weights in   triangle mesh,
                a disc with a fixed convex boundary; never   every vertex in
                folds (Floater and Gotsman 1999)             a face
+'injective'    the 'convex' disc, each frame then made as   as 'convex'
+               isometric as an embedding allows (barrier
+               energy, Smith and Schaefer 2015); never folds
 =============  ===========================================  ==================
 """
 
@@ -28,7 +31,7 @@ from ..correspondence.compatibility import as_shape, check_compatible
 from ..errors import MethodError
 from ..optimisation.problem import Result
 from ..times import frame_times
-from . import arap, arap_baxter, convex, intrinsic, linear, shapespace
+from . import arap, arap_baxter, convex, injective, intrinsic, linear, shapespace
 
 __all__ = ["METHODS", "run"]
 
@@ -40,6 +43,7 @@ _MODULES = {
     "arap-baxter": arap_baxter,
     "shapespace": shapespace,
     "convex": convex,
+    "injective": injective,
 }
 METHODS = tuple(_MODULES)
 

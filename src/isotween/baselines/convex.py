@@ -23,6 +23,8 @@ inputs exactly. ``info``: ``components`` (per component: ``vertices``,
 ``faces`` of the completed disc, ``rotation`` in radians).
 """
 
+from typing import NamedTuple
+
 import numpy as np
 from scipy.sparse import coo_matrix, identity
 from scipy.sparse.csgraph import connected_components
@@ -30,7 +32,7 @@ from scipy.sparse.linalg import splu
 
 from ..errors import IncompatibleShapesError, IsotweenError, MethodError
 
-__all__ = ["interpolate", "SIDES"]
+__all__ = ["interpolate", "per_component", "disc", "Disc", "ConvexFrames", "place", "SIDES"]
 
 SIDES = 32  # vertices of the fixed convex boundary (a regular polygon)
 MARGIN = 1.5  # its radius over the largest distance of a ring vertex from its centre
@@ -60,20 +62,50 @@ def interpolate(source, target, t):
         component whose exterior or holes cannot be meshed compatibly (the
         message names the component and why).
     """
+    return per_component(source, target, t, "convex", _component)
+
+
+def per_component(source, target, t, name, solve):
+    """Frames of a disc-based morph, one connected component of the faces at a time.
+
+    Parameters
+    ----------
+    source, target : Shape
+        As for `interpolate`.
+    t : (F,) float
+        Frame times, 0 first and 1 last.
+    name : str
+        The method's name, for messages.
+    solve : callable(zs, zt, faces, t) -> (frames, extra)
+        One component: its (k,) complex source and target vertices, its
+        (m, 3) counter-clockwise faces (local indices) and the times; returns
+        (F, k) complex frames and a dict for ``info['components']``.
+
+    Returns
+    -------
+    frames : (F, n) complex
+        The first and the last frame are the inputs exactly.
+    info : dict
+
+    Raises
+    ------
+    MethodError
+        As for `interpolate`, naming ``name``.
+    """
     if source.faces is None or not len(source.faces):
-        raise MethodError("method 'convex' needs solid regions (a triangle mesh); the shapes have no faces")
+        raise MethodError(f"method {name!r} needs solid regions (a triangle mesh); the shapes have no faces")
     f = source.faces
     loose = np.setdiff1d(np.arange(source.n_vertices), f)
     if loose.size:
-        raise MethodError(f"method 'convex' needs solid regions: {loose.size} vertex(es) lie in no face "
+        raise MethodError(f"method {name!r} needs solid regions: {loose.size} vertex(es) lie in no face "
                           f"(open polylines or outlines), first: vertex {loose[0]}")
     zs, zt = source.z, target.z
     a_s, a_t = _areas(zs, f), _areas(zt, f)
     if np.any(a_s == 0):
-        raise MethodError(f"method 'convex': triangle {np.flatnonzero(a_s == 0)[0]} of the source has zero area")
+        raise MethodError(f"method {name!r}: triangle {np.flatnonzero(a_s == 0)[0]} of the source has zero area")
     bad = np.flatnonzero(np.sign(a_s) != np.sign(a_t))
     if bad.size:
-        raise MethodError(f"method 'convex' needs two valid meshes: {bad.size} target triangle(s) are flipped "
+        raise MethodError(f"method {name!r} needs two valid meshes: {bad.size} target triangle(s) are flipped "
                           f"against the source, first: triangle {bad[0]} {f[bad[0]].tolist()}")
     f = np.where((a_s < 0)[:, None], f[:, ::-1], f)  # counter-clockwise in the source (and target)
     t = np.asarray(t, dtype=np.float64)
@@ -88,17 +120,75 @@ def interpolate(source, target, t):
         local[verts] = np.arange(len(verts))
         fc = local[f[label[f[:, 0]] == c]]
         try:
-            z, extra = _component(zs[verts], zt[verts], fc, t)
+            z, extra = solve(zs[verts], zt[verts], fc, t)
         except IsotweenError as exc:
-            raise MethodError(f"method 'convex', component {c} (vertex {verts[0]} ...): {exc}") from None
+            raise MethodError(f"method {name!r}, component {c} (vertex {verts[0]} ...): {exc}") from None
         frames[:, verts] = z
         info["components"].append(extra)
     frames[0], frames[-1] = zs, zt  # the inputs exactly
     return frames, info
 
 
-def _component(zs, zt, f, t):
-    """(F, n) complex frames of one component; see `interpolate`."""
+class Disc(NamedTuple):
+    """One component completed to a triangulated disc with a fixed convex boundary.
+
+    The disc's vertices are the component's ``n`` vertices first, then the
+    ``SIDES``-gon, then the vertices added inside the exterior and the holes.
+    The target is brought to the source by the best rotation and translation;
+    `place` puts that motion back, interpolated.
+
+    Attributes
+    ----------
+    n : int
+        Vertices of the component (the first ``n`` of the disc).
+    ws, wa : (N,) complex
+        The disc in the source and in the (rigidly aligned) target.
+    faces : (K, 3) int
+        The component's faces first (``n_region`` of them), then the
+        completing (scaffold) faces.
+    n_region : int
+    boundary : (SIDES,) int
+        The fixed convex boundary's vertices.
+    circle : (SIDES,) complex
+        Their positions.
+    cs, ct : complex
+        Centroids of the component in the source and the target.
+    theta : float
+        Rotation in radians from the source to the target.
+    """
+
+    n: int
+    ws: np.ndarray
+    wa: np.ndarray
+    faces: np.ndarray
+    n_region: int
+    boundary: np.ndarray
+    circle: np.ndarray
+    cs: complex
+    ct: complex
+    theta: float
+
+
+def disc(zs, zt, f):
+    """The completed disc of one component (see `Disc`).
+
+    Parameters
+    ----------
+    zs, zt : (n,) complex
+        The component in the source and the target.
+    f : (m, 3) int
+        Its faces, counter-clockwise in the source.
+
+    Returns
+    -------
+    Disc
+
+    Raises
+    ------
+    MethodError
+        Two boundary loops meet at a vertex, or the exterior or a hole
+        cannot be meshed compatibly.
+    """
     loops = _boundary_loops(f, len(zs))
     outer = int(np.argmax([abs(_ring_area(zs[p])) for p in loops]))
     loops = [loops[outer]] + loops[:outer] + loops[outer + 1:]
@@ -126,20 +216,55 @@ def _component(zs, zt, f, t):
         ws.append(ms.z[k:])
         wa.append(ma.z[k:])
         count += extra
-    ws, wa, faces = np.concatenate(ws), np.concatenate(wa), np.vstack(faces)
-    Ws, Wa = _weights(ws, faces), _weights(wa, faces)
-    free = np.setdiff1d(np.arange(count), boundary)
-    out = np.empty((len(t), len(zs)), dtype=complex)
-    eye = identity(len(free), format="csc")
-    As, Aa = Ws[free][:, free], Wa[free][:, free]
-    bs, ba = Ws[free][:, boundary] @ circle, Wa[free][:, boundary] @ circle
-    for k, tk in enumerate(t):
-        A = (eye - (1 - tk) * As - tk * Aa).tocsc()  # blended convex-combination weights
-        b = (1 - tk) * bs + tk * ba
+    return Disc(len(zs), np.concatenate(ws), np.concatenate(wa), np.vstack(faces), len(f), boundary, circle,
+                cs, ct, theta)
+
+
+class ConvexFrames:
+    """The disc's convex-combination embedding at any time (steps 2-3 of the module docstring).
+
+    Parameters
+    ----------
+    d : Disc
+
+    Examples
+    --------
+    ``ConvexFrames(d)(t)`` is the (N,) complex embedding of the whole disc
+    at time ``t``, in the source's placement (before `place`).
+    """
+
+    def __init__(self, d):
+        Ws, Wa = _weights(d.ws, d.faces), _weights(d.wa, d.faces)
+        self.disc = d
+        self.free = np.setdiff1d(np.arange(len(d.ws)), d.boundary)
+        self._eye = identity(len(self.free), format="csc")
+        self._As, self._Aa = Ws[self.free][:, self.free], Wa[self.free][:, self.free]
+        self._bs, self._ba = Ws[self.free][:, d.boundary] @ d.circle, Wa[self.free][:, d.boundary] @ d.circle
+
+    def __call__(self, tk):
+        """(N,) complex embedding of the disc at time ``tk`` (the 32-gon fixed)."""
+        A = (self._eye - (1 - tk) * self._As - tk * self._Aa).tocsc()  # blended convex-combination weights
+        b = (1 - tk) * self._bs + tk * self._ba
         sol = splu(A).solve(np.c_[b.real, b.imag])
-        z = sol[:len(zs), 0] + 1j * sol[:len(zs), 1]  # free starts with the component's vertices
-        out[k] = (z - cs) * np.exp(1j * tk * theta) + cs + tk * (ct - cs)  # rigid part, interpolated
-    return out, {"vertices": int(count), "faces": int(len(faces)), "rotation": theta}
+        z = np.empty(len(self.disc.ws), dtype=complex)
+        z[self.free] = sol[:, 0] + 1j * sol[:, 1]
+        z[self.disc.boundary] = self.disc.circle
+        return z
+
+
+def place(d, z, tk):
+    """Positions ``z`` (k,) complex of the disc at time ``tk`` moved by the interpolated rigid motion."""
+    return (z - d.cs) * np.exp(1j * tk * d.theta) + d.cs + tk * (d.ct - d.cs)
+
+
+def _component(zs, zt, f, t):
+    """(F, n) complex frames of one component; see `interpolate`."""
+    d = disc(zs, zt, f)
+    solve = ConvexFrames(d)
+    out = np.empty((len(t), len(zs)), dtype=complex)
+    for k, tk in enumerate(t):
+        out[k] = place(d, solve(tk)[:d.n], tk)  # rigid part, interpolated
+    return out, {"vertices": len(d.ws), "faces": len(d.faces), "rotation": d.theta}
 
 
 def _mesh(rings_s, rings_a):

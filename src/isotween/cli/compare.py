@@ -11,7 +11,8 @@ from .options import ensure_compatible, frames_option, timer
 @click.argument("source", required=False)
 @click.argument("target", required=False)
 @click.option("--example", default=None, help="Compare on a built-in example (isotween demo --list) instead of files.")
-@click.option("--methods", default="aiap,linear,intrinsic,arap,arap-baxter,shapespace,convex", show_default=True,
+@click.option("--methods", default="aiap,linear,intrinsic,arap,arap-baxter,shapespace,convex,injective",
+              show_default=True,
               help="Comma-separated methods to compare.")
 @frames_option
 @click.option("--tol", type=float, default=5e-4, show_default=True,

@@ -31,8 +31,9 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, **par
     correspondence first (regions, holes and polylines paired, outlines
     resampled, filled regions meshed as solids), and one line says what was
     done; if the in-betweens of meshes built so then fold (a flipped triangle
-    or a self-crossing outline), the fold-free convex-combination morph
-    (method 'convex') is written instead, and one line says so. The output
+    or a self-crossing outline), the fold-free morph of method 'injective'
+    (the convex-combination morph made nearly isometric) is written instead,
+    and one line says so. The output
     kind follows -o: an animation (.gif .mp4 .html), a strip of frames
     (.png), a sequence file (.npz .json), or a folder of frame files (with
     --format).
