@@ -2,12 +2,12 @@
 
 Usage: python benchmarks/injective.py [--icons 20] [--glyphs 10] [--pairs 8] [--runs 3] [--write]
 
-Pairs from the drawings corpus (benchmarks/corpus.py, the same seed as benchmarks/drawings.py)
+Pairs from the drawings corpus (benchmarks/corpus.py, the same seed as benchmarks/correspondence.py)
 are put in correspondence once; then both methods interpolate 9 frames, each timed ``--runs``
 times (median). The table gives per pair the mesh size, the median seconds of each method
 (the completed disc's meshing is in both), the difference (what the refinement adds), its
 Newton iterations, and the edge-length deviation of the drawn outline
-(benchmarks/drawings.py's measure).
+(benchmarks/correspondence.py's measure).
 """
 
 import argparse
@@ -21,7 +21,7 @@ HERE = Path(__file__).parent
 sys.path.insert(0, str(HERE))
 import corpus  # noqa: E402
 from _results import machine, repeat, table, write_section  # noqa: E402
-from drawings import outline_measures  # noqa: E402
+from correspondence import outline_measures  # noqa: E402
 
 
 def main():
@@ -72,7 +72,7 @@ def main():
     header = ["pair", "set", "vertices", "convex (s)", "injective (s)", "added (s)", "Newton iterations",
               "outline edge dev. convex", "injective", "folds (both)"]
     text = "\n".join([
-        f"{len(rows)} pairs of `drawings.py --icons {args.icons} --glyphs {args.glyphs}`, {args.frames} frames, "
+        f"{len(rows)} pairs of `correspondence.py --icons {args.icons} --glyphs {args.glyphs}`, {args.frames} frames, "
         f"median of {args.runs} runs each, on {machine()}.",
         "",
         table(header, rows),
