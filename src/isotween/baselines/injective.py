@@ -7,8 +7,8 @@ made as isometric as the embedding allows:
 
 1. Rest triangles at time t. Every face of the disc gets a rest triangle
    whose edge lengths are (1 - t)|e(0)| + t|e(1)|: the lengths AIAP aims at
-   (SPEC.md, ``edge_length_deviation`` zero). A convex combination of two
-   valid length triples satisfies the triangle inequality, so the rest
+   (``edge_length_deviation`` zero; docs/how-it-works.md). A convex
+   combination of two valid length triples satisfies the triangle inequality, so the rest
    triangle always exists.
 2. Energy. The symmetric Dirichlet energy ``A (|J|^2 + |J^-1|^2)`` of each
    face's map from its rest triangle (Smith and Schaefer 2015, "Bijective

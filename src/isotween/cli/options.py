@@ -372,7 +372,7 @@ def progress(quiet=False, total=None, desc="iterations"):
 def summary(seq, seconds, written):
     """One line: frames, vertices, iterations, the written sequence's own metrics, wall time, outputs.
 
-    The metrics (SPEC.md) are measured on ``seq`` itself, so a transferred
+    The metrics (docs/how-it-works.md, "Metric definitions") are measured on ``seq`` itself, so a transferred
     or edited sequence reports its own numbers, never the solver's of
     another sequence; a metric that does not apply (no faces, no edges) is
     left out rather than printed as nan.
