@@ -12,10 +12,9 @@ import numpy as np
 import pytest
 
 import isotween
-from isotween import baselines, edit, interpolate, interpolate_keyframes, relative_velocity_field, transfer
+from isotween import baselines, edit, interpolate, interpolate_keyframes, problems, relative_velocity_field, transfer
 from isotween.errors import MissingDependencyError, ParameterError
 from isotween.optimisation import backend
-from isotween import problems
 from isotween.optimisation.problem import Problem, Result, pack
 from isotween.optimisation.solve import solve
 from isotween.problems import assemble, held_problem, keyed_problem
@@ -294,7 +293,7 @@ def test_solvers_refuse_a_problem_without_initial_edges(bar):
 
 
 def test_assemble_recovers_a_rigid_motion_from_its_exact_edges(bar):
-    """Exact edges and centroids of a turn about the centroid: assemble() gives the turned frames, held ones untouched."""
+    """Exact edges and centroids of a turn about the centroid: assemble() gives the turned frames, held ones intact."""
     src = bar[0]
     t = np.linspace(0.0, 1.0, 6)
     c = src.topology.centroids(src.z)
