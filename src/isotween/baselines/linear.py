@@ -16,7 +16,7 @@ def solve(problem):
     Returns
     -------
     Result
-        ``z`` (n, F) complex.
+        ``z`` (n, F) complex (a transposed view of the (F, n) blend).
 
     Examples
     --------
@@ -31,5 +31,5 @@ def solve(problem):
     [(1+0j), (2+0j)]
     """
     z0, z1 = problem.ends()
-    t = problem.times
-    return Result((1 - t)[None, :] * z0[:, None] + t[None, :] * z1[:, None])
+    t = problem.times[:, None]
+    return Result(((1 - t) * z0[None] + t * z1[None]).T)  # blended frame-major: one contiguous row per frame
