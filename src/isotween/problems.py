@@ -64,7 +64,7 @@ def held_problem(shape: Shape, t: np.ndarray, idx: np.ndarray, zk: np.ndarray, *
     Parameters
     ----------
     shape : Shape
-        Connectivity (and the geometry of the first key).
+        Connectivity (edges, components).
     t : (F,) float
         Frame times (kept, not copied).
     idx : (K,) int
