@@ -243,7 +243,7 @@ def test_edit_builds_its_problem_through_the_builder(bar, built, keep_ends, held
 
 
 #: the methods whose modules live in isotween/baselines under their own name
-BASELINES = ("linear", "intrinsic", "arap", "arap-baxter", "shapespace", "convex")
+BASELINES = ("linear", "intrinsic", "arap", "arap-baxter", "shapespace", "convex", "injective")
 
 
 def _pair(method, bar):
@@ -269,15 +269,12 @@ def test_baselines_run_builds_one_problem_and_equals_the_method_on_it(bar, built
     np.testing.assert_array_equal(seq.times, t)
     module = importlib.import_module(f"isotween.baselines.{method.replace('-', '_')}")
     again = keyed_problem([src, tgt], t, np.array([0, 5]), init=None, scheme="midpoint", tol=1e-4, max_iter=30)
-    if hasattr(module, "solve"):
-        direct = module.solve(again).z
-    else:  # the older (source, target, t) interface, run through the adapter
-        direct = module.interpolate(src, tgt, t)[0].T
+    direct = module.solve(again).z
     size = src.bbox_diagonal()
     np.testing.assert_allclose(seq.z, direct.T, rtol=0, atol=1e-12 * size)
 
 
-@pytest.mark.parametrize("method", [m for m in BASELINES if m != "convex"])
+@pytest.mark.parametrize("method", BASELINES)
 def test_baselines_refuse_a_problem_with_a_held_interior_frame(bar, method):
     src, tgt = _pair(method, bar)
     problem = keyed_problem([src, tgt, src], np.linspace(0, 1, 5), np.array([0, 2, 4]), init=None,

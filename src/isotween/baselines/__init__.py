@@ -35,15 +35,13 @@ import numpy as np
 
 from ..correspondence.compatibility import as_shape, check_compatible
 from ..errors import MethodError
-from ..optimisation.problem import Result
 from ..problems import check_stopping, keyed_problem
 from ..times import frame_times
 from . import arap, arap_baxter, convex, injective, intrinsic, linear, shapespace
 
 __all__ = ["METHODS", "run"]
 
-#: method name -> module with ``solve(problem, **options) -> Result`` (or, as
-#: 'convex' still has, ``interpolate(source, target, t, **options) -> (frames, info)``)
+#: method name -> module with ``solve(problem, **options) -> Result``
 _MODULES = {
     "linear": linear,
     "intrinsic": intrinsic,
@@ -114,13 +112,7 @@ def run(method, source, target, n_frames, *, times=None, **options):
     problem = keyed_problem([source, target], t, np.array([0, len(t) - 1]), init=None, scheme="midpoint",
                             tol=options["tol"], max_iter=options["max_iter"])
     module = _MODULES[method]
-    own = getattr(module, "solve", None)
-    if callable(own) and getattr(own, "__module__", None) == module.__name__:  # its own, not an import
-        result = own(problem, **_accepted(module, options))
-    else:  # the older interface: the two shapes and the frame times in, (F, n) complex frames out
-        frames, info = module.interpolate(source, target, problem.times, **_accepted(module, options))
-        result = Result(frames.T, energy=info.pop("energy", []), iterations=info.pop("iterations", 0),
-                        converged=info.pop("converged", True), info=info)
+    result = module.solve(problem, **_accepted(module, options))
     total = time.perf_counter() - start
     result.timings = {"solve": total, "total": total}
     return result.sequence(problem.shape, problem.times, method=method)

@@ -53,7 +53,7 @@ from ..errors import MethodError, require
 from ..optimisation.assembly import HAVE_CHOLMOD
 from . import convex
 
-__all__ = ["interpolate", "max_step", "SCAFFOLD", "MAX_ITER", "TOL", "BUDGET"]
+__all__ = ["solve", "max_step", "SCAFFOLD", "MAX_ITER", "TOL", "BUDGET"]
 
 SCAFFOLD = 1e-2  # weight of the completing (exterior and hole) faces against the region's
 MAX_ITER = 20  # Newton iterations per frame at most
@@ -62,30 +62,30 @@ BUDGET = 10.0  # seconds per component for all its frames, shared out as they co
 ARMIJO = 1e-4
 
 
-def interpolate(source, target, t):
+def solve(problem):
     """Frames of the refined fold-free morph.
 
     Parameters
     ----------
-    source, target : Shape
-        Compatible triangle meshes, every vertex in a face, no target
-        triangle flipped against the source.
-    t : (F,) float
-        Frame times, 0 first and 1 last.
+    problem : Problem
+        Held at the first and the last frame; its shape a triangle mesh with
+        every vertex in a face, no target triangle flipped against the source.
 
     Returns
     -------
-    frames : (F, n) complex
-    info : dict
+    Result
+        ``iterations``: Newton iterations of all frames; ``info``:
+        ``components`` (per component ``vertices``, ``faces``, ``rotation``,
+        ``iterations``).
 
     Raises
     ------
     MethodError
-        As method 'convex' does (`isotween.baselines.convex.interpolate`).
+        As method 'convex' does (`isotween.baselines.convex.solve`).
     """
-    frames, info = convex.per_component(source, target, t, "injective", _component)
-    info["iterations"] = sum(c["iterations"] for c in info["components"])
-    return frames, info
+    result = convex.per_component(problem, "injective", _component)
+    result.iterations = sum(c["iterations"] for c in result.info["components"])
+    return result
 
 
 def max_step(z, d, faces):
