@@ -6,6 +6,8 @@ outline's edge lengths follow their linear blend far better than the convex
 morph's, and the line search never leaves the embeddings.
 """
 
+import time
+
 import numpy as np
 import pytest
 
@@ -114,3 +116,24 @@ def test_a_singular_newton_system_is_a_method_error_and_the_fallback_is_convex(m
     seq = isotween.interpolate(src, tgt, frames=5, fold="fallback")
     assert seq.method == "convex" and "injective failed" in seq.info["fallback"]
     assert flipped_faces(seq) == 0 and np.array_equal(seq.frames[-1], tgt.vertices)
+
+
+def test_the_budget_counts_iterations_so_results_do_not_depend_on_speed(monkeypatch):
+    """A component past its budget gets WORK // N Newton iterations, however slow the machine."""
+    src, tgt = pair("W->T")
+    free = isotween.interpolate(src, tgt, frames=7, method="injective")
+    n = free.info["components"][0]["vertices"]
+    assert free.iterations > 5 + 3  # unconstrained it needs more than the small budget below
+    monkeypatch.setattr(injective, "WORK", 8 * n)  # 8 iterations for the 5 in-between frames
+    capped = isotween.interpolate(src, tgt, frames=7, method="injective")
+    assert capped.iterations == 8
+    original = injective._Energy.derivatives
+
+    def slow(self, z):  # a machine ten times slower would once have cut this short
+        time.sleep(0.01)
+        return original(self, z)
+
+    monkeypatch.setattr(injective._Energy, "derivatives", slow)
+    again = isotween.interpolate(src, tgt, frames=7, method="injective")
+    assert again.iterations == 8 and np.array_equal(again.z, capped.z)
+    assert flipped_faces(capped, None).tolist() == [0] * 7

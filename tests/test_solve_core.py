@@ -1,21 +1,24 @@
 """One solve core (Problem -> solve -> Result) and one place that picks the compute backend."""
 
 import ast
+import dataclasses
+import importlib
 import pathlib
 import subprocess
 import sys
+import types
 
 import numpy as np
 import pytest
 
 import isotween
-from isotween import baselines, edit, interpolate, interpolate_keyframes, relative_velocity_field, transfer
+from isotween import baselines, edit, interpolate, interpolate_keyframes, problems, relative_velocity_field, transfer
 from isotween.errors import MissingDependencyError, ParameterError
 from isotween.optimisation import backend
-from isotween.optimisation.problem import Result, pack
+from isotween.optimisation.problem import Problem, Result, pack
 from isotween.optimisation.solve import solve
-from isotween.problems import keyed_problem
-from shapes import bend, grid_mesh
+from isotween.problems import assemble, held_problem, keyed_problem
+from shapes import bend, ellipse, grid_mesh
 
 SRC = pathlib.Path(isotween.__file__).parent
 
@@ -158,3 +161,148 @@ def test_frame_times_are_checked_in_one_place(bar, times, message):
         interpolate(*bar, frames=3, times=times)
     with pytest.raises(ParameterError, match=message.replace("frame", "keyframe")):
         interpolate_keyframes([bar[0], bar[1], bar[0]], times=times, frames=9)
+
+
+# ---------------------------------------------------------------- every entry point builds through held_problem
+
+@pytest.fixture
+def built(monkeypatch):
+    """Snapshots of every Problem made while the test runs, and the count of all Problems constructed.
+
+    ``problems.held_problem`` is wrapped wherever it is bound, and ``Problem.__init__``
+    is counted, so a Problem made around the builder shows up as a mismatch.
+    """
+    original, init = problems.held_problem, Problem.__init__
+    made, count = [], [0]
+
+    def recording(*args, **kwargs):
+        p = original(*args, **kwargs)
+        snapshot = {f.name: getattr(p, f.name) for f in dataclasses.fields(p)}  # as built, before any solve
+        snapshot.update(z=p.z.copy(), centroids=p.centroids.copy(), edges=None if p.edges is None else p.edges.copy())
+        made.append(types.SimpleNamespace(**snapshot))
+        return p
+
+    def counting(self, *args, **kwargs):
+        count[0] += 1
+        init(self, *args, **kwargs)
+
+    for name, module in list(sys.modules.items()):
+        if name.startswith("isotween") and getattr(module, "held_problem", None) is original:
+            monkeypatch.setattr(module, "held_problem", recording)
+    monkeypatch.setattr(Problem, "__init__", counting)
+    return made, count
+
+
+def _held(problem):
+    """Indices of the held frames of a snapshot."""
+    return np.flatnonzero(problem.held).tolist()
+
+
+def test_interpolate_and_keyframes_build_through_the_builder(bar, built):
+    made, count = built
+    a, b = bar
+    seq = interpolate(a, b, frames=7)
+    keys = interpolate_keyframes([a, b, a], frames=9)
+    assert count[0] == len(made) == 2
+    two, three = made
+    assert _held(two) == [0, 6] and _held(three) == [0, 4, 8]
+    np.testing.assert_array_equal(two.z[:, [0, 6]], np.c_[a.z, b.z])
+    np.testing.assert_array_equal(three.z[:, [0, 4, 8]], np.c_[a.z, b.z, a.z])
+    np.testing.assert_array_equal(two.times, seq.times)
+    np.testing.assert_array_equal(three.times, keys.times)
+    assert two.edges is not None and three.edges is not None
+
+
+def test_transfer_builds_its_target_problem_through_the_builder(bar, built):
+    """Two problems: the source pair held at both ends, the target held at its first frame only."""
+    made, count = built
+    a, b = bar
+    target = a.with_vertices(a.vertices * [1.0, 1.5] + [0.2, -0.1])
+    seq = transfer(a, b, target, frames=7)
+    assert count[0] == len(made) == 2
+    source, tgt = made
+    assert _held(source) == [0, 6] and _held(tgt) == [0]
+    np.testing.assert_array_equal(tgt.z[:, 0], target.z)
+    np.testing.assert_array_equal(tgt.times, seq.times)
+    np.testing.assert_array_equal(tgt.edges[:, 0], target.edge_vectors())  # exact on the held frame
+    np.testing.assert_allclose(tgt.centroids[:, 0], target.topology.centroids(target.z), rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(seq.frames[0], target.vertices)
+
+
+@pytest.mark.parametrize("keep_ends, held", [(True, [0, 3, 6]), (False, [3])])
+def test_edit_builds_its_problem_through_the_builder(bar, built, keep_ends, held):
+    made, count = built
+    seq = interpolate(*bar, frames=7)
+    bent = seq[3].with_vertices(seq[3].vertices + 0.1 * np.sin(seq[3].vertices[:, ::-1]))
+    edited = edit(seq, frame=3, shape=bent, keep_ends=keep_ends)
+    assert count[0] == len(made) == 2  # the interpolation, then the edit
+    problem = made[1]
+    assert _held(problem) == held and problem.edges is not None
+    np.testing.assert_array_equal(problem.z[:, 3], bent.z)
+    np.testing.assert_array_equal(edited.frames[3], bent.vertices)  # held frames kept bit for bit
+
+
+#: the methods whose modules live in isotween/baselines under their own name
+BASELINES = ("linear", "intrinsic", "arap", "arap-baxter", "shapespace", "convex", "injective")
+
+
+def _pair(method, bar):
+    """A pair of shapes the method takes: a polygon for 'intrinsic', the triangulated bar else."""
+    if method == "intrinsic":
+        src = ellipse(20)
+        return src, src.with_vertices(src.vertices @ [[0.3, 1.2], [-0.9, 0.4]] + [1.0, 2.0])
+    return bar
+
+
+@pytest.mark.parametrize("method", BASELINES)
+def test_baselines_run_builds_one_problem_and_equals_the_method_on_it(bar, built, method):
+    """run() builds one Problem (both inputs held, no initial edges) and returns what the method gives on it."""
+    made, count = built
+    src, tgt = _pair(method, bar)
+    t = np.array([0.0, 0.1, 0.35, 0.5, 0.8, 1.0])
+    seq = baselines.run(method, src, tgt, 6, times=t, tol=1e-4, max_iter=30)
+    assert count[0] == len(made) == 1
+    problem = made[0]
+    assert _held(problem) == [0, 5] and problem.edges is None
+    np.testing.assert_array_equal(problem.z[:, [0, 5]], np.c_[src.z, tgt.z])
+    np.testing.assert_array_equal(problem.times, t)
+    np.testing.assert_array_equal(seq.times, t)
+    module = importlib.import_module(f"isotween.baselines.{method.replace('-', '_')}")
+    again = keyed_problem([src, tgt], t, np.array([0, 5]), init=None, scheme="midpoint", tol=1e-4, max_iter=30)
+    direct = module.solve(again).z
+    size = src.bbox_diagonal()
+    np.testing.assert_allclose(seq.z, direct.T, rtol=0, atol=1e-12 * size)
+
+
+@pytest.mark.parametrize("method", BASELINES)
+def test_baselines_refuse_a_problem_with_a_held_interior_frame(bar, method):
+    src, tgt = _pair(method, bar)
+    problem = keyed_problem([src, tgt, src], np.linspace(0, 1, 5), np.array([0, 2, 4]), init=None,
+                            scheme="midpoint", tol=1e-4, max_iter=5)
+    module = importlib.import_module(f"isotween.baselines.{method.replace('-', '_')}")
+    with pytest.raises(ParameterError, match="holds only the first and the last frame"):
+        module.solve(problem)
+
+
+def test_solvers_refuse_a_problem_without_initial_edges(bar):
+    problem = keyed_problem(list(bar), np.linspace(0, 1, 5), np.array([0, 4]), init=None, scheme="midpoint",
+                            tol=1e-4, max_iter=5)
+    with pytest.raises(ParameterError, match="initial edges"):
+        solve(problem)
+    with pytest.raises(ParameterError, match="edges"):
+        assemble(problem, np.ones(bar[0].n_edges))
+
+
+def test_assemble_recovers_a_rigid_motion_from_its_exact_edges(bar):
+    """Exact edges and centroids of a turn about the centroid: assemble() gives the turned frames, held ones intact."""
+    src = bar[0]
+    t = np.linspace(0.0, 1.0, 6)
+    c = src.topology.centroids(src.z)
+    turn = np.exp(1j * 1.7 * t)
+    want = (src.z - c)[:, None] * turn + c + (0.5 - 2j) * t
+    edges = src.edge_vectors()[:, None] * turn
+    centroids = (c + (0.5 - 2j) * t)[None, :]
+    problem = held_problem(src, t, np.array([0, 3]), want[:, [0, 3]], centroids=centroids, edges=edges)
+    result = assemble(problem, np.ones(src.n_edges))
+    np.testing.assert_allclose(result.z, want, rtol=0, atol=1e-12 * src.bbox_diagonal())
+    np.testing.assert_array_equal(result.z[:, [0, 3]], want[:, [0, 3]])

@@ -11,9 +11,7 @@ from .correspondence.compatibility import as_shape, check_compatible
 from .errors import ParameterError
 from .initialisation import edge_rotations
 from .metrics import isometric_energy
-from .optimisation.assembly import FrameAssembler
-from .optimisation.problem import Result
-from .problems import check_movable
+from .problems import assemble, check_movable, held_problem
 from .sequence import Sequence
 from .shape import Shape
 
@@ -34,11 +32,14 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
     S~ e(t_k) = e~(t_k). The relative velocities are warped by it (Eq. 14)
     and the edge vectors rebuilt by minimising Eq. (15) with the edited frames
     (and, with ``keep_ends``, the first and last frames) held; frames are then
-    assembled by Eq. (10). Every option is keyword-only. With one edit and ``keep_ends=False`` this is the
-    paper's procedure (S~ constant in time). With several held frames, S~ is
-    blended between them (log-scale and angle linear in time) and the
-    mismatch left by Eq. (15) is spread linearly between held frames, so an
-    edit fades out towards the held frames around it.
+    assembled by Eq. (10) (the :class:`~isotween.optimisation.problem.Problem`
+    of :func:`isotween.problems.held_problem`, solved by
+    :func:`isotween.problems.assemble`). Every option is keyword-only.
+    With one edit and ``keep_ends=False`` this is the paper's procedure (S~
+    constant in time). With several held frames, S~ is blended between them
+    (log-scale and angle linear in time) and the mismatch left by Eq. (15)
+    is spread linearly between held frames, so an edit fades out towards the
+    held frames around it.
 
     Parameters
     ----------
@@ -109,13 +110,11 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
     c = avg @ z
     shift = np.stack([avg @ target[k] - c[:, k] for k in keys])  # (K, C)
     centroids = c + _interp_rows(t, t[keys], shift)
-    asm = FrameAssembler(base, 1.0 / np.abs(e).mean(axis=1))
-    out = asm.positions(new, centroids)  # Eq. (10)
-    for k in keys:
-        out[:, k] = target[k]
-    result = Result(out).sequence(base, t.copy(), method="edit", scheme=sequence.scheme,
-                                  info={"edited_frames": sorted(edits), "held_frames": keys.tolist(),
-                                        "source": sequence})
+    problem = held_problem(base, t, keys, np.stack([target[k] for k in keys], axis=1), centroids=centroids,
+                           edges=new, scheme=sequence.scheme)
+    done = assemble(problem, 1.0 / np.abs(e).mean(axis=1))  # Eq. (10)
+    result = done.sequence(base, t.copy(), method="edit", scheme=sequence.scheme,
+                           info={"edited_frames": sorted(edits), "held_frames": keys.tolist(), "source": sequence})
     result.energy = [isometric_energy(result)]  # of the edited frames
     return result
 

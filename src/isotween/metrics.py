@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, overload
 import numpy as np
 
 from .errors import ParameterError
+from .optimisation.problem import bbox_diagonal
 from .optimisation.schemes import SCHEMES
 from .optimisation.schemes import isometric_energy as _energy
 
@@ -285,8 +286,7 @@ def symmetry_error(seq: Sequence, backward: Sequence | None = None) -> float:
         backward = interpolate(seq[-1], seq[0], frames=len(seq), **options)
     if len(backward) != len(seq):
         raise ParameterError(f"sequences differ in length: {len(seq)} and {len(backward)}")
-    ends = np.vstack([seq.frames[0], seq.frames[-1]])
-    diag = float(np.hypot(*np.ptp(ends, axis=0)))
+    diag = bbox_diagonal(seq.frames[0], seq.frames[-1])
     return float(np.max(np.linalg.norm(seq.frames - backward.frames[::-1], axis=-1)) / diag)
 
 

@@ -267,6 +267,7 @@ class Sequence:
     def _positions(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
         """(T, n, 2) vertex positions at the times ``t`` (see :meth:`at`)."""
         from .optimisation.assembly import FrameAssembler
+        from .optimisation.problem import pack
         from .optimisation.schemes import step_angle
 
         times = self.times
@@ -303,7 +304,7 @@ class Sequence:
         out = cached[2].positions(edges, centroids)  # Eq. (10), (n, T)
         for at_frame, frame in ((s == 0.0, k), (s == 1.0, k + 1)):  # the frames themselves, bit for bit
             out[:, at_frame] = z[frame[at_frame]].T
-        return np.stack([out.real.T, out.imag.T], axis=-1)
+        return pack(out)
 
     # ------------------------------------------------------------------ output
     def save(self, path: str | os.PathLike, **options: Any) -> list:

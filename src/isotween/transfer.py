@@ -9,9 +9,7 @@ import numpy as np
 from .correspondence.compatibility import as_shape, check_compatible
 from .interpolate import interpolate
 from .metrics import isometric_energy
-from .optimisation.assembly import FrameAssembler
-from .optimisation.problem import Result
-from .problems import check_movable
+from .problems import assemble, check_movable, held_problem
 from .velocity import relative_velocity_field
 
 if TYPE_CHECKING:
@@ -60,7 +58,11 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     3. Warp the velocities: e~'(t_k) = S~ e'(t_k) (Eq. 14), and minimise
        Eq. (15) from the fixed e~(t_0); the minimum is reached by integrating
        the warped velocities.
-    4. Assemble the target frames by Eq. (10).
+    4. Assemble the target frames by Eq. (10): the target's
+       :class:`~isotween.optimisation.problem.Problem` (built by
+       :func:`isotween.problems.held_problem`) holds the first frame, with
+       these edges and centroids, and :func:`isotween.problems.assemble`
+       solves it.
 
     Translation: each component of the target moves like the matching source
     component, mapped by the least-squares similarity (rotation and uniform
@@ -111,11 +113,10 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     avg = source_start.topology.avg
     c = avg @ seq.z.T  # (C, F) source centroids
     centroids = (avg @ target_start.z)[:, None] + a[:, None] * (c - c[:, :1])
-    asm = FrameAssembler(target_start, 2.0 / (np.abs(e[:, 0]) + np.abs(e[:, -1])))
-    z = np.empty((target_start.n_vertices, len(field.times)), dtype=complex)
-    z[:, 0] = target_start.z
-    z[:, 1:] = asm.positions(e[:, 1:], centroids[:, 1:])  # Eq. (10)
-    done = Result(z, iterations=seq.iterations, converged=seq.converged, timings=dict(seq.timings))
-    out = done.sequence(target_start, field.times, method="transfer", scheme=seq.scheme, info={"source": seq})
+    problem = held_problem(target_start, field.times, np.array([0]), target_start.z[:, None], centroids=centroids,
+                           edges=e, scheme=seq.scheme)
+    done = assemble(problem, 2.0 / (np.abs(e[:, 0]) + np.abs(e[:, -1])))
+    done.iterations, done.converged, done.timings = seq.iterations, seq.converged, dict(seq.timings)
+    out = done.sequence(target_start, problem.times, method="transfer", scheme=seq.scheme, info={"source": seq})
     out.energy = [isometric_energy(out)]  # of the frames returned, not of the source run
     return out

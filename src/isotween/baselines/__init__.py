@@ -2,7 +2,11 @@
 
 ``run(method, source, target, frames)`` returns a :class:`~isotween.Sequence`
 like :func:`isotween.interpolate` does, so every method is measured by the same
-metrics (:mod:`isotween.metrics`).
+metrics (:mod:`isotween.metrics`). It builds the
+:class:`~isotween.optimisation.problem.Problem` of the two shapes held at the
+first and last frame once, with :func:`isotween.problems.keyed_problem` (as
+AIAP does), and hands it to the method's ``solve(problem, **options)``, which
+returns a :class:`~isotween.optimisation.problem.Result`.
 
 =============  ===========================================  ==================
 method         what is blended                              needs
@@ -27,15 +31,17 @@ method         what is blended                              needs
 
 import time
 
+import numpy as np
+
 from ..correspondence.compatibility import as_shape, check_compatible
 from ..errors import MethodError
-from ..optimisation.problem import Result
+from ..problems import check_stopping, keyed_problem
 from ..times import frame_times
 from . import arap, arap_baxter, convex, injective, intrinsic, linear, shapespace
 
 __all__ = ["METHODS", "run"]
 
-#: method name -> module with ``interpolate(source, target, t, **options)``
+#: method name -> module with ``solve(problem, **options) -> Result``
 _MODULES = {
     "linear": linear,
     "intrinsic": intrinsic,
@@ -63,8 +69,10 @@ def run(method, source, target, n_frames, *, times=None, **options):
         Increasing frame times from 0 to 1 (default: uniform). Keyword-only,
         as every option.
     **options
-        ``tol``, ``max_iter``, ``callback`` (iterative methods only; others
-        ignore them).
+        ``tol`` (relative, as in :func:`isotween.interpolate`; default 5e-4)
+        and ``max_iter`` (default 100) go into the Problem; ``callback`` and
+        a method's own options (its module's ``OPTIONS``) to the method.
+        Methods ignore the options they do not take.
 
     Returns
     -------
@@ -78,6 +86,8 @@ def run(method, source, target, n_frames, *, times=None, **options):
     MethodError
         Unknown method, or a shape the method cannot take (the message says
         which input it needs).
+    ParameterError
+        Bad ``times``, ``tol`` or ``max_iter``.
 
     Examples
     --------
@@ -95,14 +105,20 @@ def run(method, source, target, n_frames, *, times=None, **options):
     source, target = as_shape(source, "source"), as_shape(target, "target")
     check_compatible(source, target)
     t = frame_times(n_frames, times)
+    options = {k: v for k, v in options.items() if v is not None}
+    options.setdefault("tol", 5e-4)
+    options.setdefault("max_iter", 100)
+    check_stopping(options["tol"], options["max_iter"])
+    problem = keyed_problem([source, target], t, np.array([0, len(t) - 1]), init=None, scheme="midpoint",
+                            tol=options["tol"], max_iter=options["max_iter"])
     module = _MODULES[method]
-    frames, info = module.interpolate(source, target, t, **_accepted(module, options))
+    result = module.solve(problem, **_accepted(module, options))
     total = time.perf_counter() - start
-    result = Result(frames.T, energy=info.pop("energy", []), iterations=info.pop("iterations", 0),
-                    converged=info.pop("converged", True), timings={"solve": total, "total": total}, info=info)
-    return result.sequence(source, t, method=method)
+    result.timings = {"solve": total, "total": total}
+    return result.sequence(problem.shape, problem.times, method=method)
 
 
 def _accepted(module, options):
+    """The options a method's module names in ``OPTIONS``."""
     names = getattr(module, "OPTIONS", ())
-    return {k: v for k, v in options.items() if k in names and v is not None}
+    return {k: v for k, v in options.items() if k in names}

@@ -11,7 +11,9 @@ A(t) applied to its source sides:
 
 a Laplace equation over the triangle sides (each side weighted by the number
 of triangles it borders, its target the mean of their predictions), factorised
-once for all frames. Each component's centroid moves linearly (as in AIAP).
+once for all frames. Each component's centroid moves linearly (as in AIAP):
+the problem's centroids, when the triangles join the same components as the
+shape's edges.
 
 Plain ARAP takes every triangle's angle in (-pi, pi] on its own; triangles that
 turn by more than half a turn then rotate the wrong way round, the artefact that
@@ -22,9 +24,10 @@ import numpy as np
 
 from ..errors import MethodError
 from ..optimisation.assembly import FrameAssembler, centroid_path
+from ..optimisation.problem import Result
 from ..shape import Shape
 
-__all__ = ["interpolate", "affine_maps", "predicted_edges"]
+__all__ = ["solve", "affine_maps", "predicted_edges"]
 
 
 def _check_mesh(shape, method):
@@ -35,13 +38,14 @@ def _check_mesh(shape, method):
         )
 
 
-def affine_maps(source, target):
-    """Per-triangle affine map A u = P u + Q conj(u) from source to target.
+def affine_maps(faces, z0, z1):
+    """Per-triangle affine map A u = P u + Q conj(u) from the positions z0 to z1.
 
     Parameters
     ----------
-    source, target : Shape
-        Same faces.
+    faces : (T, 3) int
+    z0, z1 : (n,) complex
+        Source and target vertices.
 
     Returns
     -------
@@ -52,9 +56,9 @@ def affine_maps(source, target):
     MethodError
         A source triangle has zero area (its map is undefined).
     """
-    f = source.faces
-    u1, u2 = (source.z[f[:, k]] - source.z[f[:, 0]] for k in (1, 2))
-    v1, v2 = (target.z[f[:, k]] - target.z[f[:, 0]] for k in (1, 2))
+    f = faces
+    u1, u2 = (z0[f[:, k]] - z0[f[:, 0]] for k in (1, 2))
+    v1, v2 = (z1[f[:, k]] - z1[f[:, 0]] for k in (1, 2))
     det = u1 * u2.conj() - u1.conj() * u2  # 2i x twice the signed area
     bad = np.flatnonzero(np.abs(det) <= 1e-12 * (np.abs(u1) ** 2 + np.abs(u2) ** 2))
     if bad.size:
@@ -116,14 +120,13 @@ def predicted_edges(source, mesh, theta, P, Q, t):
     return out / count[:, None], count
 
 
-def interpolate(source, target, t, *, method="arap", propagate=None):
-    """Frames of the ARAP interpolation.
+def solve(problem, *, method="arap", propagate=None):
+    """Frames of the ARAP interpolation between the problem's first and last frame.
 
     Parameters
     ----------
-    source, target : Shape
-        Same triangles.
-    t : (F,) float
+    problem : Problem
+        Of a triangle mesh, held at the first and the last frame.
     method : str
         Name used in error messages.
     propagate : callable(faces, theta, n_vertices) -> theta, optional
@@ -133,16 +136,22 @@ def interpolate(source, target, t, *, method="arap", propagate=None):
 
     Returns
     -------
-    frames : (F, n) complex
-    info : dict
-        ``rotation_span``: largest minus smallest triangle angle used (radians).
+    Result
+        ``z`` (n, F) complex; ``info['rotation_span']``: largest minus
+        smallest triangle angle used (radians).
     """
+    source, t = problem.shape, problem.times
     _check_mesh(source, method)
-    P, Q = affine_maps(source, target)
+    z0, z1 = problem.ends()
+    P, Q = affine_maps(source.faces, z0, z1)
     theta = np.angle(P)
     if propagate is not None:
         theta = propagate(source.faces, theta, source.n_vertices)
     mesh = Shape(source.vertices, faces=source.faces)  # the triangle sides, whatever other edges source has
     edges, count = predicted_edges(source, mesh, theta, P, Q, t)
-    z = FrameAssembler(mesh, weights=count).positions(edges, centroid_path(mesh, source.z, target.z, t))
-    return z.T, {"rotation_span": float(np.ptp(theta))}
+    if np.array_equal(mesh.components, source.components):
+        centroids = problem.centroids
+    else:  # other edges join the triangles differently: centroids of the triangles' components
+        centroids = centroid_path(mesh, z0, z1, t)
+    z = FrameAssembler(mesh, weights=count).positions(edges, centroids)
+    return Result(z, info={"rotation_span": float(np.ptp(theta))})

@@ -14,7 +14,7 @@ from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from . import arap
 
-__all__ = ["interpolate", "propagate_angles"]
+__all__ = ["solve", "propagate_angles"]
 
 
 def propagate_angles(faces, theta, n_vertices):
@@ -54,6 +54,6 @@ def propagate_angles(faces, theta, n_vertices):
     return theta + 2 * np.pi * k
 
 
-def interpolate(source, target, t):
-    """Frames of the consistent-rotation ARAP interpolation; see :func:`isotween.baselines.arap.interpolate`."""
-    return arap.interpolate(source, target, t, method="arap-baxter", propagate=propagate_angles)
+def solve(problem):
+    """Frames of the consistent-rotation ARAP interpolation; see :func:`isotween.baselines.arap.solve`."""
+    return arap.solve(problem, method="arap-baxter", propagate=propagate_angles)

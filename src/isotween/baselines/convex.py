@@ -31,28 +31,28 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
 from ..errors import IncompatibleShapesError, IsotweenError, MethodError
+from ..optimisation.problem import Result
 
-__all__ = ["interpolate", "per_component", "disc", "Disc", "ConvexFrames", "place", "SIDES"]
+__all__ = ["solve", "per_component", "disc", "Disc", "ConvexFrames", "place", "SIDES"]
 
 SIDES = 32  # vertices of the fixed convex boundary (a regular polygon)
 MARGIN = 1.5  # its radius over the largest distance of a ring vertex from its centre
 
 
-def interpolate(source, target, t):
+def solve(problem):
     """Frames of the convex-combination morph.
 
     Parameters
     ----------
-    source, target : Shape
-        Compatible triangle meshes, every vertex in a face, no target
-        triangle flipped against the source.
-    t : (F,) float
-        Frame times, 0 first and 1 last.
+    problem : Problem
+        Held at the first and the last frame; its shape a triangle mesh with
+        every vertex in a face, no target triangle flipped against the source.
 
     Returns
     -------
-    frames : (F, n) complex
-    info : dict
+    Result
+        ``info``: ``components`` (per component ``vertices``, ``faces`` of the
+        completed disc, ``rotation`` in radians).
 
     Raises
     ------
@@ -62,18 +62,16 @@ def interpolate(source, target, t):
         component whose exterior or holes cannot be meshed compatibly (the
         message names the component and why).
     """
-    return per_component(source, target, t, "convex", _component)
+    return per_component(problem, "convex", _component)
 
 
-def per_component(source, target, t, name, solve):
+def per_component(problem, name, solve):
     """Frames of a disc-based morph, one connected component of the faces at a time.
 
     Parameters
     ----------
-    source, target : Shape
-        As for `interpolate`.
-    t : (F,) float
-        Frame times, 0 first and 1 last.
+    problem : Problem
+        As for `solve`.
     name : str
         The method's name, for messages.
     solve : callable(zs, zt, faces, t) -> (frames, extra)
@@ -83,15 +81,17 @@ def per_component(source, target, t, name, solve):
 
     Returns
     -------
-    frames : (F, n) complex
-        The first and the last frame are the inputs exactly.
-    info : dict
+    Result
+        ``z`` (n, F) complex; the first and the last frame are the held
+        shapes exactly. ``info['components']``: the dicts of ``solve``.
 
     Raises
     ------
     MethodError
-        As for `interpolate`, naming ``name``.
+        As for `solve`, naming ``name``.
     """
+    source = problem.shape
+    zs, zt = problem.ends()
     if source.faces is None or not len(source.faces):
         raise MethodError(f"method {name!r} needs solid regions (a triangle mesh); the shapes have no faces")
     f = source.faces
@@ -99,7 +99,6 @@ def per_component(source, target, t, name, solve):
     if loose.size:
         raise MethodError(f"method {name!r} needs solid regions: {loose.size} vertex(es) lie in no face "
                           f"(open polylines or outlines), first: vertex {loose[0]}")
-    zs, zt = source.z, target.z
     a_s, a_t = _areas(zs, f), _areas(zt, f)
     if np.any(a_s == 0):
         raise MethodError(f"method {name!r}: triangle {np.flatnonzero(a_s == 0)[0]} of the source has zero area")
@@ -108,7 +107,7 @@ def per_component(source, target, t, name, solve):
         raise MethodError(f"method {name!r} needs two valid meshes: {bad.size} target triangle(s) are flipped "
                           f"against the source, first: triangle {bad[0]} {f[bad[0]].tolist()}")
     f = np.where((a_s < 0)[:, None], f[:, ::-1], f)  # counter-clockwise in the source (and target)
-    t = np.asarray(t, dtype=np.float64)
+    t = problem.times
     frames = np.empty((len(t), len(zs)), dtype=complex)
     n_comp, label = connected_components(
         coo_matrix((np.ones(2 * len(f)), (f[:, [0, 1]].ravel(), f[:, [1, 2]].ravel())),
@@ -126,7 +125,7 @@ def per_component(source, target, t, name, solve):
         frames[:, verts] = z
         info["components"].append(extra)
     frames[0], frames[-1] = zs, zt  # the inputs exactly
-    return frames, info
+    return Result(frames.T, info=info)
 
 
 class Disc(NamedTuple):

@@ -30,11 +30,12 @@ made as isometric as the embedding allows:
    (an embedding of the same disc with the same boundary: warm start and
    temporal coherence) has the lower energy. Stop when an iteration lowers
    the energy above its minimum by less than ``TOL`` (relative), after
-   ``MAX_ITER`` iterations, or when its share of the component's time
-   ``BUDGET`` is spent (the budget left over the frames left; every frame
-   gets at least one iteration, and its last iterate is an embedding). Only
-   very large meshes reach the budget; their result then depends on the
-   machine's speed.
+   ``MAX_ITER`` iterations, or when its share of the component's iteration
+   budget is spent: ``WORK`` vertex-iterations, i.e. WORK / N Newton
+   iterations for a disc of N vertices (what is left over the frames left;
+   every frame gets at least one iteration, and its last iterate is an
+   embedding). Only very large meshes reach the budget. The budget counts
+   work, not seconds, so the result is the same on every machine.
 
 The rigid motion of the convex morph (best rotation of the target onto the
 source, interpolated, centroid on a straight line) is kept; the first and
@@ -42,8 +43,6 @@ last frames are the inputs exactly. ``info``: ``components`` (per component
 ``vertices``, ``faces``, ``rotation``, ``iterations``), ``iterations`` (all
 Newton iterations).
 """
-
-import time
 
 import numpy as np
 from scipy.sparse import csc_matrix
@@ -53,39 +52,39 @@ from ..errors import MethodError, require
 from ..optimisation.assembly import HAVE_CHOLMOD
 from . import convex
 
-__all__ = ["interpolate", "max_step", "SCAFFOLD", "MAX_ITER", "TOL", "BUDGET"]
+__all__ = ["solve", "max_step", "SCAFFOLD", "MAX_ITER", "TOL", "WORK"]
 
 SCAFFOLD = 1e-2  # weight of the completing (exterior and hole) faces against the region's
 MAX_ITER = 20  # Newton iterations per frame at most
 TOL = 1e-3  # stop when an iteration lowers the energy by less than this fraction
-BUDGET = 10.0  # seconds per component for all its frames, shared out as they come
+WORK = 2_000_000  # Newton iterations x disc vertices per component, shared out over its frames
 ARMIJO = 1e-4
 
 
-def interpolate(source, target, t):
+def solve(problem):
     """Frames of the refined fold-free morph.
 
     Parameters
     ----------
-    source, target : Shape
-        Compatible triangle meshes, every vertex in a face, no target
-        triangle flipped against the source.
-    t : (F,) float
-        Frame times, 0 first and 1 last.
+    problem : Problem
+        Held at the first and the last frame; its shape a triangle mesh with
+        every vertex in a face, no target triangle flipped against the source.
 
     Returns
     -------
-    frames : (F, n) complex
-    info : dict
+    Result
+        ``iterations``: Newton iterations of all frames; ``info``:
+        ``components`` (per component ``vertices``, ``faces``, ``rotation``,
+        ``iterations``).
 
     Raises
     ------
     MethodError
-        As method 'convex' does (`isotween.baselines.convex.interpolate`).
+        As method 'convex' does (`isotween.baselines.convex.solve`).
     """
-    frames, info = convex.per_component(source, target, t, "injective", _component)
-    info["iterations"] = sum(c["iterations"] for c in info["components"])
-    return frames, info
+    result = convex.per_component(problem, "injective", _component)
+    result.iterations = sum(c["iterations"] for c in result.info["components"])
+    return result
 
 
 def max_step(z, d, faces):
@@ -134,7 +133,7 @@ def _component(zs, zt, f, t):
     d = convex.disc(zs, zt, f)
     convex_frame = convex.ConvexFrames(d)
     energy = _Energy(d)
-    start = time.perf_counter()
+    budget = max(len(t) - 2, WORK // len(d.ws))  # Newton iterations for all the frames
     out = np.empty((len(t), len(zs)), dtype=complex)
     z = d.ws
     iterations = 0
@@ -146,20 +145,20 @@ def _component(zs, zt, f, t):
         z0 = convex_frame(tk)
         if energy(z0) < energy(z):
             z = z0
-        share = (BUDGET - (time.perf_counter() - start)) / (len(t) - 1 - k)
-        z, used = _minimise(energy, z, time.perf_counter() + share)
+        share = max(1, (budget - iterations) // (len(t) - 1 - k))
+        z, used = _minimise(energy, z, min(MAX_ITER, share))
         iterations += used
         out[k] = convex.place(d, z[:d.n], tk)
     return out, {"vertices": len(d.ws), "faces": len(d.faces), "rotation": d.theta, "iterations": iterations}
 
 
-def _minimise(energy, z, deadline):
+def _minimise(energy, z, limit):
     """Projected Newton with the flip-preventing line search; every iterate an embedding.
 
-    Stops after the first iteration that ends past ``deadline`` (a `time.perf_counter` value).
+    At most ``limit`` iterations.
     """
     e = energy(z)
-    for it in range(MAX_ITER):
+    for it in range(limit):
         g, H = energy.derivatives(z)
         step = np.zeros_like(z)
         sol = energy.solve(H, -g)
@@ -178,9 +177,9 @@ def _minimise(energy, z, deadline):
             if s < 1e-12:
                 return z, it + 1
         z, drop, e = trial, e - e_new, e_new
-        if drop < TOL * (e - energy.least) or time.perf_counter() > deadline:  # TOL: of the energy above
+        if drop < TOL * (e - energy.least):  # TOL: of the energy above
             return z, it + 1  # its minimum (every face isometric)
-    return z, MAX_ITER
+    return z, limit
 
 
 class _Energy:

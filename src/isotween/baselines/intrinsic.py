@@ -14,8 +14,9 @@ centroid moves linearly.
 import numpy as np
 
 from ..errors import MethodError
+from ..optimisation.problem import Result
 
-__all__ = ["interpolate", "path_edges", "close_ring"]
+__all__ = ["solve", "path_edges", "close_ring"]
 
 
 def _check_paths(shape):
@@ -75,24 +76,24 @@ def close_ring(lengths, directions, weights):
     return lengths + weights * np.einsum("fak,fa->fk", U, lam)
 
 
-def interpolate(source, target, t):
-    """Frames of the intrinsic interpolation.
+def solve(problem):
+    """Frames of the intrinsic interpolation between the problem's first and last frame.
 
     Parameters
     ----------
-    source, target : Shape
-        Same paths.
-    t : (F,) float
+    problem : Problem
+        Of a shape with paths, held at the first and the last frame.
 
     Returns
     -------
-    frames : (F, n) complex
-    info : dict
-        ``closure_correction``: largest relative length change made to close a ring.
+    Result
+        ``z`` (n, F) complex; ``info['closure_correction']``: largest
+        relative length change made to close a ring.
     """
+    source = problem.shape
     paths = _check_paths(source)
-    t = np.asarray(t, dtype=float)[:, None]
-    ends = np.stack([source.z, target.z])
+    t = np.asarray(problem.times, dtype=float)[:, None]
+    ends = np.stack(problem.ends())
     out = np.empty((len(t), source.n_vertices), dtype=complex)
     worst = 0.0
     for idx, closed in paths:  # loop over rings, vectorised over their vertices and frames
@@ -112,4 +113,4 @@ def interpolate(source, target, t):
         p = np.concatenate([np.zeros((len(t), 1)), np.cumsum(d[:, : len(idx) - 1], axis=1)], axis=1)
         centre = (1 - t) * ends[0, idx].mean() + t * ends[1, idx].mean()
         out[:, idx] = p - p.mean(axis=1, keepdims=True) + centre
-    return out, {"closure_correction": worst}
+    return Result(out.T, info={"closure_correction": worst})

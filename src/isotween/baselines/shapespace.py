@@ -30,16 +30,19 @@ Solved by Gauss-Newton over all intermediate vertex positions at once (one
 sparse symmetric system per iteration; the L2 term keeps it positive
 definite), starting from the linear blend, with a backtracking line search so
 that E never increases, and stopped by the paper's Eq. (11) rule (no vertex
-moves more than ``tol`` times the inputs' bounding-box diagonal).
+moves more than ``tol`` times the inputs' bounding-box diagonal: the
+problem's absolute ``tol``).
 """
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-__all__ = ["interpolate", "PathEnergy"]
+from ..optimisation.problem import Result, bbox_diagonal, pack
 
-OPTIONS = ("tol", "max_iter", "callback", "regularisation")
+__all__ = ["solve", "PathEnergy"]
+
+OPTIONS = ("callback", "regularisation")
 
 
 class PathEnergy:
@@ -71,7 +74,7 @@ class PathEnergy:
         # lambda relative to the shape's size: displacements in units of the
         # bounding-box diagonal against length changes in units of edge length
         mean_length = 0.5 * float(np.mean(np.abs(e0) + np.abs(e1)))
-        diag = float(np.hypot(*np.ptp(np.r_[np.c_[z0.real, z0.imag], np.c_[z1.real, z1.imag]], axis=0)))
+        diag = bbox_diagonal(*pack(np.c_[z0, z1]))
         self.lam = float(regularisation) * (mean_length / diag) ** 2
         # residual k, e: (|e_{k+1}|^2 - |e_k|^2) * w[k, e]
         self.w = 1.0 / (np.abs(e0) + np.abs(e1))[None, :] / np.sqrt(self.h)[:, None]  # (m, E)
@@ -158,44 +161,41 @@ class PathEnergy:
         return dx, 2.0 * float(grad @ dx)
 
 
-def interpolate(source, target, t, *, tol=5e-4, max_iter=100, callback=None, regularisation=1e-2):
-    """Frames of the shape-space geodesic.
+def solve(problem, *, callback=None, regularisation=1e-2):
+    """Frames of the shape-space geodesic between the problem's first and last frame.
 
     Parameters
     ----------
-    source, target : Shape
-    t : (F,) float
-    tol : float
-        Eq. (11): stop when no vertex moves more than ``tol`` times the
-        bounding-box diagonal of both inputs in one iteration.
-    max_iter : int
+    problem : Problem
+        Held at the first and the last frame. Its ``tol`` (Eq. 11: stop when
+        no vertex moves more than that in one iteration) and ``max_iter``
+        stop the iteration.
     callback : callable(iteration, energy, max_move), optional
     regularisation : float
         lambda, the relative weight of the L2 metric (module docstring).
 
     Returns
     -------
-    frames : (F, n) complex
-    info : dict
-        ``energy`` after every iteration, ``initial_energy`` (the linear
-        blend's), ``iterations``, ``converged``, ``regularisation``.
+    Result
+        ``z`` (n, F) complex, ``energy`` after every iteration,
+        ``iterations``, ``converged``; ``info``: ``regularisation``,
+        ``objective``, ``initial_energy`` (the linear blend's).
     """
-    z0, z1 = source.z, target.z
-    t = np.asarray(t, dtype=float)
+    z0, z1 = problem.ends()
+    t = np.asarray(problem.times, dtype=float)
     linear = (1 - t)[:, None] * z0[None] + t[:, None] * z1[None]
-    info = {"energy": [], "iterations": 0, "converged": True, "regularisation": regularisation,
-            "objective": "Kilian et al. 2007 path energy (module docstring)"}
+    energies = []
+    info = {"regularisation": regularisation, "objective": "Kilian et al. 2007 path energy (module docstring)"}
     if len(t) == 2:
         info["initial_energy"] = 0.0
-        return linear, info
-    path = PathEnergy(source, z0, z1, t, regularisation)
-    diag = float(np.hypot(*np.ptp(np.r_[source.vertices, target.vertices], axis=0)))
+        return Result(linear.T, energy=energies, iterations=0, converged=True, info=info)
+    path = PathEnergy(problem.shape, z0, z1, t, regularisation)
     inner = linear[1:-1]
     x = np.stack([inner.real, inner.imag], axis=-1).ravel()
     energy = path.energy(linear)
     info["initial_energy"] = energy
-    info["converged"] = False
-    for it in range(1, max_iter + 1):
+    converged, iterations = False, 0
+    for it in range(1, problem.max_iter + 1):
         dx, slope = path.step(x)
         alpha = 1.0
         for _ in range(40):  # backtracking (Armijo): the energy never increases
@@ -204,16 +204,16 @@ def interpolate(source, target, t, *, tol=5e-4, max_iter=100, callback=None, reg
                 break
             alpha *= 0.5
         else:
-            info["converged"] = True  # no descent left at machine precision
+            converged = True  # no descent left at machine precision
             break
         x = x + alpha * dx
         energy = trial
         move = float(np.max(np.hypot(*(alpha * dx).reshape(-1, 2).T)))
-        info["energy"].append(energy)
-        info["iterations"] = it
+        energies.append(energy)
+        iterations = it
         if callback is not None:
             callback(it, energy, move)
-        if move < tol * diag:
-            info["converged"] = True
+        if move < problem.tol:  # Eq. (11)
+            converged = True
             break
-    return path.frames(x), info
+    return Result(path.frames(x).T, energy=energies, iterations=iterations, converged=converged, info=info)

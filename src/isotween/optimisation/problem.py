@@ -2,10 +2,12 @@
 
 A :class:`Problem` is a shape's connectivity, the frame times, which frames
 are held (the inputs, or the keyframes) and where, the initial edge vectors
-and the component centroids of every frame; :func:`isotween.optimisation.solve.solve`
-runs Algorithm 1 or 2 on it. A :class:`Result` holds complex (n, F) frames and
-how they were found, from a solver, a baseline, a transfer or an edit, and
-turns into a :class:`~isotween.Sequence` in one place.
+and the component centroids of every frame. Every entry point builds one with
+the builders of :mod:`isotween.problems`: :func:`isotween.optimisation.solve.solve`
+runs Algorithm 1 or 2 on it, transfer and edit assemble its edges by Eq. (10),
+and the baselines (:mod:`isotween.baselines`) interpolate between its held
+first and last frame. A :class:`Result` holds complex (n, F) frames and how
+they were found, and turns into a :class:`~isotween.Sequence` in one place.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..errors import ParameterError
 from ..sequence import Sequence
 
 if TYPE_CHECKING:
@@ -34,8 +37,7 @@ def bbox_diagonal(*vertices: np.ndarray) -> float:
     5.0
     """
     both = np.concatenate(vertices)
-    size = both.max(axis=0) - both.min(axis=0)
-    return float(np.sqrt(size @ size))
+    return float(np.hypot(*(both.max(axis=0) - both.min(axis=0))))
 
 
 def pack(z: np.ndarray) -> np.ndarray:
@@ -67,9 +69,11 @@ class Problem:
         Frames that do not move (at least the first and the last).
     z : (n, F) complex
         Vertex positions; the held frames are read from it.
-    edges : (E, F) complex
-        Initial edge vectors (Eq. 13 or linear); exact on the held frames.
-        The local solver may overwrite this array.
+    edges : (E, F) complex or None
+        Initial edge vectors (Eq. 13 or linear; Eq. 15 for transfer and
+        edit); exact on the held frames. The local solver may overwrite this
+        array. None for methods that start from the held positions alone
+        (the baselines).
     centroids : (C, F) complex
         Where every component's centroid is in every frame.
     scheme : {'midpoint', 'paper'}
@@ -82,7 +86,7 @@ class Problem:
     times: np.ndarray
     held: np.ndarray
     z: np.ndarray
-    edges: np.ndarray
+    edges: np.ndarray | None
     centroids: np.ndarray
     scheme: str
     tol: float
@@ -95,6 +99,18 @@ class Problem:
         if free.size and free[-1] - free[0] + 1 == free.size:
             return slice(int(free[0]), int(free[-1]) + 1)  # a view, not a copy, of the frames
         return free
+
+    def ends(self) -> tuple[np.ndarray, np.ndarray]:
+        """(n,) complex positions of the held first and last frame, for methods that blend two shapes.
+
+        Raises
+        ------
+        ParameterError
+            An interior frame is held, or an end is not: such methods cannot honour it.
+        """
+        if self.held[1:-1].any() or not (self.held[0] and self.held[-1]):
+            raise ParameterError("this method holds only the first and the last frame")
+        return self.z[:, 0], self.z[:, -1]
 
 
 @dataclass

@@ -47,6 +47,9 @@ def solve(problem: Problem, *, solver: str = "local", assembly: str = "shared", 
         ``timings['solve']`` and the solver's own ``solve.*`` timings.
     """
     start = time.perf_counter()
+    edges = problem.edges
+    if edges is None:
+        raise ParameterError("the solvers start from initial edges; build the problem with init='edge' or 'linear'")
     if solver == "local":
         result = local_solve(problem, assembly=assembly, smooth=smooth, factorisation=factorisation,
                              callback=callback)
@@ -55,7 +58,7 @@ def solve(problem: Problem, *, solver: str = "local", assembly: str = "shared", 
             raise ParameterError("the global solver holds only the first and the last frame")
         p = problem
         free = slice(1, len(p.times) - 1)
-        p.z[:, free] = FrameAssembler(p.shape).positions(p.edges[:, free], p.centroids[:, free])
+        p.z[:, free] = FrameAssembler(p.shape).positions(edges[:, free], p.centroids[:, free])
         result = global_solve(p, linear_solver=linear_solver, callback=callback)
     else:
         raise ParameterError(f"unknown solver {solver!r}; choose one of {', '.join(SOLVERS)}")
