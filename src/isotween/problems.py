@@ -141,14 +141,20 @@ def keyed_problem(shapes: Seq[Shape], t: np.ndarray, idx: np.ndarray, *, init: s
     edges = None
     if init is not None:
         ek = [base.edge_vectors(zk[:, j]) for j in range(K)]
-        edges = np.empty((base.n_edges, len(t)), dtype=complex)
-        for j in range(K - 1):  # Eq. (13) (or linear) per segment
+
+        def segment(j):  # Eq. (13) (or linear) from key j to key j + 1
             a, b = idx[j], idx[j + 1]
             u = (t[a : b + 1] - t[a]) / (t[b] - t[a])
             if init == "edge":
-                edges[:, a : b + 1] = edge_vector_init(base, ek[j], ek[j + 1], u)
-            else:
-                edges[:, a : b + 1] = linear_init(base, zk[:, j], zk[:, j + 1], u)
+                return edge_vector_init(base, ek[j], ek[j + 1], u)
+            return linear_init(base, zk[:, j], zk[:, j + 1], u)
+
+        if K == 2 and idx[0] == 0 and idx[1] == len(t) - 1:
+            edges = segment(0)  # the whole range: no copy of the (E, F) edges
+        else:
+            edges = np.empty((base.n_edges, len(t)), dtype=complex)
+            for j in range(K - 1):
+                edges[:, idx[j] : idx[j + 1] + 1] = segment(j)
     if K == 2:
         centroids = centroid_path(base, zk[:, 0], zk[:, 1], t)
     else:
