@@ -193,8 +193,11 @@ def main():
                           f"{r['energy']:.6g}", f"{100 * r['deviation']:.4f} %"])
             print(frows[-1], flush=True)
     if frows:
+        from isotween.optimisation.assembly import FrameAssembler
+
         body += ("\n\nEq. (10) factorisations forced on the same cases ('auto' picks banded up to bandwidth "
-                 "128, then CHOLMOD; seconds for the whole call, and for the Eq. (10) solves of all iterations "
+                 f"{FrameAssembler.BANDED}, then CHOLMOD; seconds for the whole call, and for the Eq. (10) "
+                 "solves of all iterations "
                  "of the last run; energy and edge deviation show the quality is unchanged; the 'auto' rows "
                  "are the dense table's runs, splu one run after the warm-up):\n\n" + table(
                      ["case", "frames", "factorisation", "s median (min-max)", "Eq. 10 solves s", "peak MB",
@@ -211,7 +214,8 @@ def main():
         trows.append(row)
         print(row, flush=True)
     body += ("\n\nThreads (NUMBA_NUM_THREADS = OPENBLAS_NUM_THREADS = N; seconds, median of 3; 10k and 100k "
-             "use the banded numba path, 250k CHOLMOD, whose supernodal factorisation and solves call the BLAS). "
+             "use the banded path (numba kernels threaded over blocks of frames, each calling the BLAS on one thread), "
+             "250k CHOLMOD, whose supernodal factorisation and solves call the BLAS). "
              f"This machine has {os.cpu_count()} cores: more threads could not be measured here.\n\n"
              + table(["case", "frames"] + [f"{n} thread{'s' if n > 1 else ''}" for n in range(1, os.cpu_count() + 1)],
                      trows))
@@ -262,9 +266,9 @@ def main():
              "(Topology, banded order, CHOLMOD's symbolic analysis) is built and the compiled kernels "
              "are loaded from numba's on-disk cache (compiling them on the very first run after installation "
              "takes a few seconds more). Every other call reuses only connectivity-keyed data.\n\n"
-             "No dense (n x n) matrix is formed on either path. The banded numba path uses no BLAS "
-             "threads (which spin-wait on a shared machine). Iteration counts follow Eq. (11) between two "
-             "successive iterations.")
+             "No dense (n x n) matrix is formed on either path. The banded path's kernels call the "
+             "BLAS on one thread each (BLAS threads would spin-wait beside numba's). Iteration counts "
+             "follow Eq. (11) between two successive iterations.")
     print(body)
     write_section("Performance", body, "python benchmarks/perf.py" + "".join(
         f" --{k.replace('_', '-')}" + ("" if v is True else f" {v}")

@@ -60,7 +60,14 @@ def test_threaded_kernels_give_the_serial_frames(monkeypatch):
     assert threaded.energy == pytest.approx(serial.energy, rel=1e-12)
 
 
-def test_banded_assembly_solves_eq10_and_reports_the_move(monkeypatch):
+@pytest.mark.parametrize("threaded", [False, True])
+@pytest.mark.parametrize("route", ["substitution", "blas"])
+def test_banded_assembly_solves_eq10_and_reports_the_move(route, threaded, monkeypatch):
+    """Both banded solves (substitution; BLAS on blocks of bandwidth rows), one thread or several."""
+    monkeypatch.setattr(accelerated, "BLAS_BANDWIDTH", 0 if route == "blas" else 1 << 30)
+    monkeypatch.setattr(accelerated, "BLAS_SIZE", 0)
+    if threaded:
+        monkeypatch.setattr(accelerated, "PARALLEL_SIZE", 0)
     src, tgt = two_bars()
     rng = np.random.default_rng(3)
     w = rng.uniform(0.5, 2.0, src.n_edges)
@@ -68,6 +75,8 @@ def test_banded_assembly_solves_eq10_and_reports_the_move(monkeypatch):
     centroids = rng.standard_normal((2, 6)) + 1j * rng.standard_normal((2, 6))
     banded = FrameAssembler(src, w)
     assert banded._band is not None
+    nf, bw = banded._band[0].shape[0], banded._band[0].shape[1] - 1
+    assert nf % bw and nf > 2 * bw  # BLAS: several blocks of rows, the last one partial
     with backend.use("numpy"):
         reference = FrameAssembler(src, w)
     want = reference.positions(e, centroids)

@@ -9,8 +9,11 @@
   :func:`isotween.optimisation.edge_solve.solve_edges`, fused so that the
   (E, m+1) arrays are read once instead of some thirty times.
 - :func:`band_cholesky`, :func:`banded_positions`: Eq. (10) for all frames with
-  a banded Cholesky factor (reverse Cuthill-McKee order); no BLAS (whose threads
-  fight numba's on a busy machine), no sparse matrices.
+  a banded Cholesky factor (reverse Cuthill-McKee order; LAPACK's blocked
+  dpbtrf). The solves work on blocks of columns, one per thread: from
+  bandwidth `BLAS_BANDWIDTH` on, on blocks of bandwidth rows with BLAS
+  (trsm and gemm called from the kernel, each on one thread), below it by
+  substitution; no sparse matrices.
 - :func:`edge_init`: Eqs. (12)-(13): angles along the edge tree, then every
   edge's frames (threaded over edges for large inputs).
 
@@ -19,7 +22,10 @@ The numpy twins are in :mod:`isotween.optimisation.reference`;
 compare them).
 """
 
+import contextlib
+
 import numpy as np
+from scipy.linalg.lapack import dpbtrf
 
 __all__ = ["PARALLEL_SIZE", "midpoint_edge_pass", "band_cholesky", "banded_positions",
            "edge_init"]
@@ -28,6 +34,15 @@ __all__ = ["PARALLEL_SIZE", "midpoint_edge_pass", "band_cholesky", "banded_posit
 PARALLEL_SIZE = 4_000_000
 #: edges solved side by side by one thread
 EDGE_BLOCK = 16
+#: Eq. (10) by blocks of bandwidth rows with BLAS from this bandwidth and this many free
+#: vertex-frames on, by substitution below (each call of the BLAS costs about a microsecond)
+BLAS_BANDWIDTH = 16
+BLAS_SIZE = 10_000
+#: frames solved together by substitution (their window of rows stays in the L1 cache)
+SUBSTITUTION_FRAMES = 16
+_CHARS = np.frombuffer(b"RULNT", dtype=np.uint8).copy()  # BLAS's side, uplo, trans arguments
+_ONE = np.array([1.0, -1.0])
+_CONTROLLER = None  # threadpoolctl's, made on first use
 
 #: numba, imported (a third of a second) and the kernels loaded from its cache on the first
 #: call of a kernel, not with isotween
@@ -126,97 +141,134 @@ def _pass_serial(z, first, second, inv_h, solve, out):
     return energy.sum()
 
 
-def _laplace_block(e, indptr, indices, data, band, rows, anchors, comp, inv_count, centroids, z):
-    """Eq. (10) for a block of frames, placed on the centroids, written into ``z``.
+def _rhs(e, indptr, indices, data, y):
+    """Right-hand sides of Eq. (10), y = D^T W e, in blocks of W columns.
 
-    Real arithmetic on interleaved (re, im) columns: e (E, 2B), centroids
-    (C, 2B), z (n, 2B) float views of the block. ``indptr, indices, data``: the
-    rows of D^T W in banded order (CSR); ``band``: the lower band of its
-    Cholesky factor (band[j, i - j] = L[i, j], from :func:`band_cholesky`); ``rows``:
-    the vertex of every banded row; ``comp``, ``inv_count``: component of every
-    vertex and 1 / its size. Returns the largest squared move of a vertex.
+    e (E, B) float: the frames' real and imaginary parts interleaved; y (nb, n_free, W)
+    with nb W >= B: y[b, p, g] = (D^T W e)[p, b W + g], the padding columns 0.
+    ``indptr, indices, data``: the rows of D^T W in banded order (CSR).
     """
-    nf, B = len(rows), z.shape[1]
-    bw = band.shape[1] - 1
-    y = np.zeros((nf, B))
-    for p in range(nf):  # y = D^T W e
+    nb, nf, W = y.shape
+    B = e.shape[1]
+    for p in numba.prange(nf):
+        y[:, p, :] = 0.0
         for q in range(indptr[p], indptr[p + 1]):
             c, edge = data[q], indices[q]
-            for f in range(B):
-                y[p, f] += c * e[edge, f]
+            for b in range(nb):
+                f0 = b * W
+                for g in range(min(W, B - f0)):
+                    y[b, p, g] += c * e[edge, f0 + g]
+
+
+def _substitute(band, y):
+    """L L^T x = y in place by forward and back substitution; y (n_free, W), band[j, i - j] = L[i, j]."""
+    nf, bw, W = band.shape[0], band.shape[1] - 1, y.shape[1]
     for j in range(nf):  # L y' = y
         d = 1.0 / band[j, 0]
-        for f in range(B):
+        for f in range(W):
             y[j, f] *= d
         for i in range(j + 1, min(j + bw, nf - 1) + 1):
             lij = band[j, i - j]
             if lij != 0.0:
-                for f in range(B):
+                for f in range(W):
                     y[i, f] -= lij * y[j, f]
-    shift = np.zeros((len(inv_count), B))
     for j in range(nf - 1, -1, -1):  # L^T x = y'
         for i in range(j + 1, min(j + bw, nf - 1) + 1):
             lij = band[j, i - j]
             if lij != 0.0:
-                for f in range(B):
+                for f in range(W):
                     y[j, f] -= lij * y[i, f]
         d = 1.0 / band[j, 0]
-        for f in range(B):
+        for f in range(W):
             y[j, f] *= d
-            shift[comp[rows[j]], f] -= y[j, f]
-    for c in range(len(inv_count)):  # centroid of the solution (anchors at 0) -> the target
+
+
+def _blocked(band, y, c, dims, chars, ones):
+    """L L^T x = y in place, in blocks of s = bw rows with BLAS (level 3).
+
+    The C-ordered band holds L[i, j] at flat index j bw + i: read as a
+    column-major matrix with leading dimension bw, it is L itself (LAPACK's
+    band storage trick), so every diagonal block D_k of L is a BLAS matrix in
+    place. The block C_k left of it is upper triangular (s = bw); it is copied
+    into ``c`` (s, s) for a general product. y (n_free, W) row-major is Y^T
+    column-major. Forward: Y_k^T = (Y_k^T - Y_{k-1}^T C_k^T) D_k^{-T}; back:
+    X_k^T = (Y_k^T - X_{k+1}^T C_{k+1}) D_k^{-1}. ``dims`` (4,) int32
+    scratch; ``chars`` b"RULNT"; ``ones`` [1.0, -1.0].
+    """
+    nf, s, W = band.shape[0], band.shape[1] - 1, y.shape[1]
+    Lp, Yp, Cp = band.ctypes.data, y.ctypes.data, c.ctypes.data
+    right, lower, no, tr = chars.ctypes.data, chars.ctypes.data + 2, chars.ctypes.data + 3, chars.ctypes.data + 4
+    m, n, rk = dims.ctypes.data, dims.ctypes.data + 4, dims.ctypes.data + 8
+    one, minus = ones.ctypes.data, ones.ctypes.data + 8
+    dims[0], dims[1] = W, s
+    blocks = (nf + s - 1) // s
+    c[:, :] = 0.0
+    for k in range(blocks):
+        r = min(s, nf - k * s)
+        dims[2] = r
+        if k:  # c[b, a] = C_k[a, b] = L[ks + a, (k-1)s + b] = band[(k-1)s + b, s + a - b], a <= b
+            for b in range(s):
+                for a in range(b + 1):
+                    c[b, a] = band[(k - 1) * s + b, s + a - b]
+            _dgemm(no, tr, m, rk, n, minus, Yp + 8 * (k - 1) * s * W, m, Cp, n, one, Yp + 8 * k * s * W, m)
+        _dtrsm(right, lower, tr, no, m, rk, one, Lp + 8 * k * s * (s + 1), n, Yp + 8 * k * s * W, m)
+    for k in range(blocks - 1, -1, -1):
+        r = min(s, nf - k * s)
+        dims[2] = r
+        if k + 1 < blocks:
+            r1 = min(s, nf - (k + 1) * s)
+            dims[2] = r1
+            for b in range(s):
+                for a in range(b + 1):
+                    c[b, a] = band[k * s + b, s + a - b]
+            # Y_k^T (W x s) -= X_{k+1}^T (W x r1) C_{k+1} (r1 x s): c's first r1 rows, column-major
+            _dgemm(no, no, m, n, rk, minus, Yp + 8 * (k + 1) * s * W, m, Cp, n, one, Yp + 8 * k * s * W, m)
+            dims[2] = r
+        _dtrsm(right, lower, no, no, m, rk, one, Lp + 8 * k * s * (s + 1), n, Yp + 8 * k * s * W, m)
+
+
+def _solve_columns(band, y, blas, chars, one):
+    """L L^T x = y for every block of columns y[b] (threaded over blocks when compiled parallel)."""
+    s = band.shape[1] - 1
+    for b in numba.prange(y.shape[0]):
+        if blas:
+            _blocked(band, y[b], np.empty((s, s)), np.empty(4, np.int32), chars, one)
+        else:
+            _substitute(band, y[b])
+
+
+def _place(y, rows, anchors, comp, inv_count, centroids, z):
+    """Move each component of the solution (anchors at 0) onto its centroid and write it into z.
+
+    y (nb, n_free, W) from :func:`_solve_columns`; centroids (C, B), z (n, B)
+    float views (B even, W even). Returns the largest squared move of a vertex.
+    """
+    nb, nf, W = y.shape
+    B, C = z.shape[1], len(inv_count)
+    shift = np.zeros((C, nb * W))
+    for b in numba.prange(nb):  # minus the sum over each component, then the target centroid
+        for p in range(nf):
+            c = comp[rows[p]]
+            for g in range(W):
+                shift[c, b * W + g] -= y[b, p, g]
+    for c in range(C):
         for f in range(B):
             shift[c, f] = centroids[c, f] + shift[c, f] * inv_count[c]
-    move = 0.0
-    for p in range(nf + len(anchors)):
+    n = nf + len(anchors)
+    moves = np.empty(n)
+    for p in numba.prange(n):
         v = rows[p] if p < nf else anchors[p - nf]
-        for f in range(0, B, 2):
-            re = (y[p, f] if p < nf else 0.0) + shift[comp[v], f]
-            im = (y[p, f + 1] if p < nf else 0.0) + shift[comp[v], f + 1]
-            move = max(move, (re - z[v, f]) ** 2 + (im - z[v, f + 1]) ** 2)
-            z[v, f], z[v, f + 1] = re, im
-    return move
-
-
-def _band_cholesky(band):
-    """In place: band[j, i - j] = A[i, j] (i >= j) -> L[i, j], A = L L^T; False unless A > 0."""
-    nf, bw = band.shape[0], band.shape[1] - 1
-    for j in range(nf):
-        if band[j, 0] <= 0.0:
-            return False
-        d = np.sqrt(band[j, 0])
-        band[j, 0] = d
-        last = min(bw, nf - 1 - j)
-        for p in range(1, last + 1):
-            band[j, p] /= d
-        for p in range(1, last + 1):  # A[j+q, j+p] -= L[j+q, j] L[j+p, j], q >= p
-            ljp = band[j, p]
-            if ljp != 0.0:
-                for q in range(p, last + 1):
-                    band[j + p, q - p] -= band[j, q] * ljp
-    return True
-
-
-def _laplace_parallel(e, indptr, indices, data, band, rows, anchors, comp, inv_count, centroids,
-                      z, block):
-    n_blocks = (z.shape[1] + block - 1) // block
-    moves = np.zeros(n_blocks)
-    for b in numba.prange(n_blocks):
-        c0 = b * block
-        c1 = c0 + block
-        moves[b] = _laplace_block(e[:, c0:c1], indptr, indices, data, band, rows, anchors, comp,
-                                  inv_count, centroids[:, c0:c1], z[:, c0:c1])
-    return moves.max()
-
-
-def _laplace_serial(e, indptr, indices, data, band, rows, anchors, comp, inv_count, centroids,
-                    z, block):
-    move = 0.0
-    for c0 in range(0, z.shape[1], block):
-        c1 = c0 + block
-        move = max(move, _laplace_block(e[:, c0:c1], indptr, indices, data, band, rows, anchors,
-                                        comp, inv_count, centroids[:, c0:c1], z[:, c0:c1]))
-    return move
+        c = comp[v]
+        move = 0.0
+        for b in range(nb):
+            for g in range(0, min(W, B - b * W), 2):
+                f = b * W + g
+                re = (y[b, p, g] if p < nf else 0.0) + shift[c, f]
+                im = (y[b, p, g + 1] if p < nf else 0.0) + shift[c, f + 1]
+                move = max(move, (re - z[v, f]) ** 2 + (im - z[v, f + 1]) ** 2)
+                z[v, f], z[v, f + 1] = re, im
+        moves[p] = move
+    return moves.max() if n else 0.0
 
 
 def _edge_angles(e0, e1, parent, order):
@@ -255,17 +307,30 @@ def _edge_frames(e0, angle, scale, t, out):
 
 def _compile():
     """Import numba and compile the kernels (loaded from numba's cache after the first time)."""
-    global numba, _band_cholesky, _edge_angles, _laplace_block, _laplace_parallel, _laplace_serial
-    global _edge_frames_serial, _edge_frames_parallel
+    global numba, _edge_angles, _edge_frames_serial, _edge_frames_parallel
     global _edge_vectors, _edge_solve, _scratch, _pass_parallel, _pass_serial
+    global _dgemm, _dtrsm, _substitute, _blocked, _rhs_serial, _rhs_parallel
+    global _solve_serial, _solve_parallel, _place_serial, _place_parallel
     if numba is not None:
         return
+    import llvmlite.binding
     import numba as nb
+    from numba.core import types
+    from numba.extending import get_cython_function_address
 
+    # scipy's BLAS, called from the kernels by symbol (so that numba can cache them)
+    for name in ("dgemm", "dtrsm"):
+        llvmlite.binding.add_symbol(f"isotween_{name}", get_cython_function_address("scipy.linalg.cython_blas", name))
+    pointers = types.void(*[types.intp] * 11)  # Fortran BLAS: every argument by address
+    _dgemm = types.ExternalFunction("isotween_dgemm", types.void(*[types.intp] * 13))
+    _dtrsm = types.ExternalFunction("isotween_dtrsm", pointers)
     jit, parallel = nb.njit(cache=True), nb.njit(parallel=True, cache=True)
-    _band_cholesky, _edge_angles, _laplace_block = jit(_band_cholesky), jit(_edge_angles), jit(_laplace_block)
+    _edge_angles = jit(_edge_angles)
     _edge_frames_serial, _edge_frames_parallel = jit(_edge_frames), parallel(_edge_frames)
-    _laplace_parallel, _laplace_serial = parallel(_laplace_parallel), jit(_laplace_serial)
+    _substitute, _blocked = jit(_substitute), jit(_blocked)
+    _rhs_serial, _rhs_parallel = jit(_rhs), parallel(_rhs)
+    _solve_serial, _solve_parallel = jit(_solve_columns), parallel(_solve_columns)
+    _place_serial, _place_parallel = jit(_place), parallel(_place)
     _edge_vectors, _edge_solve, _scratch = jit(_edge_vectors), jit(_edge_solve), jit(_scratch)
     _pass_parallel, _pass_serial = parallel(_pass_parallel), jit(_pass_serial)
     numba = nb  # the kernels' numba.prange resolves through this global
@@ -330,30 +395,56 @@ def banded_positions(z, e, centroids, band, indptr, indices, data, rows, anchors
         The largest distance a vertex moved (Eq. 11).
     """
     _compile()
-    F = e.shape[1]
+    F, (nf, bw) = e.shape[1], (band.shape[0], band.shape[1] - 1)
     e, centroids = (a if a.strides[1] == a.itemsize else np.ascontiguousarray(a) for a in (e, centroids))
-    args = (e.view(np.float64), indptr, indices, data, band, rows, anchors, comp, inv_count,
-            centroids.view(np.float64), z.view(np.float64))
-    if e.size * band.shape[1] >= PARALLEL_SIZE:
-        return float(np.sqrt(_laplace_parallel(*args, 2 * max(1, -(-F // 8)))))
-    return float(np.sqrt(_laplace_serial(*args, 2 * max(1, min(F, (1 << 19) // (16 * len(rows) + 1))))))
+    threaded = e.size * (bw + 1) >= PARALLEL_SIZE
+    blas = bw >= BLAS_BANDWIDTH and nf > bw and nf * F >= BLAS_SIZE
+    # blocks of columns: one per thread with BLAS; for substitution, narrow enough to stay in cache
+    blocks = numba.get_num_threads() if threaded else 1
+    if not blas:
+        blocks = max(blocks, -(-F // SUBSTITUTION_FRAMES))
+    width = 2 * -(-F // blocks)  # real and imaginary parts of a frame stay in one block
+    y = np.empty((-(-2 * F // width), nf, width))
+    rhs, solve, place = ((_rhs_parallel, _solve_parallel, _place_parallel) if threaded
+                         else (_rhs_serial, _solve_serial, _place_serial))
+    rhs(e.view(np.float64), indptr, indices, data, y)
+    with _one_blas_thread() if blas else contextlib.nullcontext():
+        solve(band, y, blas, _CHARS, _ONE)
+    return float(np.sqrt(place(y, rows, anchors, comp, inv_count, centroids.view(np.float64), z.view(np.float64))))
+
+
+def _one_blas_thread():
+    """BLAS on one thread while the kernels call it (they are threaded over blocks of columns)."""
+    global _CONTROLLER
+    try:
+        from threadpoolctl import ThreadpoolController
+    except ImportError:
+        return contextlib.nullcontext()
+    if _CONTROLLER is None:  # after _compile: scipy's BLAS is loaded
+        _CONTROLLER = ThreadpoolController()
+    return _CONTROLLER.limit(limits=1, user_api="blas")
 
 
 def band_cholesky(band):
-    """Cholesky factor of a banded symmetric matrix, in place (no BLAS threads).
+    """Cholesky factor of a banded symmetric matrix, in place (LAPACK's blocked dpbtrf).
 
     Parameters
     ----------
     band : (n, bw + 1) float, C-ordered
         band[j, i - j] = A[i, j] for j <= i <= j + bw; overwritten with L.
+        Its transpose is LAPACK's lower band storage.
 
     Returns
     -------
     bool
         False when A is not positive definite.
     """
-    _compile()
-    return _band_cholesky(band)
+    if band.size == 0:
+        return True
+    factor, info = dpbtrf(band.T, lower=1, overwrite_ab=1)
+    if not np.shares_memory(factor, band):
+        band[...] = factor.T
+    return info == 0
 
 
 def edge_init(top, e0, e1, t):

@@ -11,9 +11,12 @@ one solve).
 
 Three factorisations, chosen by size (benchmarks/RESULTS.md, Performance):
 
-- 'banded': numba's banded Cholesky in reverse Cuthill-McKee order; costs
-  n b^2, so it is used up to bandwidth b = 128 (on the 100k-vertex bar,
-  b = 100, 101 frames: 3.40 s against CHOLMOD's 5.39 s at load ~1.3);
+- 'banded': a banded Cholesky factor in reverse Cuthill-McKee order (LAPACK),
+  solved by numba kernels on blocks of bandwidth rows with BLAS; costs n b^2
+  to factorise and n b per frame to solve, so it is used up to bandwidth
+  b = 192 (101 frames: on the 100k-vertex bar, b = 100, 2.1-2.8 s against
+  CHOLMOD's 5.1 s; at b = 180, 51 frames, 3.4-4.3 s against 4.4-4.5 s; at
+  b = 250 CHOLMOD wins, 5.8 s against 6.4 s);
 - 'cholmod': CHOLMOD's supernodal Cholesky with a fill-reducing ordering
   (scikit-sparse, ``pip install isotween[large]``); the symbolic analysis is
   kept per connectivity, so a new set of weights costs only the numeric
@@ -78,7 +81,7 @@ class FrameAssembler:
     """
 
     #: with numba, a banded factorisation (reverse Cuthill-McKee order) up to this bandwidth
-    BANDED = 128
+    BANDED = 192
     #: with scikit-sparse and a larger bandwidth (or no numba), CHOLMOD from this many free vertices
     CHOLMOD_SIZE = 20_000
     #: the CHOLMOD path's passes over the vertices work on blocks of rows of at most this size
