@@ -78,15 +78,7 @@ class NumpyBackend:
     def edge_pass(self, top, t, scheme, fixed, smooth):
         """The edge work of one iteration of Algorithm 2 (Eqs. 8, 6, 9).
 
-        Parameters
-        ----------
-        top : Topology
-        t : (F,) float
-        scheme : {'midpoint', 'paper'}
-        fixed : (F,) bool
-            Held frames.
-        smooth : float
-            Weight of the smooth turn through interior held frames.
+        Parameters as :class:`~isotween.optimisation.reference.EdgePass`.
 
         Returns
         -------

@@ -20,24 +20,9 @@ __all__ = ["edge_angles", "edge_frames", "EdgePass", "EdgeBlocks"]
 
 
 def edge_angles(top, e0, e1):
-    """Eq. (12) with compatible angles: per-edge scale and rotation angle.
+    """Eq. (12) with angles propagated along ``top``'s edge tree: (s, theta), each (E,) float.
 
-    Each edge's angle in (-pi, pi] is shifted by whole turns along the
-    breadth-first edge tree of ``top`` so that a child never differs from its
-    parent by more than pi (Sec. 4.3).
-
-    Parameters
-    ----------
-    top : Topology
-    e0, e1 : (E,) complex
-        Source and target edge vectors.
-
-    Returns
-    -------
-    s : (E,) float
-        Scale factors |e1| / |e0|.
-    theta : (E,) float
-        Propagated rotation angles.
+    :func:`isotween.initialisation.edge_rotations` on a Topology (see there).
     """
     ratio = e1 / e0
     s, theta = np.abs(ratio), np.angle(ratio)
