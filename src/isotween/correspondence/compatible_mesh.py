@@ -43,7 +43,16 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
-from ..errors import IncompatibleShapesError, MissingDependencyError, ParameterError, ResourceError, ShapeError, require
+from ..errors import (
+    IncompatibleShapesError,
+    MethodError,
+    MissingDependencyError,
+    ParameterError,
+    ResourceError,
+    ShapeError,
+    require,
+)
+from ..optimisation.barrier import SymmetricDirichlet, max_step, minimise
 from ..shape import Shape
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
@@ -51,6 +60,9 @@ __all__ = ["CompatibleMeshes", "compatible_meshes"]
 MAX_FACES = 2_000_000  # refused before meshing: the overlay and quality step hold several copies
 STALL_SINE = 0.0005  # the quality step stops after three rounds that raise the smallest angle's sine less
 STALL_FACES = 0.002  # and free fewer than this fraction of the faces from below the angle limit
+MAP_ITER = 30  # Newton iterations of the low-distortion map at most
+PULL_ITER = 15  # Newton iterations per pull weight
+PULL_WEIGHTS = (0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4, 1e5)  # the ring's pull, in units of the least energy
 
 
 class CompatibleMeshes(NamedTuple):
@@ -79,7 +91,7 @@ class CompatibleMeshes(NamedTuple):
     info: dict
 
 
-def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_first=False):
+def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_first=False, pull=True):
     """Compatible triangle meshes of two corresponding polygons with holes.
 
     Parameters
@@ -93,6 +105,12 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     mesh_size : float, optional
         Target edge length of the source mesh's interior. Default: the mean
         edge length of the source rings.
+    refine_first : bool
+        Overlay the refined source mesh (not the bare triangulation).
+    pull : bool
+        Where the mean-value map flips a triangle, first try to pull the
+        source mesh onto the target outline with no flip (`_pulled`); else
+        (or when that gets stuck) overlay the two triangulations.
 
     Returns
     -------
@@ -158,18 +176,25 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     f_tgt = _triangulate(zt, rings, np.r_[cut_edges, shared], _keys(np.r_[cut_edges, shared]), "target")
     z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size))
 
-    # first try: the source mesh mapped by mean-value weights (reproduces affine maps)
+    # first try: the source mesh mapped by mean-value weights (reproduces affine maps); if a triangle
+    # flips, the source mesh pulled onto the target outline with no flip; then the map made least distorted
     w_tgt = _convex_map(z1, f1, np.arange(K), zt)
-    overlay = not np.all(_areas(w_tgt, f1) > 1e-12 * _scale2(zt))
+    if not np.all(_areas(w_tgt, f1) > 1e-12 * _scale2(zt)):
+        w_tgt = _pulled(z1, f1, K, zt) if pull else None
+    overlay = w_tgt is None
     crossings = 0
-    if overlay:  # the two triangulations overlaid, then refined in both at once
+    if not overlay:
+        before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
+        w_tgt = _least_distorted(z1, w_tgt, f1, K)
+    else:  # the two triangulations overlaid, then refined in both at once
         steiner = len(z1) - K if refine_first else 0
         z1, w_tgt, f1 = _overlay(z1, f1, zt, f_tgt, rings, cuts, K) if refine_first else \
             _overlay(zs, f_src, zt, f_tgt, rings, cuts, K)
         crossings = len(z1) - K - steiner
         z1, w_tgt, f1 = _joint_refine(z1, w_tgt, f1, float(mesh_size))
-    before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
-    z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, not overlay)
+        before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
+        z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, False)
+        w_tgt = _least_distorted(z1, w_tgt, f1, K)
     a1, a2 = _areas(z1, f1), _areas(w_tgt, f1)
     if not (np.all(a1 > 0) and np.all(a2 > 0)):  # a construction error, never expected
         bad = int(np.flatnonzero((a1 <= 0) | (a2 <= 0))[0])
@@ -621,6 +646,64 @@ def _convex_map(z, f, fixed, values):
         sol = lu.solve(np.c_[rhs.real, rhs.imag])
         out[free] = sol[:, 0] + 1j * sol[:, 1]
     return out
+
+
+# ---------------------------------------------------------------- low-distortion map
+def _least_distorted(z, w, f, K):
+    """Interior target positions (N,) complex that make the map ``z -> w`` least distorted, no triangle flipped.
+
+    The symmetric Dirichlet energy of the map (rest: the source triangles) is
+    minimised over the interior vertices with the ``K`` ring vertices fixed,
+    by the flip-free projected Newton of `isotween.optimisation.barrier`,
+    from ``w`` (every triangle positive). A similarity is a minimum: a rigid
+    or similar pair of outlines gives the rigid (similar) map.
+    """
+    fixed = np.zeros(len(z), dtype=bool)
+    fixed[:K] = True
+    if fixed.all():
+        return w
+    try:
+        energy = SymmetricDirichlet(z, w, f, fixed)
+        energy.rest(0.0)
+        w, _ = minimise(energy, w, MAP_ITER)
+    except MethodError:  # a singular Newton system: the valid start stands
+        pass
+    return w
+
+
+def _pulled(z, f, K, zt):
+    """The source mesh ``z`` deformed with no flipped triangle until its ring vertices reach ``zt``; None if stuck.
+
+    Start: the best similarity of the rings onto ``zt`` applied to the whole
+    mesh (every triangle positive). Every vertex is then free, the ring
+    vertices pulled towards ``zt`` by a penalty of growing weight
+    (`PULL_WEIGHTS`) while the symmetric Dirichlet energy against the source
+    triangles keeps the mesh from folding; last, the ring vertices are moved
+    onto ``zt`` in one step, which must flip no triangle.
+    """
+    zk = z[:K] - z[:K].mean()
+    a = np.vdot(zk, zt - zt.mean()) / np.vdot(zk, zk)
+    w = zt.mean() + a * (z - z[:K].mean())
+    ring = np.arange(K)
+    h2 = float(np.mean(np.abs(np.diff(zt)) ** 2))
+    try:
+        energy = SymmetricDirichlet(z, w, f, np.zeros(len(z), dtype=bool))
+        energy.rest(0.0)
+        unit = energy.least / (K * h2)  # a pull of h at every ring vertex weighs as much as the least energy
+        for mu in PULL_WEIGHTS:
+            energy.pull_towards(ring, zt, mu * unit)
+            w, _ = minimise(energy, w, PULL_ITER, tol=1e-2)
+            if np.abs(w[:K] - zt).max() < 1e-9 * np.sqrt(h2):
+                break
+    except MethodError:
+        return None
+    step = np.zeros_like(w)
+    step[:K] = zt - w[:K]
+    if max_step(w, step, energy.faces) <= 1.0:
+        return None
+    w = w + step
+    w[:K] = zt
+    return w
 
 
 # ---------------------------------------------------------------- disc and overlay

@@ -19,13 +19,18 @@ import numpy as np
 from ..errors import IncompatibleShapesError, IsotweenError, ParameterError, ResourceError, ShapeError
 from ..shape import Shape
 from . import regions as _regions
+from .alignment import align
 from .compatibility import as_shape, check_compatible
+from .matching import match_rings
 from .resample import _counts, _Ring, resample
 
 __all__ = ["Correspondence", "CorrespondenceReport", "correspond", "correspond_keys", "MAX_TRIANGLES"]
 
 #: meshes estimated to need more triangles than this (all regions together) are refused
 MAX_TRIANGLES = 2_000_000
+
+#: outlines of corresponded drawings get at least this many points in all (long edges split)
+MIN_POINTS = 64
 
 #: default mesh size: at least this fraction of the drawings' bounding-box diagonal
 MESH_FRACTION = 1 / 60
@@ -228,23 +233,54 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs):
     frames = _regions.frames_of(items)
     if pairs is not None and len(shapes) != 2:
         raise ParameterError("pairs are for two drawings")
+    turn = None
+    if len(shapes) == 2:
+        frames, turn = align(items, frames)
     slots = _regions.plan(items, frames, pairs)
     per_key, closed, paint, layout = _fill_slots(items, frames, slots, unmatched)
-    counts = _ring_counts(per_key, closed, points, segment)
-    xy = [[np.c_[z.real, z.imag] for z in key] for key in per_key]
-    outs = [None] * len(shapes)
-    for k in range(1, len(shapes)):
-        a, b = resample(xy[0], xy[k], points=counts, closed=closed, rotation=rotation, keep_turn=True)
-        outs[0] = a if outs[0] is None else outs[0]
-        outs[k] = b
+    if len(shapes) == 2:
+        rings = _matched_rings(per_key, closed, points, segment, turn)
+        counts = [len(r) for r in rings[0]]
+    else:
+        counts = _ring_counts(per_key, closed, points, segment)
+        xy = [[np.c_[z.real, z.imag] for z in key] for key in per_key]
+        rings = [None] * len(shapes)
+        for k in range(1, len(shapes)):
+            a, b = resample(xy[0], xy[k], points=counts, closed=closed, rotation=rotation, keep_turn=True)
+            rings[0] = rings[0] or [a.z[idx] for idx, _ in a.paths]
+            rings[k] = [b.z[idx] for idx, _ in b.paths]
     result = []
     regions = [rs for kind, rs in layout if kind == "region"]
-    for k, (shape, out) in enumerate(zip(shapes, outs, strict=False)):
-        result.append(Shape(out.vertices, out.edges, paths=out.paths, y_down=shape.y_down,
-                            regions=regions, paint=paint[k]))
+    for k, (shape, key_rings) in enumerate(zip(shapes, rings, strict=True)):
+        result.append(Shape.from_paths(key_rings, list(closed), y_down=shape.y_down, regions=regions,
+                                       paint=paint[k]))
     report = CorrespondenceReport(keys=len(shapes), unmatched=unmatched, points=[int(c) for c in counts])
     _count_items(report, slots, len(shapes))
     return result, report
+
+
+def _matched_rings(per_key, closed, points, segment, turn):
+    """Rings of two drawings matched point for point, every input vertex kept (`matching.match_rings`).
+
+    Edges longer than the drawing's outline length over ``points`` (default:
+    the larger input's vertex count, at least `MIN_POINTS`), or than
+    ``segment``, are split.
+    """
+    lengths = [sum(_Ring(z, c).length for z, c in zip(key, closed, strict=True)) for key in per_key]
+    if segment is not None:
+        spacing = (segment, segment)
+    else:
+        total = points if points is not None else max(MIN_POINTS, *(sum(len(z) for z in key) for key in per_key))
+        spacing = (lengths[0] / total, lengths[1] / total)
+    out = [[], []]
+    for z, w, c in zip(per_key[0], per_key[1], closed, strict=True):
+        reverse = None
+        if c:
+            reverse = bool(np.sign(_regions.ring_area(z)) != np.sign(_regions.ring_area(w)))
+        pair = match_rings(z, w, c, turn=turn, spacing=spacing, reverse=reverse)
+        out[0].append(pair.source)
+        out[1].append(pair.target)
+    return out
 
 
 def _count_items(report, slots, K):
@@ -306,7 +342,8 @@ def _fill_slots(items, frames, slots, unmatched):
                     ref = next(j for j, h in enumerate(hs) if h is not None)
                     ref_item = items[ref][slot.members[ref]]
                     hole = ref_item.rings[hs[ref]]
-                    f_ref, f_k = _regions.Frame.of(ref_item.rings[0]), _regions.Frame.of(item.rings[0])
+                    f_ref = _regions.Frame.of(ref_item.rings[0], frames[ref].turn)
+                    f_k = _regions.Frame.of(item.rings[0], frames[k].turn)
                     at = f_ref.to(f_k, _regions.centroid(hole, True))
                     radius = _regions.TINY * float(np.abs(hole - _regions.centroid(hole, True)).max())
                     at, room = _regions.inside_point(poly, at, radius)
@@ -350,7 +387,7 @@ def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched):
     """
     c = _regions.centroid(rings[0], closed)
     at = f_from.to(f_to, c)
-    scaled = [at + (z - c) * (f_to.scale / f_from.scale) for z in rings]
+    scaled = [at + (z - c) * f_from.factor(f_to) for z in rings]
     radius = _regions.TINY * float(np.abs(np.concatenate(scaled) - at).max())
     if not polygons:
         return _regions.small_copy(scaled, closed, at)

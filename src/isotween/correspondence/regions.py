@@ -199,20 +199,30 @@ def items_of(shape, name):
 
 # ---------------------------------------------------------------- pairing
 class Frame(NamedTuple):
-    """Normalising frame: centre (complex) and scale (bounding-box diagonal)."""
+    """Normalising frame: centre (complex), scale (bounding-box diagonal) and turn (unit complex).
+
+    Normalised coordinates are ``(z - centre) / (scale * turn)``: a drawing
+    turned by ``turn`` against the reference has the reference's normalised
+    coordinates.
+    """
 
     centre: complex
     scale: float
+    turn: complex = 1.0 + 0j
 
     @classmethod
-    def of(cls, z):
+    def of(cls, z, turn=1.0 + 0j):
         """The frame of the complex points ``z`` (any shape): bounding-box centre and diagonal."""
         lo, hi = complex(z.real.min(), z.imag.min()), complex(z.real.max(), z.imag.max())
-        return cls(0.5 * (lo + hi), max(abs(hi - lo), 1e-300))
+        return cls(0.5 * (lo + hi), max(abs(hi - lo), 1e-300), turn)
+
+    def factor(self, other):
+        """The similarity factor (complex) from this frame to ``other``."""
+        return (other.scale / self.scale) * (other.turn / self.turn)
 
     def to(self, other, z):
         """Points of this frame mapped to the same normalised place in ``other``."""
-        return other.centre + (z - self.centre) * (other.scale / self.scale)
+        return other.centre + (z - self.centre) * self.factor(other)
 
 
 def frames_of(items):
@@ -243,7 +253,7 @@ def frames_of(items):
 
 def _features(item_rings, closed, frame):
     """(centroid, size) of an item's outer ring in normalised coordinates."""
-    z = (item_rings[0] - frame.centre) / frame.scale
+    z = (item_rings[0] - frame.centre) / (frame.scale * frame.turn)
     return centroid(z, closed), _size(z, closed), z
 
 
@@ -374,11 +384,11 @@ def _plan_holes(items, frames, members):
     owner = [first] * len(slots)
     for k in present[1:]:
         region = items[k][members[k]]
-        fk = Frame.of(region.rings[0])
+        fk = Frame.of(region.rings[0], frames[k].turn)
         ks = list(range(1, len(region.rings)))
         refs = [(s[o], o) for s, o in zip(slots, owner, strict=False)]
-        feats_ref = [_features([items[o][members[o]].rings[h]], True, Frame.of(items[o][members[o]].rings[0]))
-                     for h, o in refs]
+        feats_ref = [_features([items[o][members[o]].rings[h]], True,
+                               Frame.of(items[o][members[o]].rings[0], frames[o].turn)) for h, o in refs]
         feats_k = [_features([region.rings[h]], True, fk) for h in ks]
         done = _assign(_cost(feats_ref, feats_k, True)) if feats_ref and feats_k else []
         for r, c in done:

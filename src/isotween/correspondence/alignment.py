@@ -1,0 +1,108 @@
+"""Alignment of two drawings as wholes: the rotation and scale that take one onto the other.
+
+Candidates come from the two drawings' dominant rings (the outer ring of the
+largest filled region, else the longest ring or polyline): every peak of
+their circular cross-correlation (`matching.correlation`) is a similarity
+``target ~ a (source - c_s) + c_t``. Each candidate, and the plain
+bounding-box frames (no rotation), is scored on the drawings as wholes by the
+mean distance between arc-length samples of all their rings and the nearest
+samples of the other drawing (both ways). A rotation is used only when it
+fits clearly better than no rotation (`GAIN`), so that drawings that do not
+turn keep their places, and a symmetric drawing does not spin.
+"""
+
+import numpy as np
+
+from .matching import SAMPLES, correlation, points_at
+from .regions import Frame, ring_area
+
+__all__ = ["align", "GAIN", "MIN_TURN"]
+
+#: a rotation is used when its fit distance is below this fraction of the unrotated fit's
+GAIN = 0.5
+#: rotations below this angle (radians) count as none
+MIN_TURN = np.deg2rad(2.0)
+#: candidate rotations tried (correlation peaks of the dominant rings)
+CANDIDATES = 8
+#: samples of a whole drawing for the fit distance
+DRAWING_SAMPLES = 800
+
+
+def _dominant(items):
+    """(ring (k,) complex, closed) that best shows a drawing's pose."""
+    regions = [it for it in items if it.kind == "region"]
+    if regions:
+        best = max(regions, key=lambda it: abs(ring_area(it.rings[0])))
+        return best.rings[0], True
+    return max(((it.rings[0], it.kind != "line") for it in items),
+               key=lambda rc: float(np.abs(np.diff(rc[0])).sum()))
+
+
+def _samples(items, n=DRAWING_SAMPLES):
+    """(m,) complex arc-length samples of every ring of a drawing, in proportion to length."""
+    rings = [(r, it.kind != "line") for it in items for r in it.rings]
+    lengths = np.array([np.abs(np.diff(np.append(r, r[0]) if c else r)).sum() for r, c in rings])
+    counts = np.maximum(np.round(n * lengths / max(lengths.sum(), 1e-300)).astype(int), 2)
+    return np.concatenate([points_at(r, c, np.arange(k) / k if c else np.linspace(0, 1, k))
+                           for (r, c), k in zip(rings, counts, strict=True)])
+
+
+def _fit_distance(p, q, tree_q, transform):
+    """Mean nearest distance of transformed ``p`` to ``q`` and of ``q`` to transformed ``p``."""
+    from scipy.spatial import cKDTree
+
+    tp = transform(p)
+    d1, _ = tree_q.query(np.c_[tp.real, tp.imag])
+    d2, _ = cKDTree(np.c_[tp.real, tp.imag]).query(np.c_[q.real, q.imag])
+    return 0.5 * (d1.mean() + d2.mean())
+
+
+def align(items, frames):
+    """Frames of two drawings with the rotation between them, when one is clear.
+
+    Parameters
+    ----------
+    items : list of two lists of Item
+        The source's and the target's items.
+    frames : list of two Frame
+        Their bounding-box frames (no rotation), from `regions.frames_of`.
+
+    Returns
+    -------
+    frames : list of two Frame
+        The given frames, or, when a rotation fits clearly better, frames
+        whose ``to`` is that similarity (the target's ``turn`` its rotation).
+    turn : complex
+        The rotation (unit complex) from source to target; 1 when none.
+    """
+    from scipy.spatial import cKDTree
+
+    (z, closed), (w, closed_w) = _dominant(items[0]), _dominant(items[1])
+    if not (closed and closed_w):
+        return frames, 1.0 + 0j
+    if np.sign(ring_area(z)) != np.sign(ring_area(w)):
+        w = np.roll(w[::-1], 1)
+    grid = np.arange(SAMPLES) / SAMPLES
+    x, y = points_at(z, True, grid), points_at(w, True, grid)
+    rho = correlation(x, y)
+    mag = np.abs(rho)
+    peaks = np.flatnonzero((mag >= np.roll(mag, 1)) & (mag > np.roll(mag, -1)))
+    peaks = peaks[np.argsort(mag[peaks])[::-1][:CANDIDATES]]
+    xc, yc = x.mean(), y.mean()
+    ratio = np.linalg.norm(y - yc) / max(np.linalg.norm(x - xc), 1e-300)
+    p, q = _samples(items[0]), _samples(items[1])
+    tree = cKDTree(np.c_[q.real, q.imag])
+    plain = _fit_distance(p, q, tree, lambda v: frames[0].to(frames[1], v))
+    best, best_a = np.inf, None
+    for k in peaks:
+        a = rho[k] * ratio
+        if abs(np.angle(a)) < MIN_TURN:
+            continue
+        d = _fit_distance(p, q, tree, lambda v, a=a: yc + a * (v - xc))
+        if d < best:
+            best, best_a = d, a
+    if best_a is None or not best < GAIN * plain:
+        return frames, 1.0 + 0j
+    turn = best_a / abs(best_a)
+    scale = frames[0].scale
+    return [Frame(xc, scale, 1.0 + 0j), Frame(yc, scale * abs(best_a), turn)], turn

@@ -1,0 +1,357 @@
+"""Point correspondence along a ring pair: the motion found, every input vertex kept.
+
+A ring (closed) or polyline (open) is parameterised by normalised arc length
+``s`` in [0, 1). For one pair of rings:
+
+1. **Alignment.** Both are sampled at ``N`` points uniformly in arc length and
+   centred, as complex numbers ``x_m`` and ``y_m``. For a cyclic shift ``k`` the
+   best similarity ``a`` (rotation and scale) of ``x`` onto ``y`` shifted by
+   ``k`` is the complex least-squares fit ``a = <x, y_k> / <x, x>``; the
+   normalised correlation ``rho_k = <x, y_k> / (|x| |y|)`` measures the fit,
+   ``|rho_k| = 1`` for a similar copy. All shifts at once are one circular
+   cross-correlation (FFT). The chosen shift maximises a score that prefers the
+   drawing's rotation ``turn`` (`shift_score`), so that a ring turns with the
+   rest of the drawing, and a ring of a symmetric shape does not spin.
+2. **Anchors.** Corners (turning angle above `CORNER`) of the two rings that
+   land near each other under the shift are paired (mutual nearest, same turn,
+   monotone order), then every target vertex that lands near a source vertex
+   is paired with it. The parameter map ``phi`` from source to target is
+   piecewise linear in arc length through the anchors.
+3. **Union.** Every source vertex goes into the target at ``phi(s)`` and
+   every unpaired target vertex into the source at ``phi^-1``: both rings
+   then hold all vertices of both inputs, so the first and last frames are
+   the input polygons exactly. Long edges are split at corresponding places,
+   which lie on the input polygons' edges.
+"""
+
+import numpy as np
+
+__all__ = ["RingPair", "arc_params", "points_at", "correlation", "shift_score", "match_rings", "CORNER"]
+
+#: turning angle (radians) from which a ring vertex is a corner that anchors the match
+CORNER = np.deg2rad(28.0)
+#: samples per ring for the alignment's correlation
+SAMPLES = 512
+#: how far (fraction of the ring) a corner may land from its partner and still anchor
+CORNER_WINDOW = 0.05
+#: how much (radians) the turning angles of two paired corners may differ
+CORNER_TURN = np.deg2rad(50.0)
+#: a target vertex within this fraction of the local spacing of a source vertex is the same point
+SNAP = 0.3
+#: weight of a ring's own best rotation against the drawing's rotation (0: the drawing's only)
+OWN_TURN = 0.5
+
+
+class RingPair:
+    """The union of the vertices of two corresponding rings.
+
+    Attributes
+    ----------
+    source, target : (k,) complex arrays
+        Corresponding points: every input vertex of each ring is among them.
+    s, u : (k,) float arrays
+        Normalised arc parameters of the points on the source and target ring.
+    """
+
+    def __init__(self, source, target, s, u):
+        self.source, self.target, self.s, self.u = source, target, s, u
+
+
+def arc_params(z, closed):
+    """Normalised arc length of each vertex and the ring's length.
+
+    Parameters
+    ----------
+    z : (k,) complex
+        Distinct consecutive points.
+    closed : bool
+
+    Returns
+    -------
+    s : (k,) float
+        In [0, 1), increasing (0 to 1 inclusive for a polyline).
+    knots : (k + 1,) or (k,) complex
+        The vertices, the first repeated at the end of a ring.
+    length : float
+    """
+    knots = np.append(z, z[0]) if closed else z
+    cum = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(knots)))])
+    length = float(cum[-1])
+    return cum[:-1] / length if closed else cum / length, knots, length
+
+
+def points_at(z, closed, s):
+    """Points of the ring ``z`` at normalised arc parameters ``s`` (any shape; wrapped on a ring)."""
+    params, knots, _ = arc_params(z, closed)
+    grid = np.append(params, 1.0) if closed else params
+    s = np.mod(s, 1.0) if closed else np.clip(s, 0.0, 1.0)
+    return np.interp(s, grid, knots.real) + 1j * np.interp(s, grid, knots.imag)
+
+
+def correlation(x, y):
+    """Normalised circular cross-correlation of centred samples.
+
+    Parameters
+    ----------
+    x, y : (N,) complex
+        Samples of two rings, uniform in arc length.
+
+    Returns
+    -------
+    rho : (N,) complex
+        ``rho[k] = <x, roll(y, -k)> / (|x| |y|)`` (centred): ``|rho| <= 1``; the
+        best similarity of ``x`` onto ``y`` shifted by ``k`` is
+        ``rho[k] |y| / |x|``.
+    """
+    x = x - x.mean()
+    y = y - y.mean()
+    norm = max(np.linalg.norm(x) * np.linalg.norm(y), 1e-300)
+    return np.fft.ifft(np.conj(np.fft.fft(x)) * np.fft.fft(y)) / norm
+
+
+def shift_score(rho, turn):
+    """Score of every shift: the fit under the drawing's rotation, and half the fit under the ring's own.
+
+    Parameters
+    ----------
+    rho : (N,) complex
+        From `correlation`.
+    turn : complex or None
+        The drawing's rotation (unit complex); None: the ring's own only.
+
+    Returns
+    -------
+    (N,) float
+        ``Re(rho conj(turn)) + OWN_TURN (|rho| - Re(rho conj(turn)))``.
+    """
+    if turn is None:
+        return np.abs(rho)
+    fixed = (rho * np.conj(turn)).real
+    return fixed + OWN_TURN * (np.abs(rho) - fixed)
+
+
+def _turning(z, closed):
+    """(k,) signed turning angle at every vertex (0 at a polyline's ends)."""
+    d = np.diff(np.append(z, z[0])) if closed else np.diff(z)
+    if closed:
+        return np.angle(d / np.roll(d, 1))
+    return np.r_[0.0, np.angle(d[1:] / d[:-1]), 0.0]
+
+
+def _wrap(d):
+    """Differences of ring parameters wrapped to [-0.5, 0.5)."""
+    return np.mod(d + 0.5, 1.0) - 0.5
+
+
+def _monotone(a, b, closed):
+    """Indices of anchor pairs (a sorted) kept so that b increases with a (cyclically on a ring).
+
+    Pairs are dropped, the one furthest from the others' offset first, until the order agrees.
+    """
+    keep = np.arange(len(a))
+    while len(keep) > 1:
+        aa, bb = a[keep], b[keep]
+        if closed:
+            ref = np.angle(np.mean(np.exp(2j * np.pi * (bb - aa)))) / (2 * np.pi)
+            d = _wrap(bb - aa - ref)  # b = a + ref + d, unwrapped
+            ok_steps = np.diff(np.r_[aa + d, aa[0] + d[0] + 1.0]) > 0
+        else:
+            d = bb - aa - np.median(bb - aa)
+            ok_steps = np.diff(bb) > 0
+        if np.all(ok_steps):
+            break
+        bad = np.flatnonzero(~ok_steps)
+        cand = np.unique(np.r_[bad, (bad + 1) % len(keep)])
+        keep = np.delete(keep, cand[np.argmax(np.abs(d[cand]))])
+    return keep
+
+
+class _Map:
+    """Piecewise-linear monotone map of normalised arc parameters through anchor pairs."""
+
+    def __init__(self, a, b, closed):
+        order = np.argsort(a, kind="stable")
+        a, b = a[order], b[order]
+        self.closed = closed
+        if closed:
+            b = a + _wrap(b - a - _wrap(b[0] - a[0])) + _wrap(b[0] - a[0])  # unwrapped: b - a close to b0 - a0
+            b = np.maximum.accumulate(b)
+            self.a = np.r_[a - 1.0, a, a + 1.0]
+            self.b = np.r_[b - 1.0, b, b + 1.0]
+        else:
+            self.a, self.b = a, b
+
+    def __call__(self, s):
+        out = np.interp(s, self.a, self.b)
+        return np.mod(out, 1.0) if self.closed else out
+
+    def inverse(self, u):
+        if not self.closed:
+            return np.interp(u, self.b, self.a)
+        # u on the ring: its unwrapped value within the period of the map's middle copy
+        lo = self.b[len(self.b) // 3]
+        uu = lo + np.mod(u - lo, 1.0)
+        return np.mod(np.interp(uu, self.b, self.a), 1.0)
+
+
+def _snap_pairs(s_src, s_tgt_back, closed):
+    """Mutual nearest pairs (i, j) of source params and pulled-back target params, closer than SNAP spacing."""
+    if len(s_src) == 0 or len(s_tgt_back) == 0:
+        return np.zeros(0, int), np.zeros(0, int)
+
+    def nearest(p, q):
+        # index into sorted q of the nearest value to each p (cyclic on a ring)
+        order = np.argsort(q)
+        qs = q[order]
+        pos = np.searchsorted(qs, p)
+        lo, hi = (pos - 1) % len(qs), pos % len(qs)
+        dist = (lambda x, y: np.abs(_wrap(x - y))) if closed else (lambda x, y: np.abs(x - y))
+        pick = np.where(dist(p, qs[lo]) <= dist(p, qs[hi]), lo, hi)
+        return order[pick], dist(p, qs[pick])
+
+    j_of_i, gap = nearest(s_src, s_tgt_back)
+    i_of_j, _ = nearest(s_tgt_back, s_src)
+    spacing = np.diff(np.r_[s_src, s_src[0] + 1.0]) if closed else np.r_[np.diff(s_src), np.inf]
+    local = np.minimum(spacing, np.roll(spacing, 1)) if closed else np.minimum(spacing, np.r_[np.inf, spacing[:-1]])
+    i = np.flatnonzero((i_of_j[j_of_i] == np.arange(len(s_src))) & (gap < SNAP * local))
+    return i, j_of_i[i]
+
+
+def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None):
+    """Corresponding points of two rings, every vertex of both kept (see the module notes).
+
+    Parameters
+    ----------
+    z, w : (k_z,) and (k_w,) complex
+        Source and target ring (distinct consecutive points). A closed target
+        must turn the same way as the source unless ``reverse`` allows otherwise.
+    closed : bool
+    turn : complex, optional
+        The drawing's rotation from source to target (unit complex): rings
+        prefer shifts that turn by it. None: any rotation.
+    anchors : sequence of (float, float)
+        Extra anchor pairs (source parameter, target parameter), e.g. landmarks;
+        they are kept whatever the alignment says.
+    spacing : (float, float), optional
+        Longest edge allowed in the source and in the target (lengths); longer
+        edges of the union are split. Default: no split.
+    reverse : bool, optional
+        Traverse the target backwards (a polyline's other end first). Default:
+        a ring keeps its direction; a polyline takes the better one.
+
+    Returns
+    -------
+    RingPair
+        ``source`` and ``target`` run in the source's direction from the source's first vertex.
+    """
+    s_z, _, len_z = arc_params(z, closed)
+    if reverse is None:
+        reverse = False if closed else _polyline_reversed(z, w)
+    if reverse:
+        w = np.roll(w[::-1], 1) if closed else w[::-1]
+    s_w, _, len_w = arc_params(w, closed)
+    anchors = [(float(a), float(b)) for a, b in anchors]
+    if closed:
+        if anchors:
+            a0, b0 = np.array(anchors).T
+        else:
+            grid = np.arange(SAMPLES) / SAMPLES
+            rho = correlation(points_at(z, True, grid), points_at(w, True, grid))
+            score = shift_score(rho, turn)
+            k = int(np.argmax(score))
+            # parabolic refinement of the peak
+            left, c, right = score[k - 1], score[k], score[(k + 1) % SAMPLES]
+            den = left - 2 * c + right
+            frac = 0.5 * (left - right) / den if den < 0 else 0.0
+            a0, b0 = np.array([0.0]), np.array([np.mod((k + np.clip(frac, -0.5, 0.5)) / SAMPLES, 1.0)])
+    else:
+        a0, b0 = np.array([0.0, 1.0]), np.array([0.0, 1.0])
+        if anchors:
+            a0, b0 = np.r_[a0, np.array(anchors)[:, 0]], np.r_[b0, np.array(anchors)[:, 1]]
+    phi = _Map(a0, b0, closed)
+    # corners that land near corners of the same turn
+    tz, tw = _turning(z, closed), _turning(w, closed)
+    cz, cw = np.flatnonzero(np.abs(tz) >= CORNER), np.flatnonzero(np.abs(tw) >= CORNER)
+    if len(cz) and len(cw) and not anchors:
+        d = phi(s_z[cz])[:, None] - s_w[cw][None, :]
+        d = np.abs(_wrap(d)) if closed else np.abs(d)
+        d = np.where(np.abs(tz[cz][:, None] - tw[cw][None, :]) <= CORNER_TURN, d, np.inf)
+        j = np.argmin(d, axis=1)
+        i = np.argmin(d, axis=0)
+        mutual = np.flatnonzero((i[j] == np.arange(len(cz))) & (d[np.arange(len(cz)), j] < CORNER_WINDOW))
+        if len(mutual):
+            a1, b1 = s_z[cz[mutual]], s_w[cw[j[mutual]]]
+            a_all, b_all = np.r_[a0, a1], np.r_[b0, b1]
+            if closed and len(a1) >= 1:
+                a_all, b_all = a1, b1  # corners replace the rigid shift's single anchor
+            order = np.argsort(a_all, kind="stable")
+            keep = order[_monotone(a_all[order], b_all[order], closed)]
+            phi = _Map(a_all[keep], b_all[keep], closed)
+            a0, b0 = a_all[keep], b_all[keep]
+    # target vertices that land on source vertices are the same point
+    i, j = _snap_pairs(s_z, phi.inverse(s_w), closed)
+    paired = np.zeros(len(s_w), bool)
+    u_src = None
+    if len(i):
+        a_all, b_all = np.r_[a0, s_z[i]], np.r_[b0, s_w[j]]
+        order = np.argsort(a_all, kind="stable")
+        keep = order[_monotone(a_all[order], b_all[order], closed)]
+        phi = _Map(a_all[keep], b_all[keep], closed)
+        kept = keep[keep >= len(a0)] - len(a0)  # the snap pairs that agree with the order
+        i, j = i[kept], j[kept]
+        paired[j] = True
+        u_src = phi(s_z)
+        u_src[i] = s_w[j]
+    # the union: source vertices at phi(s), unpaired target vertices at phi^-1(u)
+    if u_src is None:
+        u_src = phi(s_z)
+    extra = ~paired
+    s_all = np.r_[s_z, phi.inverse(s_w[extra])]
+    u_all = np.r_[u_src, s_w[extra]]
+    from_src = np.r_[np.ones(len(s_z), bool), np.zeros(int(extra.sum()), bool)]
+    order = np.lexsort((~from_src, s_all))
+    s_all, u_all, from_src = s_all[order], u_all[order], from_src[order]
+    if not closed:
+        s_all, u_all = np.clip(s_all, 0, 1), np.clip(u_all, 0, 1)
+    # drop repeats (a pulled-back target vertex on a source vertex's parameter)
+    ds = np.diff(np.r_[s_all, s_all[0] + 1.0]) if closed else np.r_[np.diff(s_all), 1.0]
+    du = np.abs(_wrap(np.diff(np.r_[u_all, u_all[0]]))) if closed else np.r_[np.abs(np.diff(u_all)), 1.0]
+    dup = (ds <= 1e-12) & (du <= 1e-12)
+    s_all, u_all = s_all[~dup], u_all[~dup]
+    if spacing is not None:
+        s_all, u_all = _split(s_all, u_all, closed, spacing[0] / len_z, spacing[1] / len_w)
+    return RingPair(points_at(z, closed, s_all), points_at(w, closed, u_all), s_all, u_all)
+
+
+def _split(s, u, closed, hs, hu):
+    """Split union edges longer than ``hs`` (source) or ``hu`` (target) at equal fractions of both."""
+    if closed:
+        ds = np.diff(np.r_[s, s[0] + 1.0])
+        du = np.mod(np.diff(np.r_[u, u[0]]), 1.0)
+    else:
+        ds, du = np.diff(s), np.diff(u)
+    pieces = np.maximum(np.ceil(np.maximum(ds / hs, du / hu) - 1e-9), 1).astype(np.int64)
+    if np.all(pieces == 1):
+        return s, u
+    start = np.repeat(np.arange(len(ds)), pieces)
+    frac = (np.arange(len(start)) - np.repeat(np.cumsum(pieces) - pieces, pieces)) / np.repeat(pieces, pieces)
+    s_new = s[start] + frac * ds[start]
+    u_new = u[start] + frac * du[start]
+    if closed:
+        s_new, u_new = np.mod(s_new, 1.0), np.mod(u_new, 1.0)
+    else:
+        s_new, u_new = np.r_[s_new, s[-1]], np.r_[u_new, u[-1]]
+    return s_new, u_new
+
+
+def _polyline_reversed(z, w):
+    """Whether a polyline target fits the source better backwards (similarity fit of arc samples)."""
+    grid = np.linspace(0.0, 1.0, 64)
+    x = points_at(z, False, grid)
+    x = x - x.mean()
+    fits = []
+    for ww in (w, w[::-1]):
+        y = points_at(ww, False, grid)
+        y = y - y.mean()
+        fits.append(abs(np.vdot(x, y)))
+    return bool(fits[1] > fits[0])
