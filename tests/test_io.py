@@ -141,7 +141,7 @@ SVG = """<?xml version="1.0"?>
 
 def test_svg_known_geometry(tmp_path):
     (tmp_path / "k.svg").write_text(SVG)
-    s = io.load(tmp_path / "k.svg")
+    s = io.load(tmp_path / "k.svg", curve_segments=16)
     kinds = [(len(p), c) for p, c in s.paths]
     # rect: 4 corners closed; circle: 4 arcs x 16 closed; polyline 3 open; line 2 open; cubic 1 + 16 open
     assert kinds == [(4, True), (64, True), (3, False), (2, False), (17, False)]
@@ -157,6 +157,23 @@ def test_svg_known_geometry(tmp_path):
     np.testing.assert_allclose(cubic[[0, -1]], [[0, 10], [3, 10]], atol=1e-12)
     np.testing.assert_allclose(cubic[8], [1.5, 10.75], atol=1e-12)  # B(1/2) = (p0 + 3 p1 + 3 p2 + p3) / 8
     assert s.n_edges == 4 + 64 + 2 + 1 + 16
+
+
+def test_svg_curves_flattened_to_a_tolerance_of_the_diagonal(tmp_path):
+    """By default every curve's polyline stays within CURVE_TOLERANCE of the diagonal, not far finer."""
+    from isotween.io.svg import CURVE_TOLERANCE
+
+    for r in (2.0, 200.0):
+        (tmp_path / "c.svg").write_text(f'<svg xmlns="http://www.w3.org/2000/svg"><rect x="0" y="0" width="{4 * r}" '
+                                        f'height="1" fill="black"/><circle cx="{2 * r}" cy="{2 * r}" r="{r}" '
+                                        'fill="black"/></svg>')
+        s = io.load(tmp_path / "c.svg")
+        tol = CURVE_TOLERANCE * s.bbox_diagonal()
+        z = s.z[s.paths[1][0]] - (2 * r + 2j * r)
+        np.testing.assert_allclose(np.abs(z), r, atol=1e-9 * r)  # on the circle
+        sagitta = r - np.abs(0.5 * (z + np.roll(z, -1)))  # chord midpoints: the farthest from the arc
+        assert sagitta.max() <= tol and sagitta.max() > tol / 8  # within tolerance, not far finer
+    assert len(z) == len(io.load(tmp_path / "c.svg", curve_segments=None).paths[1][0])  # scale-free count
 
 
 def test_svg_curve_segments_option(tmp_path):

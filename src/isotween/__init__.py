@@ -15,6 +15,7 @@ from .interpolate import interpolate
 from .io import load, load_sequence, save, save_sequence
 from .keyframes import interpolate_keyframes
 from .outputs import write_output
+from .pipeline import morph, prepare_pair
 from .sequence import Sequence
 from .shape import Shape, ShapeLike
 from .transfer import transfer
@@ -25,6 +26,6 @@ __version__ = "0.1.0"
 __all__ = [
     "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "ShapeLike", "batch", "check_compatible", "compare",
     "correspond", "easing", "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "mesh_pair",
-    "metrics", "relative_velocity_field", "resample", "save", "save_sequence", "times", "transfer",
-    "write_output",
+    "metrics", "morph", "prepare_pair", "relative_velocity_field", "resample", "save", "save_sequence", "times",
+    "transfer", "write_output",
 ]

@@ -16,7 +16,23 @@ __all__ = ["correspondence_options", "outline_correspondence_options", "correspo
 
 #: names of the correspondence options among a command's parameters
 CORRESPONDENCE_KEYS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched",
-                       "resample_points", "mesh_area")
+                       "resample_points", "mesh_area", "correspondence", "landmarks")
+
+
+def _landmark(ctx, param, values):
+    """``X0,Y0:X1,Y1`` strings as ((x0, y0), (x1, y1)) pairs."""
+    out = []
+    for text in values or ():
+        try:
+            a, b = text.split(":")
+            pair = tuple(tuple(float(v) for v in p.split(",")) for p in (a, b))
+            if any(len(p) != 2 for p in pair):
+                raise ValueError
+        except ValueError:
+            raise click.BadParameter(f"{text!r} is not X0,Y0:X1,Y1 (a source point and its target point)") \
+                from None
+        out.append(pair)
+    return out or None
 
 _outline_options = (
     click.option("--points", type=int, default=None, metavar="N",
@@ -29,6 +45,12 @@ _outline_options = (
     click.option("--unmatched", type=click.Choice(["grow", "split"]), default="grow", show_default=True,
                  help="A region or hole with no partner grows from a small copy at its own place, or "
                       "splits off from the nearest region."),
+    click.option("--correspondence", type=click.Choice(["auto", "always", "never"]), default="auto",
+                 show_default=True,
+                 help="auto: drawings (SVG) are always put in correspondence, other compatible inputs are "
+                      "used as they are; always; never (the inputs must be compatible)."),
+    click.option("--landmark", "landmarks", multiple=True, callback=_landmark, metavar="X0,Y0:X1,Y1",
+                 help="A source point and the target point it must go to (repeatable), like shape hints."),
 )
 
 outline_correspondence_options = _compose(*_outline_options)
@@ -54,9 +76,16 @@ def correspondence_kwargs(params):
     return {k: params.pop(k) for k in CORRESPONDENCE_KEYS if k in params}
 
 
+def _drawing_paths(*paths):
+    """Whether any of the paths is a drawing (its point order means nothing)."""
+    from ..pipeline import DRAWING_SUFFIXES
+
+    return any(str(p).lower().endswith(DRAWING_SUFFIXES) for p in paths)
+
+
 def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None, segment=None,
                     rotation=False, outline=False, mesh_size=None, unmatched="grow",
-                    resample_points=None, mesh_area=None):
+                    resample_points=None, mesh_area=None, correspondence="auto", landmarks=None):
     """Make a loaded pair compatible as the options ask, then check it.
 
     Without ``--resample``/``--mesh``: a compatible pair is used as it is,
@@ -69,18 +98,22 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
     -------
     (Shape, Shape)
     """
-    from ..correspondence import correspond, mesh_pair, resample
+    from ..correspondence import mesh_pair, resample
 
     if resample_points is None and mesh_area is None:
-        try:
-            src, tgt, report = correspond(src, tgt, points=points, segment=segment, rotation=rotation,
-                                          outline=outline, mesh_size=mesh_size, unmatched=unmatched)
-        except (ShapeError, IncompatibleShapesError) as exc:
-            raise type(exc)(f"{source_path} (source) and {target_path} (target): {exc}") from None
-        if not report.unchanged and not quiet:
-            click.echo(report.summary())
-        ensure_compatible(src, tgt, source_path, target_path)
-        return src, tgt
+        from ..pipeline import prepare_pair
+
+        options = {k: v for k, v in (("points", points), ("segment", segment), ("rotation", rotation),
+                                     ("outline", outline), ("mesh_size", mesh_size), ("landmarks", landmarks))
+                   if v not in (None, False)}
+        if unmatched != "grow":
+            options["unmatched"] = unmatched
+        prepared = prepare_pair(src, tgt, correspondence=correspondence, **options,
+                                names=(source_path, target_path), _drawing=_drawing_paths(source_path, target_path))
+        if prepared.report is not None and not quiet:
+            click.echo(prepared.summary())
+        ensure_compatible(prepared.source, prepared.target, source_path, target_path)
+        return prepared.source, prepared.target
     if resample_points is not None:
         src, tgt = resample(src, tgt, points=resample_points, rotation=rotation)
     if mesh_area is not None:
@@ -103,7 +136,7 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
 
 
 def make_keys_compatible(shapes, paths, quiet=False, points=None, segment=None, rotation=False,
-                         unmatched="grow", role="keyframe"):
+                         unmatched="grow", role="keyframe", correspondence="auto", landmarks=None):
     """Several loaded shapes (keyframes, transfer inputs) made compatible together.
 
     They are corresponded as outlines by `isotween.correspondence.correspond_keys`
@@ -117,6 +150,15 @@ def make_keys_compatible(shapes, paths, quiet=False, points=None, segment=None, 
     from ..correspondence import correspond_keys
     from ..correspondence.compatibility import check_compatible
 
+    if landmarks:
+        raise ParameterError("--landmark is for two drawings (interpolate, prepare)")
+    if correspondence == "never":
+        try:
+            check_compatible(*shapes, names=[str(p) for p in paths])
+        except IncompatibleShapesError as exc:
+            raise IncompatibleShapesError(f"{', '.join(str(p) for p in paths)} are not compatible: {exc}; "
+                                          "let correspondence run (--correspondence auto)") from None
+        return shapes
     try:
         shapes, report = correspond_keys(shapes, points=points, segment=segment, rotation=rotation,
                                          unmatched=unmatched)
@@ -155,7 +197,8 @@ def prepare_command(source, target, outdir, fmt, quiet, **params):
 
     options = correspondence_kwargs(params)
     defaults = {"points": None, "segment": None, "rotation": False, "outline": False, "mesh_size": None,
-                "unmatched": "grow", "resample_points": None, "mesh_area": None}
+                "unmatched": "grow", "resample_points": None, "mesh_area": None, "correspondence": "auto",
+                "landmarks": None}
     if options == defaults:
         raise ParameterError("nothing to prepare: give --points N, --segment, --outline or --mesh-size "
                              "(correspondence), or give --resample N and/or --mesh")

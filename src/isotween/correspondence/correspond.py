@@ -21,13 +21,16 @@ from ..shape import Shape
 from . import regions as _regions
 from .alignment import align
 from .compatibility import as_shape, check_compatible
-from .matching import match_rings
+from .matching import match_rings, project
 from .resample import _counts, _Ring, resample
 
 __all__ = ["Correspondence", "CorrespondenceReport", "correspond", "correspond_keys", "MAX_TRIANGLES"]
 
 #: meshes estimated to need more triangles than this (all regions together) are refused
 MAX_TRIANGLES = 2_000_000
+
+#: a landmark point may lie at most this fraction of its drawing's diagonal from an outline
+LANDMARK_REACH = 0.05
 
 #: outlines of corresponded drawings get at least this many points in all (long edges split)
 MIN_POINTS = 64
@@ -62,6 +65,10 @@ class CorrespondenceReport:
         target than in the source.
     outlines : list of str
         Filled regions kept as outlines, and why.
+    vanishing : list of list of (k,) int arrays
+        Per drawing, the vertices of each ring that is only a small copy
+        there (an item or hole the drawing lacks): `isotween.morph` collapses
+        them to a point in that drawing's frame, so nothing is left of it.
     """
 
     unchanged: bool = False
@@ -76,6 +83,7 @@ class CorrespondenceReport:
     meshes: list = field(default_factory=list)
     flipped: int = 0
     outlines: list = field(default_factory=list)
+    vanishing: list = field(default_factory=list)
 
     def summary(self):
         """One line saying what was done."""
@@ -111,7 +119,7 @@ class Correspondence(NamedTuple):
 
 
 def correspond(source, target, *, points=None, segment=None, rotation=False, outline=False,
-               mesh_size=None, unmatched="grow", pairs=None):
+               mesh_size=None, unmatched="grow", pairs=None, landmarks=None, always=False):
     """Make two drawings compatible: same vertices, connectivity and paths.
 
     Regions (outer ring and holes), unfilled rings and open polylines are
@@ -152,6 +160,14 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
     pairs : list of (int, int), optional
         Region pairs (source region, target region) to force; the other
         regions are paired by assignment.
+    landmarks : list of ((x0, y0), (x1, y1)), optional
+        Point pairs that must correspond: a point on (or near) an outline of
+        the source and one on the paired outline of the target, like the
+        shape hints of animation tools. Each is moved onto the nearest
+        outline of its drawing.
+    always : bool
+        Correspond even inputs that are compatible already (drawings whose
+        point order means nothing). Default: those come back unchanged.
 
     Returns
     -------
@@ -172,13 +188,15 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
     """
     source, target = as_shape(source, "source"), as_shape(target, "target")
     _check_options(points, segment, unmatched, mesh_size)
-    try:
-        check_compatible(source, target)
-    except IsotweenError:
-        pass
-    else:
-        return Correspondence(source, target, CorrespondenceReport(unchanged=True, unmatched=unmatched))
-    shapes, report = _compatible_outlines([source, target], points, segment, rotation, unmatched, pairs)
+    if not always and landmarks is None:
+        try:
+            check_compatible(source, target)
+        except IsotweenError:
+            pass
+        else:
+            return Correspondence(source, target, CorrespondenceReport(unchanged=True, unmatched=unmatched))
+    shapes, report = _compatible_outlines([source, target], points, segment, rotation, unmatched, pairs,
+                                          landmarks)
     if not outline:
         shapes = _solids(shapes, report, mesh_size)
     return Correspondence(shapes[0], shapes[1], report)
@@ -225,7 +243,7 @@ def _check_options(points, segment, unmatched, mesh_size=None):
         raise ParameterError(f"segment must be a positive length, got {segment!r}")
 
 
-def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs):
+def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs, landmarks=None):
     """Object correspondence and resampling of K drawings; (shapes, report)."""
     _check_options(points, segment, unmatched)
     names = ["source", "target"] if len(shapes) == 2 else [f"keyframe {k}" for k in range(len(shapes))]
@@ -237,9 +255,12 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs):
     if len(shapes) == 2:
         frames, turn = align(items, frames)
     slots = _regions.plan(items, frames, pairs)
-    per_key, closed, paint, layout = _fill_slots(items, frames, slots, unmatched)
+    per_key, closed, paint, layout, tiny = _fill_slots(items, frames, slots, unmatched)
+    if landmarks is not None and len(shapes) != 2:
+        raise ParameterError("landmarks are for two drawings")
     if len(shapes) == 2:
-        rings = _matched_rings(per_key, closed, points, segment, turn)
+        hints = _landmark_anchors(landmarks, per_key, closed)
+        rings = _matched_rings(per_key, closed, points, segment, turn, hints)
         counts = [len(r) for r in rings[0]]
     else:
         counts = _ring_counts(per_key, closed, points, segment)
@@ -256,10 +277,54 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs):
                                        paint=paint[k]))
     report = CorrespondenceReport(keys=len(shapes), unmatched=unmatched, points=[int(c) for c in counts])
     _count_items(report, slots, len(shapes))
+    report.vanishing = [[result[k].paths[r][0] for r in rings_k] for k, rings_k in enumerate(tiny)]
     return result, report
 
 
-def _matched_rings(per_key, closed, points, segment, turn):
+def _landmark_anchors(landmarks, per_key, closed):
+    """Per ring, the anchor pairs (source parameter, target parameter) of the landmarks.
+
+    Raises
+    ------
+    ParameterError
+        A landmark that is not a pair of points, or a point far (over
+        `LANDMARK_REACH` of the drawing's diagonal) from every outline.
+    IncompatibleShapesError
+        The two points of a landmark lie on outlines that do not correspond.
+    """
+    anchors = [[] for _ in closed]
+    if landmarks is None:
+        return anchors
+    try:
+        pts = np.asarray(landmarks, dtype=np.float64)
+    except (TypeError, ValueError):
+        pts = None
+    if pts is None or pts.ndim != 3 or pts.shape[1:] != (2, 2) or not np.all(np.isfinite(pts)):
+        raise ParameterError(f"landmarks must be a list of ((x0, y0), (x1, y1)) point pairs, got {landmarks!r}")
+    for k, pair in enumerate(pts):
+        found = []
+        for side, key in enumerate(per_key):
+            p = complex(*pair[side])
+            every = np.concatenate(key)
+            diagonal = abs(complex(np.ptp(every.real), np.ptp(every.imag)))
+            hits = [project(z, c, p) for z, c in zip(key, closed, strict=True)]
+            r = int(np.argmin([h[0] for h in hits]))
+            if hits[r][0] > LANDMARK_REACH * diagonal:
+                name = ("source", "target")[side]
+                raise ParameterError(f"landmark {k}: the {name} point ({pair[side][0]:g}, {pair[side][1]:g}) is "
+                                     f"{hits[r][0]:.3g} from the nearest outline of the {name}, more than "
+                                     f"{LANDMARK_REACH:.0%} of its diagonal: it is not on the drawing")
+            found.append((r, hits[r][1]))
+        (r0, s0), (r1, s1) = found
+        if r0 != r1:
+            raise IncompatibleShapesError(f"landmark {k}: the source point is on outline {r0} but the target point "
+                                          f"on outline {r1}, which does not correspond to it (pair the regions "
+                                          "first, or move the point)")
+        anchors[r0].append((s0, s1))
+    return anchors
+
+
+def _matched_rings(per_key, closed, points, segment, turn, anchors):
     """Rings of two drawings matched point for point, every input vertex kept (`matching.match_rings`).
 
     Edges longer than the drawing's outline length over ``points`` (default:
@@ -273,11 +338,14 @@ def _matched_rings(per_key, closed, points, segment, turn):
         total = points if points is not None else max(MIN_POINTS, *(sum(len(z) for z in key) for key in per_key))
         spacing = (lengths[0] / total, lengths[1] / total)
     out = [[], []]
-    for z, w, c in zip(per_key[0], per_key[1], closed, strict=True):
+    for r, (z, w, c) in enumerate(zip(per_key[0], per_key[1], closed, strict=True)):
         reverse = None
         if c:
             reverse = bool(np.sign(_regions.ring_area(z)) != np.sign(_regions.ring_area(w)))
-        pair = match_rings(z, w, c, turn=turn, spacing=spacing, reverse=reverse)
+        try:
+            pair = match_rings(z, w, c, turn=turn, spacing=spacing, reverse=reverse, anchors=anchors[r])
+        except IncompatibleShapesError as exc:
+            raise IncompatibleShapesError(f"outline {r}: {exc}") from None
         out[0].append(pair.source)
         out[1].append(pair.target)
     return out
@@ -323,7 +391,8 @@ def _fill_slots(items, frames, slots, unmatched):
     paints = [[] for _ in range(K)]
     closed, layout = [], []
     # regions first: small copies of other items may be placed inside them
-    done = {}
+    done, tiny_holes = {}, {}
+    tiny = [[] for _ in range(K)]
     for si, slot in enumerate(slots):
         if slot.kind != "region":
             continue
@@ -339,6 +408,7 @@ def _fill_slots(items, frames, slots, unmatched):
                     rings.append(item.rings[hs[k]])
                     paint.append(item.paint[hs[k]])
                 else:  # a hole this drawing lacks: a small ring inside the region
+                    tiny_holes.setdefault(si, []).append((k, len(rings)))
                     ref = next(j for j, h in enumerate(hs) if h is not None)
                     ref_item = items[ref][slot.members[ref]]
                     hole = ref_item.rings[hs[ref]]
@@ -362,10 +432,13 @@ def _fill_slots(items, frames, slots, unmatched):
         ref = min(present)
         ref_rings, ref_paint = present[ref]
         start = len(closed)
+        for k, r in tiny_holes.get(si, []):
+            tiny[k].append(start + r)
         for k in range(K):
             if k in present:
                 rings, paint = present[k]
             else:
+                tiny[k] += list(range(start, start + len(ref_rings)))
                 rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k], unmatched)
                 # the small copy is also transparent: the item fades in (out) as it grows (shrinks)
                 paint = [None if p is None else replace(p, opacity=0.0) for p in ref_paint]
@@ -374,7 +447,7 @@ def _fill_slots(items, frames, slots, unmatched):
         closed += [is_closed] * len(ref_rings)
         layout.append((slot.kind, list(range(start, len(closed)))))
     paints = [None if any(p is None for p in key) else key for key in paints]
-    return per_key, closed, paints, layout
+    return per_key, closed, paints, layout, tiny
 
 
 def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched):
@@ -417,6 +490,12 @@ def _ring_counts(per_key, closed, points, segment):
 
 
 # ---------------------------------------------------------------- solids
+def _path_of(paths, idx):
+    """The index of the path whose vertex indices are ``idx``."""
+    return next(p for p, (v, _) in enumerate(paths) if len(v) == len(idx) and v[0] == idx[0])
+
+
+
 def _mesh_region(source_rings, target_rings, mesh_size):
     """Compatible triangle meshes of one region pair.
 
@@ -493,6 +572,9 @@ def _solids(shapes, report, mesh_size):
         blocks.append((src.vertices[idx], tgt.vertices[idx], e + offset, None, [p]))
         offset += k
     order = [p for b in blocks for p in b[4]]
+    new_index = {p: q for q, p in enumerate(order)}
+    old_paths = src.paths
+    report.vanishing = [[paths[new_index[_path_of(old_paths, idx)]][0] for idx in key] for key in report.vanishing]
     edges = np.vstack([b[2] for b in blocks])
     faces = [b[3] for b in blocks if b[3] is not None]
     faces = np.vstack(faces) if faces else None

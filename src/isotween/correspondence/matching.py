@@ -26,7 +26,9 @@ A ring (closed) or polyline (open) is parameterised by normalised arc length
 
 import numpy as np
 
-__all__ = ["RingPair", "arc_params", "points_at", "correlation", "shift_score", "match_rings", "CORNER"]
+from ..errors import IncompatibleShapesError
+
+__all__ = ["RingPair", "arc_params", "points_at", "project", "correlation", "shift_score", "match_rings", "CORNER"]
 
 #: turning angle (radians) from which a ring vertex is a corner that anchors the match
 CORNER = np.deg2rad(28.0)
@@ -86,6 +88,30 @@ def points_at(z, closed, s):
     grid = np.append(params, 1.0) if closed else params
     s = np.mod(s, 1.0) if closed else np.clip(s, 0.0, 1.0)
     return np.interp(s, grid, knots.real) + 1j * np.interp(s, grid, knots.imag)
+
+
+def project(z, closed, p):
+    """The point of the ring ``z`` nearest ``p``: (distance, normalised arc parameter).
+
+    Parameters
+    ----------
+    z : (k,) complex
+    closed : bool
+    p : complex
+
+    Returns
+    -------
+    distance : float
+    s : float
+    """
+    params, knots, length = arc_params(z, closed)
+    a, b = knots[:-1], knots[1:]
+    d = b - a
+    f = np.clip(((np.conj(d) * (p - a)).real) / np.maximum(np.abs(d) ** 2, 1e-300), 0.0, 1.0)
+    gap = np.abs(a + f * d - p)
+    k = int(np.argmin(gap))
+    cum = params if closed else params[:-1]
+    return float(gap[k]), float((cum[k] + f[k] * abs(d[k]) / length) % (1.0 if closed else 2.0))
 
 
 def correlation(x, y):
@@ -230,8 +256,8 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None)
         The drawing's rotation from source to target (unit complex): rings
         prefer shifts that turn by it. None: any rotation.
     anchors : sequence of (float, float)
-        Extra anchor pairs (source parameter, target parameter), e.g. landmarks;
-        they are kept whatever the alignment says.
+        Anchor pairs (source parameter, target parameter on the target as
+        given), e.g. landmarks; they replace the alignment.
     spacing : (float, float), optional
         Longest edge allowed in the source and in the target (lengths); longer
         edges of the union are split. Default: no split.
@@ -247,10 +273,16 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None)
     s_z, _, len_z = arc_params(z, closed)
     if reverse is None:
         reverse = False if closed else _polyline_reversed(z, w)
+    anchors = [(float(a), float(b)) for a, b in anchors]
     if reverse:
         w = np.roll(w[::-1], 1) if closed else w[::-1]
+        anchors = [(a, (1.0 - b) % 1.0 if closed else 1.0 - b) for a, b in anchors]
     s_w, _, len_w = arc_params(w, closed)
-    anchors = [(float(a), float(b)) for a, b in anchors]
+    if anchors:
+        a_h, b_h = np.array(anchors).T
+        order = np.argsort(a_h)
+        if len(_monotone(a_h[order], b_h[order], closed)) < len(anchors):
+            raise IncompatibleShapesError("the landmarks on this outline are in a different order in the target")
     if closed:
         if anchors:
             a0, b0 = np.array(anchors).T

@@ -31,11 +31,16 @@ from ..shape import MAX_COORDINATE, Shape
 from ._files import TEXT_BYTES_PER_BYTE, check_readable, write_text
 from ._mesh import chains
 
-__all__ = ["read_svg", "write_svg", "CURVE_SEGMENTS"]
+__all__ = ["read_svg", "write_svg", "CURVE_SEGMENTS", "CURVE_TOLERANCE"]
 
-#: straight pieces each curved segment (quadratic, cubic, arc) is sampled into;
-#: a circle or ellipse (four arcs) gives 4 * CURVE_SEGMENTS vertices
+#: curves are flattened so that no point of a curve is further than this fraction of the drawing's
+#: bounding-box diagonal from the polyline (the default; ``curve_segments`` fixes the count instead)
+CURVE_TOLERANCE = 2.5e-4
+#: straight pieces of a curved segment at most, and (the older fixed count) ``curve_segments=16``
+MAX_CURVE_SEGMENTS = 256
 CURVE_SEGMENTS = 16
+#: parameter steps at which a curve is first sampled to estimate its bending
+_PROBE = np.linspace(0.0, 1.0, 17)
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _LENGTH = re.compile(rf"^\s*{_NUMBER}\s*(?:px|pt|pc|mm|cm|in|em|ex|%)?\s*$")
@@ -80,10 +85,16 @@ def _points_ok(text):
     return bool(_SEPARATORS.match(_NUMBERS.sub(" ", text))) and len(_NUMBERS.findall(text)) % 2 == 0
 
 
-def _subpaths(se, element, curve_segments):
-    """(points (k, 2), closed) of every subpath of a svgelements shape."""
+def _subpaths(se, element, curve_segments, tolerance=None):
+    """(points (k, 2), closed) of every subpath of a svgelements shape.
+
+    A curved segment becomes ``curve_segments`` straight pieces of equal
+    parameter step, or, with ``tolerance`` (a length), as many as keep the
+    polyline within it: a curve with second derivative at most ``M`` is within
+    ``M / (8 n^2)`` of its ``n``-piece polyline.
+    """
     out, current, closed = [], None, False
-    steps = np.linspace(0.0, 1.0, curve_segments + 1)[1:]
+    fixed = None if curve_segments is None else np.linspace(0.0, 1.0, curve_segments + 1)[1:]
     for seg in se.Path(element).segments():
         if isinstance(seg, se.Move) or current is None:
             if current:
@@ -99,8 +110,15 @@ def _subpaths(se, element, curve_segments):
             continue
         if isinstance(seg, se.Line):
             current.append(np.array([[seg.end.x, seg.end.y]]))
-        else:  # quadratic, cubic or arc
-            current.append(np.asarray(seg.npoint(steps), dtype=np.float64).reshape(-1, 2))
+            continue
+        # quadratic, cubic or arc
+        steps = fixed
+        if steps is None:
+            probe = np.asarray(seg.npoint(_PROBE), dtype=np.float64).reshape(-1, 2)
+            bend = np.abs(probe[2:] - 2 * probe[1:-1] + probe[:-2]).max(initial=0.0) * (len(_PROBE) - 1) ** 2
+            n = int(np.clip(np.ceil(np.sqrt(bend / (8 * tolerance))), 1, MAX_CURVE_SEGMENTS))
+            steps = np.linspace(0.0, 1.0, n + 1)[1:]
+        current.append(np.asarray(seg.npoint(steps), dtype=np.float64).reshape(-1, 2))
     if current:
         out.append((current, closed))
     return [(np.vstack(parts), c) for parts, c in out]
@@ -131,14 +149,16 @@ def _quiet_numbers(reader):
 
 
 @_quiet_numbers
-def read_svg(path, curve_segments=CURVE_SEGMENTS):
+def read_svg(path, curve_segments=None):
     """Read every drawn outline of an SVG file as one Shape.
 
     Parameters
     ----------
     path : path-like
-    curve_segments : int
+    curve_segments : int, optional
         Straight pieces per curved segment (quadratic, cubic Bezier, arc).
+        Default: as many as keep every curve within `CURVE_TOLERANCE` of the
+        drawing's bounding-box diagonal (at most `MAX_CURVE_SEGMENTS`).
 
     Returns
     -------
@@ -167,7 +187,8 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
     """
     se = require("svgelements", "cli")
     path = check_readable(path)
-    _check_curve_segments(curve_segments)
+    if curve_segments is not None:
+        _check_curve_segments(curve_segments)
     _check_xml_safety(path)
     try:
         root = ET.parse(path).getroot()
@@ -187,6 +208,15 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
         raise FileFormatError(f"{path}: cannot interpret the drawing ({str(exc)[:120]})") from None
     if not hasattr(document, "elements"):
         raise FileFormatError(f"{path}: the root element is not an SVG <svg> (namespace {root.tag[:80]})")
+    tolerance = None
+    if curve_segments is None:
+        try:
+            box = document.bbox()
+        except _SVGELEMENTS_ERRORS:
+            box = None
+        diagonal = float(np.hypot(box[2] - box[0], box[3] - box[1])) if box else 0.0
+        tolerance = CURVE_TOLERANCE * diagonal if np.isfinite(diagonal) and diagonal > 0 else None
+        curve_segments = CURVE_SEGMENTS if tolerance is None else None
     rings, paints, regions, dropped, counts = [], [], [], [], {}
     for el in document.elements():
         if not isinstance(el, se.Shape):
@@ -199,7 +229,7 @@ def read_svg(path, curve_segments=CURVE_SEGMENTS):
         if paint.fill is None and paint.stroke is None:
             continue  # draws nothing (e.g. an icon's bounding box with fill="none")
         kept = []
-        for k, (points, closed) in enumerate(_safe_subpaths(path, se, el, curve_segments, label)):
+        for k, (points, closed) in enumerate(_safe_subpaths(path, se, el, curve_segments, label, tolerance)):
             _check_numbers(path, label, k, points)
             closed = closed or paint.filled
             points = _clean(points, closed)
@@ -240,10 +270,10 @@ _SVGELEMENTS_ERRORS = (ValueError, TypeError, ZeroDivisionError, OverflowError, 
                        AttributeError, RecursionError)
 
 
-def _safe_subpaths(path, se, element, curve_segments, label):
+def _safe_subpaths(path, se, element, curve_segments, label, tolerance=None):
     """`_subpaths`, with svgelements' errors on malformed geometry as `FileFormatError`."""
     try:
-        return _subpaths(se, element, curve_segments)
+        return _subpaths(se, element, curve_segments, tolerance)
     except _SVGELEMENTS_ERRORS as exc:
         raise FileFormatError(f"{path}: {label}: cannot interpret the geometry ({type(exc).__name__})") from None
 
