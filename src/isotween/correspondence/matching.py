@@ -35,7 +35,11 @@ CORNER = np.deg2rad(28.0)
 #: samples per ring for the alignment's correlation
 SAMPLES = 512
 #: how far (fraction of the ring) a corner may land from its partner and still anchor
-CORNER_WINDOW = 0.05
+CORNER_WINDOW = 0.15
+#: corner pairs (source corners x target corners) above which corners are not matched
+MAX_CORNER_PAIRS = 4000
+#: weight of a start's worse fit to the drawing's rotation against its corners' cost
+SHIFT_WEIGHT = 4.0
 #: how much (radians) the turning angles of two paired corners may differ
 CORNER_TURN = np.deg2rad(50.0)
 #: a target vertex within this fraction of the local spacing of a source vertex is the same point
@@ -301,25 +305,12 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None)
         if anchors:
             a0, b0 = np.r_[a0, np.array(anchors)[:, 0]], np.r_[b0, np.array(anchors)[:, 1]]
     phi = _Map(a0, b0, closed)
-    # corners that land near corners of the same turn
-    tz, tw = _turning(z, closed), _turning(w, closed)
-    cz, cw = np.flatnonzero(np.abs(tz) >= CORNER), np.flatnonzero(np.abs(tw) >= CORNER)
-    if len(cz) and len(cw) and not anchors:
-        d = phi(s_z[cz])[:, None] - s_w[cw][None, :]
-        d = np.abs(_wrap(d)) if closed else np.abs(d)
-        d = np.where(np.abs(tz[cz][:, None] - tw[cw][None, :]) <= CORNER_TURN, d, np.inf)
-        j = np.argmin(d, axis=1)
-        i = np.argmin(d, axis=0)
-        mutual = np.flatnonzero((i[j] == np.arange(len(cz))) & (d[np.arange(len(cz)), j] < CORNER_WINDOW))
-        if len(mutual):
-            a1, b1 = s_z[cz[mutual]], s_w[cw[j[mutual]]]
-            a_all, b_all = np.r_[a0, a1], np.r_[b0, b1]
-            if closed and len(a1) >= 1:
-                a_all, b_all = a1, b1  # corners replace the rigid shift's single anchor
-            order = np.argsort(a_all, kind="stable")
-            keep = order[_monotone(a_all[order], b_all[order], closed)]
-            phi = _Map(a_all[keep], b_all[keep], closed)
-            a0, b0 = a_all[keep], b_all[keep]
+    # corners to corners
+    if not anchors:
+        found = _corner_anchors(z, w, s_z, s_w, closed, phi, turn)
+        if found is not None:
+            a0, b0 = found
+            phi = _Map(a0, b0, closed)
     # target vertices that land on source vertices are the same point
     i, j = _snap_pairs(s_z, phi.inverse(s_w), closed)
     paired = np.zeros(len(s_w), bool)
@@ -353,6 +344,90 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None)
     if spacing is not None:
         s_all, u_all = _split(s_all, u_all, closed, spacing[0] / len_z, spacing[1] / len_w)
     return RingPair(points_at(z, closed, s_all), points_at(w, closed, u_all), s_all, u_all)
+
+
+def _align_sequences(da, ta, db, tb, window):
+    """Monotone pairs of two corner sequences by dynamic programming.
+
+    Parameters
+    ----------
+    da, db : (m,) and (n,) float
+        Corner positions (arc parameters from a common cut, increasing).
+    ta, tb : (m,) and (n,) float
+        Their turning angles.
+    window : float
+        Pairs further apart than this (in parameter) are not made.
+
+    Returns
+    -------
+    cost : float
+        Unpaired corners cost their turn / pi; a pair costs its position and
+        turn differences.
+    pairs : list of (int, int)
+    """
+    m, n = len(da), len(db)
+    ga, gb = np.abs(ta) / np.pi, np.abs(tb) / np.pi
+    gap = np.abs(da[:, None] - db[None, :])
+    c = np.where(gap <= window, gap / window * 0.5 * (ga[:, None] + gb[None, :]) + np.abs(ta[:, None] - tb[None, :])
+                 / np.pi, np.inf)
+    G = np.r_[0.0, np.cumsum(gb)]
+    D = np.empty((m + 1, n + 1))
+    D[0] = G
+    for i in range(1, m + 1):
+        x = np.empty(n + 1)
+        x[0] = D[i - 1, 0] + ga[i - 1]
+        x[1:] = np.minimum(D[i - 1, :-1] + c[i - 1], D[i - 1, 1:] + ga[i - 1])
+        D[i] = G + np.minimum.accumulate(x - G)
+    pairs, i, j = [], m, n
+    while i > 0 and j > 0:
+        if np.isclose(D[i, j], D[i, j - 1] + gb[j - 1], rtol=0, atol=1e-12):
+            j -= 1
+        elif np.isclose(D[i, j], D[i - 1, j - 1] + c[i - 1, j - 1], rtol=0, atol=1e-12):
+            pairs.append((i - 1, j - 1))
+            i, j = i - 1, j - 1
+        else:
+            i -= 1
+    return float(D[m, n]), pairs[::-1]
+
+
+def _corner_anchors(z, w, s_z, s_w, closed, phi, turn):
+    """Anchor pairs (source params, target params) pairing corners with corners, or None.
+
+    The corners of both rings (turning angle at least `CORNER`) are paired by
+    `_align_sequences` in arc-length order. On a ring every start is tried
+    (the strongest source corner against each target corner of a similar
+    turn, and the alignment's own shift); the cost adds how much worse the
+    start's shift fits the drawing's rotation (`shift_score`).
+    """
+    tz, tw = _turning(z, closed), _turning(w, closed)
+    cz, cw = np.flatnonzero(np.abs(tz) >= CORNER), np.flatnonzero(np.abs(tw) >= CORNER)
+    if not len(cz) or not len(cw) or len(cz) * len(cw) > MAX_CORNER_PAIRS:
+        return None
+    az, aw, qz, qw = s_z[cz], s_w[cw], tz[cz], tw[cw]
+    if not closed:
+        _, pairs = _align_sequences(az, qz, aw, qw, CORNER_WINDOW)
+        if not pairs:
+            return None
+        i, j = np.array(pairs).T
+        return np.r_[0.0, az[i], 1.0], np.r_[0.0, aw[j], 1.0]
+    grid = np.arange(SAMPLES) / SAMPLES
+    rho = correlation(points_at(z, True, grid), points_at(w, True, grid))
+    score = shift_score(rho, turn)
+    lead = int(np.argmax(np.abs(qz)))
+    offsets = [float(phi(az[lead]) - az[lead])]
+    offsets += [float(aw[j] - az[lead]) for j in np.flatnonzero(np.abs(qw - qz[lead]) <= CORNER_TURN)]
+    best = (np.inf, None)
+    for off in np.mod(offsets, 1.0):
+        cut = az[lead] - 0.5 * CORNER_WINDOW  # just before the lead corner, and where it lands
+        da = np.mod(az - cut, 1.0)
+        db = np.mod(aw - cut - off, 1.0)
+        oa, ob = np.argsort(da), np.argsort(db)
+        cost, pairs = _align_sequences(da[oa], qz[oa], db[ob], qw[ob], CORNER_WINDOW)
+        cost += SHIFT_WEIGHT * (score.max() - score[int(round(off * SAMPLES)) % SAMPLES])
+        if cost < best[0] and pairs:
+            i, j = np.array(pairs).T
+            best = (cost, (az[oa[i]], aw[ob[j]]))
+    return best[1]
 
 
 def _split(s, u, closed, hs, hu):
