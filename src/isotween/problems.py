@@ -156,7 +156,7 @@ def keyed_problem(shapes: Seq[Shape], t: np.ndarray, idx: np.ndarray, *, init: s
             for j in range(K - 1):
                 edges[:, idx[j] : idx[j + 1] + 1] = segment(j)
     if K == 2:
-        centroids = centroid_path(base, zk[:, 0], zk[:, 1], t)
+        centroids = centroid_path(base, zk[:, 0], zk[:, 1], t, turn=True)
     else:
         from scipy.interpolate import CubicSpline  # imported here: scipy.interpolate takes 0.3 s
 

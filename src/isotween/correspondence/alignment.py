@@ -3,7 +3,9 @@
 Candidates come from the two drawings' dominant rings (the outer ring of the
 largest filled region, else the longest ring or polyline): every peak of
 their circular cross-correlation (`matching.correlation`) is a similarity
-``target ~ a (source - c_s) + c_t``. Each candidate, and the plain
+``target ~ a (source - c_s) + c_t``; and from a coarse circle of turns about
+the drawings' centroids (a round dominant ring shows no turn). The best
+candidates are refined by iterative closest points. Each candidate, and the plain
 bounding-box frames (no rotation), is scored on the drawings as wholes by the
 mean distance between arc-length samples of all their rings and the nearest
 samples of the other drawing (both ways). A rotation is used only when it
@@ -26,6 +28,12 @@ MIN_TURN = np.deg2rad(2.0)
 CANDIDATES = 8
 #: samples of a whole drawing for the fit distance
 DRAWING_SAMPLES = 800
+#: turns tried besides the correlation peaks (a coarse circle about the drawings' centroids)
+GRID_TURNS = 24
+#: best candidates refined by iterative closest points
+REFINED = 4
+#: rounds of iterative closest points
+ICP_ROUNDS = 8
 
 
 def _dominant(items):
@@ -77,32 +85,52 @@ def align(items, frames):
     """
     from scipy.spatial import cKDTree
 
+    cands = []
     (z, closed), (w, closed_w) = _dominant(items[0]), _dominant(items[1])
-    if not (closed and closed_w):
-        return frames, 1.0 + 0j
-    if np.sign(ring_area(z)) != np.sign(ring_area(w)):
-        w = np.roll(w[::-1], 1)
-    grid = np.arange(SAMPLES) / SAMPLES
-    x, y = points_at(z, True, grid), points_at(w, True, grid)
-    rho = correlation(x, y)
-    mag = np.abs(rho)
-    peaks = np.flatnonzero((mag >= np.roll(mag, 1)) & (mag > np.roll(mag, -1)))
-    peaks = peaks[np.argsort(mag[peaks])[::-1][:CANDIDATES]]
-    xc, yc = x.mean(), y.mean()
-    ratio = np.linalg.norm(y - yc) / max(np.linalg.norm(x - xc), 1e-300)
+    if closed and closed_w:
+        if np.sign(ring_area(z)) != np.sign(ring_area(w)):
+            w = np.roll(w[::-1], 1)
+        grid = np.arange(SAMPLES) / SAMPLES
+        x, y = points_at(z, True, grid), points_at(w, True, grid)
+        rho = correlation(x, y)
+        mag = np.abs(rho)
+        peaks = np.flatnonzero((mag >= np.roll(mag, 1)) & (mag > np.roll(mag, -1)))
+        peaks = peaks[np.argsort(mag[peaks])[::-1][:CANDIDATES]]
+        xc, yc = x.mean(), y.mean()
+        ratio = np.linalg.norm(y - yc) / max(np.linalg.norm(x - xc), 1e-300)
+        cands = [(rho[k] * ratio, xc, yc) for k in peaks]
     p, q = _samples(items[0]), _samples(items[1])
     tree = cKDTree(np.c_[q.real, q.imag])
     plain = _fit_distance(p, q, tree, lambda v: frames[0].to(frames[1], v))
-    best, best_a = np.inf, None
-    for k in peaks:
-        a = rho[k] * ratio
-        if abs(np.angle(a)) < MIN_TURN:
-            continue
-        d = _fit_distance(p, q, tree, lambda v, a=a: yc + a * (v - xc))
-        if d < best:
-            best, best_a = d, a
+    # candidates: the dominant rings' correlation peaks, and a coarse circle of turns about the samples' centroids
+    pc, qc = p.mean(), q.mean()
+    spread = np.sqrt(np.mean(np.abs(q - qc) ** 2) / max(np.mean(np.abs(p - pc) ** 2), 1e-300))
+    cands += [(spread * np.exp(1j * th), pc, qc) for th in np.linspace(0, 2 * np.pi, GRID_TURNS, endpoint=False)]
+    scored = sorted((_fit_distance(p, q, tree, lambda v, a=a, c=c, d=d: d + a * (v - c)), i)
+                    for i, (a, c, d) in enumerate(cands))
+    best, best_a, best_b = np.inf, None, None
+    for _, i in scored[:REFINED]:
+        a, c, d = cands[i]
+        a, b = _icp(p, q, tree, a, d - a * c)
+        dist = _fit_distance(p, q, tree, lambda v, a=a, b=b: a * v + b)
+        if dist < best and abs(np.angle(a)) >= MIN_TURN:
+            best, best_a, best_b = dist, a, b
     if best_a is None or not best < GAIN * plain:
         return frames, 1.0 + 0j
     turn = best_a / abs(best_a)
     scale = frames[0].scale
-    return [Frame(xc, scale, 1.0 + 0j), Frame(yc, scale * abs(best_a), turn)], turn
+    # frames whose `to` is v -> a v + b: centre 0 maps to b
+    return [Frame(0j, scale, 1.0 + 0j), Frame(best_b, scale * abs(best_a), turn)], turn
+
+
+def _icp(p, q, tree, a, b, rounds=ICP_ROUNDS):
+    """A similarity ``v -> a v + b`` refined by iterative closest points (closed-form complex least squares)."""
+    for _ in range(rounds):
+        tp = a * p + b
+        _, j = tree.query(np.c_[tp.real, tp.imag])
+        qq = q[j]
+        pm, qm = p.mean(), qq.mean()
+        pd = p - pm
+        a = np.vdot(pd, qq - qm) / max(np.vdot(pd, pd).real, 1e-300)
+        b = qm - a * pm
+    return a, b

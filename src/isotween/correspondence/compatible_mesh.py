@@ -171,9 +171,6 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     cut_edges = np.array([c for _, *pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2)
     fixed_keys = _keys(cut_edges)
     f_src = _triangulate(zs, rings, cut_edges, fixed_keys, "source")
-    # the target keeps every source diagonal that is a diagonal of the target too: fewer crossings
-    shared = _shared_diagonals(f_src, zt, _polygon(zt, rings), cut_edges)
-    f_tgt = _triangulate(zt, rings, np.r_[cut_edges, shared], _keys(np.r_[cut_edges, shared]), "target")
     z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size))
 
     # first try: the source mesh mapped by mean-value weights (reproduces affine maps); if a triangle
@@ -187,6 +184,9 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
         before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
         w_tgt = _least_distorted(z1, w_tgt, f1, K)
     else:  # the two triangulations overlaid, then refined in both at once
+        # the target keeps every source diagonal that is a diagonal of the target too: fewer crossings
+        shared = _shared_diagonals(f_src, zt, _polygon(zt, rings), cut_edges)
+        f_tgt = _triangulate(zt, rings, np.r_[cut_edges, shared], _keys(np.r_[cut_edges, shared]), "target")
         steiner = len(z1) - K if refine_first else 0
         z1, w_tgt, f1 = _overlay(z1, f1, zt, f_tgt, rings, cuts, K) if refine_first else \
             _overlay(zs, f_src, zt, f_tgt, rings, cuts, K)

@@ -36,7 +36,7 @@ LANDMARK_REACH = 0.05
 MIN_POINTS = 64
 
 #: default mesh size: at least this fraction of the drawings' bounding-box diagonal
-MESH_FRACTION = 1 / 60
+MESH_FRACTION = 1 / 30
 
 
 @dataclass

@@ -85,8 +85,8 @@ def _points_ok(text):
     return bool(_SEPARATORS.match(_NUMBERS.sub(" ", text))) and len(_NUMBERS.findall(text)) % 2 == 0
 
 
-def _subpaths(se, element, curve_segments, tolerance=None):
-    """(points (k, 2), closed) of every subpath of a svgelements shape.
+def _subpaths(se, segments, curve_segments, tolerance=None):
+    """(points (k, 2), closed) of every subpath of a shape's svgelements segments.
 
     A curved segment becomes ``curve_segments`` straight pieces of equal
     parameter step, or, with ``tolerance`` (a length), as many as keep the
@@ -95,7 +95,7 @@ def _subpaths(se, element, curve_segments, tolerance=None):
     """
     out, current, closed = [], None, False
     fixed = None if curve_segments is None else np.linspace(0.0, 1.0, curve_segments + 1)[1:]
-    for seg in se.Path(element).segments():
+    for seg in segments:
         if isinstance(seg, se.Move) or current is None:
             if current:
                 out.append((current, closed))
@@ -208,16 +208,7 @@ def read_svg(path, curve_segments=None):
         raise FileFormatError(f"{path}: cannot interpret the drawing ({str(exc)[:120]})") from None
     if not hasattr(document, "elements"):
         raise FileFormatError(f"{path}: the root element is not an SVG <svg> (namespace {root.tag[:80]})")
-    tolerance = None
-    if curve_segments is None:
-        try:
-            box = document.bbox()
-        except _SVGELEMENTS_ERRORS:
-            box = None
-        diagonal = float(np.hypot(box[2] - box[0], box[3] - box[1])) if box else 0.0
-        tolerance = CURVE_TOLERANCE * diagonal if np.isfinite(diagonal) and diagonal > 0 else None
-        curve_segments = CURVE_SEGMENTS if tolerance is None else None
-    rings, paints, regions, dropped, counts = [], [], [], [], {}
+    drawn, counts = [], {}
     for el in document.elements():
         if not isinstance(el, se.Shape):
             continue
@@ -228,8 +219,16 @@ def read_svg(path, curve_segments=None):
         paint = _paint(path, el, tag, label)
         if paint.fill is None and paint.stroke is None:
             continue  # draws nothing (e.g. an icon's bounding box with fill="none")
+        drawn.append((el, label, paint, _safe_segments(path, se, el, label)))
+    tolerance = None
+    if curve_segments is None:
+        diagonal = _control_diagonal([segs for *_, segs in drawn])
+        tolerance = CURVE_TOLERANCE * diagonal if np.isfinite(diagonal) and diagonal > 0 else None
+        curve_segments = CURVE_SEGMENTS if tolerance is None else None
+    rings, paints, regions, dropped = [], [], [], []
+    for el, label, paint, segments in drawn:
         kept = []
-        for k, (points, closed) in enumerate(_safe_subpaths(path, se, el, curve_segments, label, tolerance)):
+        for k, (points, closed) in enumerate(_safe_subpaths(path, se, segments, curve_segments, label, tolerance)):
             _check_numbers(path, label, k, points)
             closed = closed or paint.filled
             points = _clean(points, closed)
@@ -270,12 +269,31 @@ _SVGELEMENTS_ERRORS = (ValueError, TypeError, ZeroDivisionError, OverflowError, 
                        AttributeError, RecursionError)
 
 
-def _safe_subpaths(path, se, element, curve_segments, label, tolerance=None):
-    """`_subpaths`, with svgelements' errors on malformed geometry as `FileFormatError`."""
+def _safe_segments(path, se, element, label):
+    """The svgelements segments of a shape, with svgelements' errors as `FileFormatError`."""
     try:
-        return _subpaths(se, element, curve_segments, tolerance)
+        return list(se.Path(element).segments())
     except _SVGELEMENTS_ERRORS as exc:
         raise FileFormatError(f"{path}: {label}: cannot interpret the geometry ({type(exc).__name__})") from None
+
+
+def _safe_subpaths(path, se, segments, curve_segments, label, tolerance=None):
+    """`_subpaths`, with svgelements' errors on malformed geometry as `FileFormatError`."""
+    try:
+        return _subpaths(se, segments, curve_segments, tolerance)
+    except _SVGELEMENTS_ERRORS as exc:
+        raise FileFormatError(f"{path}: {label}: cannot interpret the geometry ({type(exc).__name__})") from None
+
+
+def _control_diagonal(segment_lists):
+    """Diagonal of the bounding box of every segment's end and control points (it holds every curve)."""
+    pts = [(p.x, p.y) for segs in segment_lists for seg in segs
+           for p in (getattr(seg, name, None) for name in ("start", "end", "control1", "control2", "control"))
+           if p is not None]
+    if not pts:
+        return 0.0
+    xy = np.asarray(pts, dtype=np.float64)
+    return float(np.hypot(*np.ptp(xy, axis=0)))
 
 
 def _check_curve_segments(curve_segments):

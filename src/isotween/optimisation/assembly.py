@@ -48,11 +48,38 @@ HAVE_CHOLMOD = importlib.util.find_spec("sksparse") is not None
 _ANALYSIS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def centroid_path(shape, z0, z1, t):
-    """(C, len(t)) complex: every component's centroid blended linearly in t."""
+#: components follow the drawing's turn when its similarity fit leaves less than this (relative RMS)
+TURN_FIT = 0.1
+
+
+def centroid_path(shape, z0, z1, t, turn=False):
+    """(C, len(t)) complex: every component's centroid path from frame ``z0`` to ``z1``.
+
+    Blended linearly in t; or, with ``turn`` and several components that move
+    together (the least-squares similarity ``z -> a z + b`` of all vertices
+    leaves an RMS residual below `TURN_FIT` of the target's RMS spread),
+    carried by that motion, interpolated about its fixed point (``|a|^t`` and
+    ``t arg a``), plus the linear blend of what it leaves over. A drawing
+    whose pieces turn together then turns as a whole (a rigid turn exactly),
+    instead of its pieces' centroids cutting straight across.
+    """
     top = shape.topology
     c0, c1 = top.centroids(z0)[:, None], top.centroids(z1)[:, None]
-    return c0 + np.asarray(t)[None, :] * (c1 - c0)
+    t = np.asarray(t)[None, :]
+    if not turn or len(c0) < 2:
+        return c0 + t * (c1 - c0)
+    m0, m1 = z0.mean(), z1.mean()
+    d0 = z0 - m0
+    a = np.vdot(d0, z1 - m1) / max(np.vdot(d0, d0).real, 1e-300)
+    b = m1 - a * m0
+    spread = np.sqrt(np.mean(np.abs(z1 - m1) ** 2))
+    if not np.isfinite(a) or abs(a) == 0 or np.sqrt(np.mean(np.abs(z1 - a * z0 - b) ** 2)) > TURN_FIT * spread:
+        return c0 + t * (c1 - c0)
+    # the similarity at time t about its fixed point: c0 + g(t) (a c0 + b - c0), g = (a^t - 1) / (a - 1)
+    log_a = np.log(abs(a)) + 1j * np.angle(a)
+    g = t if abs(log_a) < 1e-9 else (np.exp(t * log_a) - 1) / (a - 1)
+    moved = c0 + g * (a * c0 + b - c0)
+    return moved + t * (c1 - (a * c0 + b))
 
 
 class FrameAssembler:
