@@ -27,13 +27,13 @@ MIN_TURN = np.deg2rad(2.0)
 #: candidate rotations tried (correlation peaks of the dominant rings)
 CANDIDATES = 8
 #: samples of a whole drawing for the fit distance
-DRAWING_SAMPLES = 800
+DRAWING_SAMPLES = 500
 #: turns tried besides the correlation peaks (a coarse circle about the drawings' centroids)
 GRID_TURNS = 24
 #: best candidates refined by iterative closest points
 REFINED = 4
 #: rounds of iterative closest points
-ICP_ROUNDS = 8
+ICP_ROUNDS = 6
 
 
 def _dominant(items):
@@ -106,8 +106,9 @@ def align(items, frames):
     pc, qc = p.mean(), q.mean()
     spread = np.sqrt(np.mean(np.abs(q - qc) ** 2) / max(np.mean(np.abs(p - pc) ** 2), 1e-300))
     cands += [(spread * np.exp(1j * th), pc, qc) for th in np.linspace(0, 2 * np.pi, GRID_TURNS, endpoint=False)]
-    scored = sorted((_fit_distance(p, q, tree, lambda v, a=a, c=c, d=d: d + a * (v - c)), i)
-                    for i, (a, c, d) in enumerate(cands))
+    # screened one way (samples of the source to the target's), the best refined and scored both ways
+    scored = sorted((float(tree.query(np.c_[tp.real, tp.imag])[0].mean()), i)
+                    for i, tp in enumerate(d + a * (p - c) for a, c, d in cands))
     best, best_a, best_b = np.inf, None, None
     for _, i in scored[:REFINED]:
         a, c, d = cands[i]

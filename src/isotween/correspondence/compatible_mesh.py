@@ -60,7 +60,8 @@ __all__ = ["CompatibleMeshes", "compatible_meshes"]
 MAX_FACES = 2_000_000  # refused before meshing: the overlay and quality step hold several copies
 STALL_SINE = 0.0005  # the quality step stops after three rounds that raise the smallest angle's sine less
 STALL_FACES = 0.002  # and free fewer than this fraction of the faces from below the angle limit
-MAP_ITER = 30  # Newton iterations of the low-distortion map at most
+MAP_ITER = 15  # Newton iterations of the low-distortion map at most
+MAP_TOL = 1e-2  # the map's Newton stops when an iteration lowers the energy's excess by less than this
 PULL_ITER = 15  # Newton iterations per pull weight
 PULL_WEIGHTS = (0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4, 1e5)  # the ring's pull, in units of the least energy
 
@@ -665,7 +666,7 @@ def _least_distorted(z, w, f, K):
     try:
         energy = SymmetricDirichlet(z, w, f, fixed)
         energy.rest(0.0)
-        w, _ = minimise(energy, w, MAP_ITER)
+        w, _ = minimise(energy, w, MAP_ITER, tol=MAP_TOL)
     except MethodError:  # a singular Newton system: the valid start stands
         pass
     return w
