@@ -127,7 +127,7 @@ def studio(files: Any = (), *, port: int = 0, open_browser: bool = True, block: 
 
 
 class _CallableModule(types.ModuleType):
-    """This package, callable: ``isotween.studio(...)`` is `studio` (the package keeps its submodules)."""
+    """The studio package, callable: ``isotween.studio(...)`` is `studio` (the package keeps its submodules)."""
 
     def __call__(self, *args: Any, **kwargs: Any) -> StudioServer:
         return studio(*args, **kwargs)

@@ -25,7 +25,7 @@ _REGULARISE = 1e-9
 
 
 def arap_deform(shape: Shape, vertices: ArrayLike, handles: Mapping[int, ArrayLike], *,
-                radius: float | None = None, anchor: int | None = None, iterations: int = 8) -> NDArray[np.float64]:
+                radius: float | None = None, anchor: int | None = None, iterations: int = 12) -> NDArray[np.float64]:
     """A frame deformed as-rigidly-as-possible with its handles moved.
 
     The edge-based ARAP energy sum_ij |x_i - x_j - R_i (p_i - p_j)|^2 over the
@@ -103,13 +103,17 @@ def arap_deform(shape: Shape, vertices: ArrayLike, handles: Mapping[int, ArrayLi
     lu = splu(lff)
     d = z[i] - z[j]  # rest edge vectors
     rhs_fixed = lfc @ x[fixed]
-    for _ in range(max(int(iterations), 1)):
-        # local step: R_i = phase of sum_j (x_i - x_j) conj(p_i - p_j)
-        cov = (x[i] - x[j]) * d.conj()
-        acc = np.bincount(i, cov.real, n) + 1j * np.bincount(i, cov.imag, n)
-        acc += np.bincount(j, cov.real, n) + 1j * np.bincount(j, cov.imag, n)
-        mag = np.abs(acc)
-        rot = np.where(mag > 0, acc / np.where(mag > 0, mag, 1.0), 1.0)
+    # first rotations: the rigid fit of the held vertices' moves (Procrustes), the same for every vertex
+    held_rest, held_now = z[fixed], x[fixed]
+    fit = np.sum((held_now - held_now.mean()) * (held_rest - held_rest.mean()).conj())
+    rot = np.full(n, fit / abs(fit) if abs(fit) > 0 else 1.0 + 0j)
+    for step in range(max(int(iterations), 1)):
+        if step:  # local step: R_i = phase of sum_j (x_i - x_j) conj(p_i - p_j)
+            cov = (x[i] - x[j]) * d.conj()
+            acc = np.bincount(i, cov.real, n) + 1j * np.bincount(i, cov.imag, n)
+            acc += np.bincount(j, cov.real, n) + 1j * np.bincount(j, cov.imag, n)
+            mag = np.abs(acc)
+            rot = np.where(mag > 0, acc / np.where(mag > 0, mag, 1.0), 1.0)
         # global step: L x = sum_j (R_i + R_j) / 2 (p_i - p_j)
         half = 0.5 * (rot[i] + rot[j]) * d
         b = np.bincount(i, half.real, n) + 1j * np.bincount(i, half.imag, n)

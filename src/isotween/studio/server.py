@@ -208,6 +208,7 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
 
     async def open_(request: Request) -> Response:
         body = await _json(request)
+        ids: Any
         if "example" in body:
             ids = session.add_example(str(body["example"]))
         elif "paths" in body:

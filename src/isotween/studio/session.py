@@ -298,7 +298,7 @@ class Session:
             def make_transfer() -> Any:
                 shapes, _ = correspond_keys([inputs[0], inputs[1], third], points=options["points"],
                                             rotation=bool(options["rotation"]), unmatched=options["unmatched"])
-                return transfer(*shapes, frames, times=times)
+                return transfer(shapes[0], shapes[1], shapes[2], frames, times=times)
 
             moved = self._cached(tkey, make_transfer)
             check()

@@ -1,0 +1,360 @@
+"""isotween studio: the server's checks and API (Starlette's TestClient), and a whole session in Chromium."""
+
+import io
+import json
+import sys
+
+import numpy as np
+import pytest
+
+import isotween
+from isotween.studio.deform import arap_deform
+
+pytest.importorskip("starlette", reason="the studio extra is not installed (pip install 'isotween[studio]')")
+pytest.importorskip("uvicorn", reason="the studio extra is not installed (pip install 'isotween[studio]')")
+pytest.importorskip("multipart", reason="the studio extra is not installed (pip install 'isotween[studio]')")
+
+with __import__("warnings").catch_warnings():  # starlette's note about httpx2
+    __import__("warnings").simplefilter("ignore")
+    from starlette.testclient import TestClient  # noqa: E402
+
+from isotween.studio.server import create_app  # noqa: E402
+from isotween.studio.session import Session  # noqa: E402
+
+TOKEN = "secret-token"
+PORT = 8123
+H = {"X-Isotween-Token": TOKEN}
+
+
+def star(k=7, r0=1.0, r1=0.5):
+    th = np.linspace(0, 2 * np.pi, 2 * k, endpoint=False)
+    r = np.where(np.arange(2 * k) % 2 == 0, r0, r1)
+    return isotween.Shape.from_polygon(np.c_[r * np.cos(th), r * np.sin(th)])
+
+
+@pytest.fixture
+def drawings(tmp_path):
+    """Two SVG drawings of different point counts (a square and a star)."""
+    a, b = tmp_path / "square.svg", tmp_path / "star.svg"
+    isotween.save(isotween.Shape.from_polygon([[0, 0], [2, 0], [2, 2], [0, 2]]), a)
+    isotween.save(star().translate([3, 0]), b)
+    return a, b
+
+
+def client_for(session, **kw):
+    app = create_app(session, TOKEN, port=PORT, **kw)
+    return TestClient(app, base_url=f"http://127.0.0.1:{PORT}", raise_server_exceptions=False)
+
+
+@pytest.fixture
+def opened(drawings):
+    """A client whose session has the two drawings open."""
+    session = Session(drawings)
+    client = client_for(session)
+    r = client.post("/api/open", json={"paths": [str(p) for p in drawings]}, headers=H)
+    assert r.status_code == 200, r.text
+    return client, session
+
+
+# ---------------------------------------------------------------- the checks
+def test_token_is_required(drawings):
+    client = client_for(Session(drawings))
+    for r in (client.get("/api/state"), client.get("/api/state", headers={"X-Isotween-Token": "wrong"}),
+              client.get("/?token=wrong"), client.get("/static/app.js")):
+        assert r.status_code == 403 and "token" in r.json()["error"]
+    r = client.get(f"/?token={TOKEN}")
+    assert r.status_code == 200 and "isotween studio" in r.text
+    assert client.cookies.get("isotween_studio_token") == TOKEN  # the page's modules load with the cookie
+    assert client.get("/static/app.js").status_code == 200
+    assert client.get("/api/state", headers=H).status_code == 200
+
+
+def test_host_and_origin_are_checked(drawings):
+    client = client_for(Session(drawings))
+    for host in ("evil.example", f"evil.example:{PORT}", f"127.0.0.1:{PORT + 1}", "127.0.0.1.evil.example"):
+        r = client.get("/api/state", headers={**H, "Host": host})
+        assert r.status_code == 403 and "127.0.0.1" in r.json()["error"], host
+    assert client.get("/api/state", headers={**H, "Host": f"localhost:{PORT}"}).status_code == 200
+    for origin in ("http://evil.example", f"http://127.0.0.1:{PORT + 1}", "null"):
+        r = client.post("/api/open", json={"example": "bar"}, headers={**H, "Origin": origin})
+        assert r.status_code == 403 and "other sites" in r.json()["error"], origin
+    r = client.post("/api/options", json={"frames": 5}, headers={**H, "Origin": f"http://127.0.0.1:{PORT}"})
+    assert r.status_code == 400 and "open two drawings" in r.json()["error"]  # past the checks
+
+
+def test_upload_size_is_limited(drawings):
+    session = Session(drawings)
+    client = client_for(session, max_upload=4096)
+    r = client.post("/api/upload", files={"file": ("big.svg", b"<svg>" + b" " * 10000 + b"</svg>")}, headers=H)
+    assert r.status_code == 413 and "too large" in r.json()["error"]
+    r = client.post("/api/upload", files={"file": ("a.svg", drawings[0].read_bytes())}, headers=H)
+    assert r.status_code == 200 and len(r.json()["ids"]) == 1
+
+
+def test_paths_not_named_on_the_command_line_are_refused(drawings, tmp_path):
+    session = Session(drawings[:1])
+    client = client_for(session)
+    other = tmp_path / "other.svg"
+    other.write_bytes(drawings[1].read_bytes())
+    for path in (str(other), "/etc/passwd", str(drawings[0]) + "/../" + drawings[1].name):
+        r = client.post("/api/open", json={"paths": [str(drawings[0]), path]}, headers=H)
+        assert r.status_code == 400 and "only uploads and the files named" in r.json()["error"]
+    assert session.doc is None
+    assert client.get("/api/state", headers=H).status_code == 200
+
+
+def test_malformed_requests_and_bad_files_are_answered_cleanly(opened):
+    client, session = opened
+    doc = json.dumps(session.doc)
+    bad = [
+        client.post("/api/options", content=b"{not json", headers={**H, "Content-Type": "application/json"}),
+        client.post("/api/options", json=[1, 2], headers=H),
+        client.post("/api/options", json={"frames": "many"}, headers=H),
+        client.post("/api/options", json={"colour": 1}, headers=H),
+        client.post("/api/options", json={"method": "magic"}, headers=H),
+        client.post("/api/open", json={"inputs": "x"}, headers=H),
+        client.post("/api/open", json={"inputs": ["nope", "nada"]}, headers=H),
+        client.post("/api/deform", json={"frame": 1, "handles": [[0, "x"]]}, headers=H),
+        client.post("/api/edit", json={"frame": 99, "handles": [[0, 1, 1]]}, headers=H),
+        client.post("/api/export", json={"kind": "doc"}, headers=H),
+        client.post("/api/upload", files={"file": ("broken.svg", b"<svg><path d='M 0 0 L")}, headers=H),
+        client.post("/api/upload", files={"file": ("notes.txt", b"hello")}, headers=H),
+        client.post("/api/upload", content=b"x", headers={**H, "Content-Type": "multipart/form-data"}),
+        client.post("/api/project", content=b'{"format": "something else"}', headers=H),
+        client.post("/api/undo", headers=H),
+    ]
+    for r in bad:
+        assert r.status_code == 400, r.text
+        assert set(r.json()) == {"error"} and r.json()["error"]
+    assert json.dumps(session.doc) == doc  # nothing changed
+    assert client.post("/api/options", json={"frames": 7}, headers=H).json()["sequence"]["count"] == 7
+
+
+def test_a_solve_that_raises_keeps_the_session(opened, monkeypatch):
+    client, session = opened
+    before = client.get("/api/state", headers=H).json()
+
+    def boom(*args, **kwargs):
+        raise RuntimeError("solver exploded")
+
+    monkeypatch.setattr(sys.modules["isotween.interpolate"], "interpolate", boom)
+    r = client.post("/api/options", json={"frames": 21}, headers=H)
+    assert r.status_code == 500 and "solver exploded" in r.json()["error"] and "unchanged" in r.json()["error"]
+
+    def refuse(*args, **kwargs):
+        raise isotween.errors.ParameterError("no, thanks")
+
+    monkeypatch.setattr(sys.modules["isotween.interpolate"], "interpolate", refuse)
+    r = client.post("/api/options", json={"frames": 22}, headers=H)
+    assert r.status_code == 400 and r.json() == {"error": "no, thanks"}
+    monkeypatch.undo()
+    after = client.get("/api/state", headers=H).json()
+    assert after["document"] == before["document"] and after["sequence"] == before["sequence"]
+    assert client.post("/api/options", json={"frames": 21}, headers=H).json()["sequence"]["count"] == 21
+
+
+def test_a_superseded_solve_is_dropped(opened, monkeypatch):
+    client, session = opened
+    real = sys.modules["isotween.interpolate"].interpolate
+
+    def meanwhile(*args, **kwargs):
+        session.generation += 1  # a newer request arrives during this solve
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(sys.modules["isotween.interpolate"], "interpolate", meanwhile)
+    r = client.post("/api/options", json={"frames": 9}, headers=H)
+    assert r.status_code == 200 and r.json()["superseded"] is True
+    assert session.doc["options"]["frames"] == 13 and len(session.solved.sequence) == 13
+
+
+# ---------------------------------------------------------------- the session through the API
+def test_morph_matches_the_command_line_path(opened, drawings):
+    client, session = opened
+    src, tgt, _ = isotween.correspond(isotween.load(drawings[0]), isotween.load(drawings[1]))
+    expected = isotween.interpolate(src, tgt, 13, fold="fallback")
+    assert session.solved.sequence.equals(expected, atol=1e-9)
+    state = client.get("/api/state", headers=H).json()
+    frames = np.frombuffer(__import__("base64").b64decode(state["sequence"]["frames"]), "<f8")
+    assert np.array_equal(frames.reshape(expected.frames.shape), expected.frames)
+
+
+def test_edit_undo_redo_and_options(opened):
+    client, session = opened
+    base = session.solved.sequence
+    k, handles = 6, [[0, 0.5, -0.8], [5, float(base.frames[6, 5, 0]), float(base.frames[6, 5, 1])]]
+    r = client.post("/api/deform", json={"frame": k, "handles": handles, "anchor": 0}, headers=H)
+    preview = np.frombuffer(__import__("base64").b64decode(r.json()["vertices"]), "<f8").reshape(-1, 2)
+    assert np.allclose(preview[[0, 5]], [[0.5, -0.8], handles[1][1:]])
+    state = client.post("/api/edit", json={"frame": k, "handles": handles, "anchor": 0}, headers=H).json()
+    assert state["document"]["edited"] == [k] and state["sequence"]["keys"] == [0, k, 12]
+    edited = base.shape.with_vertices(session.doc["edits"][str(k)])
+    assert np.allclose(edited.vertices, preview)
+    expected = isotween.edit(base, frame=k, shape=edited)
+    assert np.max(np.abs(session.solved.sequence.frames - expected.frames)) < 1e-9
+    state = client.post("/api/undo", headers=H).json()
+    assert state["document"]["edited"] == [] and state["redo"] == 1
+    assert session.solved.sequence.equals(base, atol=0)
+    state = client.post("/api/redo", headers=H).json()
+    assert state["document"]["edited"] == [k]
+    assert np.max(np.abs(session.solved.sequence.frames - expected.frames)) < 1e-9
+    state = client.post("/api/options", json={"method": "linear", "easing": [0.42, 0, 0.58, 1]}, headers=H).json()
+    assert state["document"]["edited"] == [k] and state["sequence"]["method"] == "edit"
+    assert session.solved.base.method == "linear" and session.solved.base.times[1] < 1 / 12
+    state = client.post("/api/options", json={"frames": 9}, headers=H).json()
+    assert state["document"]["edited"] == [] and state["sequence"]["count"] == 9  # edits belong to a frame count
+
+
+def test_transfer_export_and_project_round_trip(opened, drawings, tmp_path):
+    client, session = opened
+    third = tmp_path / "triangle.svg"
+    isotween.save(isotween.Shape.from_polygon([[0, 0], [1, 0], [0.5, 1]]).translate([0, 3]), third)
+    ids = client.post("/api/upload", files={"file": ("triangle.svg", third.read_bytes())}, headers=H).json()["ids"]
+    state = client.post("/api/open", json={"inputs": ids, "role": "third"}, headers=H).json()
+    assert state["transfer"]["count"] == 13 and state["third_name"] == "triangle.svg"
+    client.post("/api/edit", json={"frame": 4, "handles": [[1, 2.5, 0.3]]}, headers=H)
+    r = client.post("/api/export", json={"kind": "lottie", "fps": 12, "size": 200}, headers=H)
+    lottie = json.loads(r.content)
+    assert r.status_code == 200 and lottie["fr"] == 12 and lottie["op"] - lottie["ip"] == 13
+    from PIL import Image
+
+    r = client.post("/api/export", json={"kind": "gif", "size": 120}, headers=H)
+    with Image.open(io.BytesIO(r.content)) as gif:
+        assert gif.n_frames == 13
+    r = client.post("/api/export", json={"kind": "npz", "which": "transfer"}, headers=H)
+    (tmp_path / "t.npz").write_bytes(r.content)
+    assert np.allclose(isotween.load_sequence(tmp_path / "t.npz").frames, session.solved.transfer.frames, atol=1e-12)
+    project = client.get("/api/project", headers=H).content
+    fresh = Session()
+    other = client_for(fresh)
+    state = other.post("/api/project", content=project, headers=H).json()
+    assert state["document"] == client.get("/api/state", headers=H).json()["document"]
+    assert fresh.solved.sequence.equals(session.solved.sequence, atol=1e-12)
+    assert fresh.solved.transfer.equals(session.solved.transfer, atol=1e-12)
+
+
+def test_examples_and_landmarks(drawings):
+    session = Session()
+    client = client_for(session)
+    state = client.post("/api/open", json={"example": "bar"}, headers=H).json()
+    assert state["sequence"]["count"] == 13 and state["names"] == ["bar (source)", "bar (target)"]
+    state = client.post("/api/hints", json={"landmarks": [[[0, 0], [0, 0]]]}, headers=H).json()
+    if state["landmarks"]:
+        assert state["document"]["landmarks"] == [[[0, 0], [0, 0]]]
+    else:
+        assert "landmarks need a newer isotween" in " ".join(state["notes"])
+
+
+def test_region_pairs_are_passed_to_correspond(tmp_path):
+    a, b = tmp_path / "two.json", tmp_path / "two-moved.json"  # no paint: closed rings are filled regions
+    left, right = [[0, 0], [1, 0], [1, 1], [0, 1]], [[3, 0], [4, 0], [4, 1], [3, 1]]
+    isotween.save(isotween.Shape.from_polygon([left, right]), a)
+    five = [[0, 0], [0.5, 0], [1, 0], [1, 1], [0, 1]]  # other point counts: not compatible as they are
+    isotween.save(isotween.Shape.from_polygon([np.add(five, [0, 2]), np.add(five, [3, 2])]), b)
+    session = Session([a, b])
+    client = client_for(session)
+    state = client.post("/api/open", json={"paths": [str(a), str(b)]}, headers=H).json()
+    straight = sorted(map(tuple, state["correspondence"]["pairs"]))
+    assert straight == [(0, 0), (1, 1)]
+    state = client.post("/api/hints", json={"pairs": [[0, 1]]}, headers=H).json()
+    assert sorted(map(tuple, state["correspondence"]["pairs"])) == [(0, 1), (1, 0)]
+
+
+# ---------------------------------------------------------------- ARAP drag
+def test_arap_deform_is_rigid_when_it_can_be():
+    shape = star()
+    angle = 0.7
+    rotated = shape.rotate(angle).translate([1.0, -2.0]).vertices
+    moved = arap_deform(shape, shape.vertices, {0: rotated[0], 7: rotated[7]})
+    assert np.allclose(moved, rotated, atol=1e-6)
+    local = arap_deform(shape, shape.vertices, {0: [1.3, 0.1]}, radius=0.9)
+    far = np.linalg.norm(shape.vertices - shape.vertices[0], axis=1) > 0.9
+    assert np.array_equal(local[far], shape.vertices[far]) and np.allclose(local[0], [1.3, 0.1])
+    with pytest.raises(isotween.errors.ParameterError, match="out of range"):
+        arap_deform(shape, shape.vertices, {99: [0, 0]})
+
+
+# ---------------------------------------------------------------- a whole session in Chromium
+from browser import browser  # noqa: E402,F401
+
+
+def test_a_whole_session_in_chromium(browser, drawings, tmp_path):  # noqa: F811
+    from isotween.studio import StudioServer
+
+    server = StudioServer(drawings).start()
+    errors = []
+    try:
+        page = browser.new_page(viewport={"width": 1280, "height": 800}, accept_downloads=True)
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(server.url)
+        page.wait_for_function("window.__studio && window.__studio.ready")
+        # open two drawings through the file picker (uploads)
+        page.set_input_files("#open-files", [str(p) for p in drawings])
+        page.wait_for_function("window.__studio.seq && window.__studio.state.names[0] === 'square.svg'")
+        session = server.session
+        src, tgt, _ = isotween.correspond(isotween.load(drawings[0]), isotween.load(drawings[1]))
+        base = isotween.interpolate(src, tgt, 13, fold="fallback")
+        assert session.solved.sequence.equals(base, atol=1e-9)
+        # a landmark: click a point on each drawing
+        page.check("input[name=corr-mode][value=landmark]")
+        page.click("#corr-0", position={"x": 40, "y": 40})
+        if session.doc is not None and not page.evaluate("window.__studio.state.landmarks"):
+            page.wait_for_function("document.querySelector('#message').textContent.includes('newer isotween')")
+        else:
+            page.click("#corr-1", position={"x": 75, "y": 40})
+            page.wait_for_function("window.__studio.state.document.landmarks.length === 1")
+        # drag a handle on an in-between; on release the frame is held and the sequence re-solved
+        k = 6
+        page.evaluate(f"window.__studio.setFrame({k})")
+        x, y = page.evaluate(f"window.__studio.vertexOnPage({k}, 0)")
+        page.mouse.move(x, y)
+        page.mouse.down()
+        for step in range(1, 6):
+            page.mouse.move(x + 8 * step, y + 5 * step)
+            page.wait_for_timeout(30)
+        page.mouse.up()
+        page.wait_for_function("window.__studio.lastEditMs !== null && window.__studio.seq.keys.length === 3")
+        assert session.doc["edits"].keys() == {str(k)}
+        held = base.shape.with_vertices(session.doc["edits"][str(k)])
+        expected = isotween.edit(base, frame=k, shape=held)
+        assert np.max(np.abs(session.solved.sequence.frames - expected.frames)) < 1e-9
+        drawn = np.array(page.evaluate("Array.from(window.__studio.frames)")).reshape(expected.frames.shape)
+        assert np.max(np.abs(drawn - expected.frames)) < 1e-9
+        assert np.allclose(drawn[k], held.vertices) and not np.allclose(drawn[k], base.frames[k])
+        # undo
+        page.click("#undo")
+        page.wait_for_function("window.__studio.seq.keys.length === 2")
+        drawn = np.array(page.evaluate("Array.from(window.__studio.frames)")).reshape(base.frames.shape)
+        assert np.max(np.abs(drawn - base.frames)) < 1e-9 and session.doc["edits"] == {}
+        page.click("#redo")
+        page.wait_for_function("window.__studio.seq.keys.length === 3")
+        # export Lottie and GIF
+        files = {}
+        for kind in ("lottie", "gif"):
+            page.select_option("#export-kind", kind)
+            with page.expect_download() as info:
+                page.click("#export")
+            files[kind] = tmp_path / info.value.suggested_filename
+            info.value.save_as(files[kind])
+        lottie = json.loads(files["lottie"].read_text())
+        assert lottie["op"] - lottie["ip"] == 13 and lottie["layers"]
+        from PIL import Image
+
+        with Image.open(files["gif"]) as gif:
+            assert gif.n_frames == 13
+        # save the project, change the session, reopen the project
+        with page.expect_download() as info:
+            page.click("#save-project")
+        project = tmp_path / "isotween-project.json"
+        info.value.save_as(project)
+        saved = json.loads(project.read_text())
+        page.fill("#frames", "7")
+        page.dispatch_event("#frames", "change")
+        page.wait_for_function("window.__studio.seq.count === 7")
+        page.set_input_files("#open-project", str(project))
+        page.wait_for_function("window.__studio.seq.count === 13 && window.__studio.seq.keys.length === 3")
+        assert session.doc == saved["document"]
+        assert np.max(np.abs(session.solved.sequence.frames - expected.frames)) < 1e-9
+        assert errors == []
+    finally:
+        server.stop()
