@@ -28,7 +28,7 @@ def arap_deform(shape: Shape, vertices: ArrayLike, handles: Mapping[int, ArrayLi
                 radius: float | None = None, anchor: int | None = None, iterations: int = 12) -> NDArray[np.float64]:
     """A frame deformed as-rigidly-as-possible with its handles moved.
 
-    The edge-based ARAP energy sum_ij |x_i - x_j - R_i (p_i - p_j)|^2 over the
+    The edge-based ARAP energy ``sum_ij |x_i - x_j - R_i (p_i - p_j)|^2`` over the
     shape's edges (uniform weights, one rotation R_i per vertex, a unit complex
     number) is minimised by alternating local rotation fits and one global
     sparse solve, factorised once (Sorkine and Alexa 2007).

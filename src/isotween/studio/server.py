@@ -147,6 +147,14 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
     from .. import __version__
     from ..examples import describe, names
 
+    seen: dict = {}  # the correspondence view of the last solve's correspondence (edits do not change it)
+
+    def corr_view(solved: Any) -> dict:
+        key = (id(solved.report), id(solved.source), tuple(map(id, solved.inputs)))
+        if seen.get("key") != key:
+            seen.update(key=key, view=correspondence_view(solved), keep=(solved.report, solved.source, solved.inputs))
+        return seen["view"]
+
     def state(extra: dict | None = None) -> JSONResponse:
         doc, solved = session.doc, session.solved
         out: dict[str, Any] = {
@@ -163,7 +171,7 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
                 "third_name": session.blobs[doc["third"]].name if doc.get("third") else None,
                 "sequence": sequence_view(solved.sequence, edits),
                 "transfer": sequence_view(solved.transfer) if solved.transfer is not None else None,
-                "correspondence": correspondence_view(solved), "notes": solved.notes,
+                "correspondence": corr_view(solved), "notes": solved.notes,
                 "energy": float(solved.sequence.energy[-1]) if solved.sequence.energy else None,
             })
         if extra:

@@ -20,7 +20,7 @@ export class View {
   transform() {
     const [x0, y0, x1, y1] = this.box;
     const w = this.canvas.width, h = this.canvas.height;
-    const s = 0.88 * Math.min(w / Math.max(x1 - x0, 1e-12), h / Math.max(y1 - y0, 1e-12)) * this.zoom;
+    const s = 0.8 * Math.min(w / Math.max(x1 - x0, 1e-12), h / Math.max(y1 - y0, 1e-12)) * this.zoom;
     const cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
     const sy = this.yDown ? s : -s;
     return { s, sx: s, sy, ox: w / 2 + this.pan[0] - s * cx, oy: h / 2 + this.pan[1] - sy * cy };
