@@ -358,3 +358,28 @@ def test_a_whole_session_in_chromium(browser, drawings, tmp_path):  # noqa: F811
         assert errors == []
     finally:
         server.stop()
+
+
+def test_keyframes_with_an_easing_per_segment_and_an_edit(tmp_path):
+    th = np.linspace(0, 2 * np.pi, 20, endpoint=False)
+    files = []
+    for i, (a, b) in enumerate([(2, 1), (1, 1), (1, 2)]):
+        files.append(tmp_path / f"key{i}.svg")
+        isotween.save(isotween.Shape.from_polygon(np.c_[a * np.cos(th), b * np.sin(th)] + [3 * i, 0]), files[-1])
+    session = Session()
+    client = client_for(session)
+    ids = client.post("/api/upload", files=[("file", (f.name, f.read_bytes())) for f in files], headers=H).json()["ids"]
+    assert len(ids) == 3
+    client.post("/api/open", json={"inputs": ids}, headers=H)
+    curves = [[0.42, 0, 0.58, 1], [0, 0, 1, 1]]
+    state = client.post("/api/options", json={"easing": curves}, headers=H).json()
+    assert state["sequence"]["keys"] == [0, 6, 12]
+    keys, _ = isotween.correspondence.correspond_keys([isotween.load(f) for f in files])
+    from isotween.studio.session import eased
+
+    expected = isotween.interpolate_keyframes(keys, frames=13, easing=eased(curves))
+    assert session.solved.sequence.equals(expected, atol=1e-12)
+    assert np.allclose(expected.times[6:], np.linspace(0.5, 1, 7))  # the second segment is linear
+    state = client.post("/api/edit", json={"frame": 3, "handles": [[0, 0.5, 0.5]]}, headers=H).json()
+    assert state["sequence"]["keys"] == [0, 3, 6, 12]
+    assert np.array_equal(session.solved.sequence.frames[6], expected.frames[6])  # the keyframe stays held

@@ -169,7 +169,7 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
                 "document": {k: v for k, v in doc.items() if k != "edits"} | {"edited": sorted(edits)},
                 "names": [session.blobs[k].name for k in doc["inputs"]],
                 "third_name": session.blobs[doc["third"]].name if doc.get("third") else None,
-                "sequence": sequence_view(solved.sequence, edits),
+                "sequence": sequence_view(solved.sequence, edits + solved.base.info.get("keyframe_indices", [])),
                 "transfer": sequence_view(solved.transfer) if solved.transfer is not None else None,
                 "correspondence": corr_view(solved), "notes": solved.notes,
                 "energy": float(solved.sequence.energy[-1]) if solved.sequence.energy else None,

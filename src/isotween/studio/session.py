@@ -89,6 +89,60 @@ def _suffix(name: str) -> str:
     return suffix
 
 
+def _bezier(curve: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Points (x, y) of a CSS-style cubic-bezier(x1, y1, x2, y2), controls clipped to [0, 1]."""
+    try:
+        x1, y1, x2, y2 = (float(c) for c in curve)
+    except (TypeError, ValueError):
+        raise ParameterError("easing must be four numbers (cubic-bezier x1, y1, x2, y2) or one such list "
+                             "per segment") from None
+    if not np.all(np.isfinite([x1, y1, x2, y2])):
+        raise ParameterError("easing must be four finite numbers")
+    x1, y1, x2, y2 = (float(np.clip(c, 0.0, 1.0)) for c in (x1, y1, x2, y2))
+    tau = np.linspace(0.0, 1.0, 4097)
+
+    def cubic(a: float, b: float) -> np.ndarray:
+        return 3 * (1 - tau) ** 2 * tau * a + 3 * (1 - tau) * tau ** 2 * b + tau ** 3
+
+    return cubic(x1, x2), cubic(y1, y2)
+
+
+def segment_curves(easing: Any, segments: int) -> list:
+    """The easing of every segment: one curve for all, or one per segment (list of 4-lists)."""
+    if isinstance(easing, (list, tuple)) and easing and all(isinstance(c, (list, tuple)) for c in easing):
+        curves = [list(c) for c in easing]
+        if len(curves) != segments:
+            curves = (curves + [curves[-1]] * segments)[:segments]
+    else:
+        curves = [list(easing)] * segments if isinstance(easing, (list, tuple)) else [easing] * segments
+    return curves
+
+
+def eased(curves: list) -> Any:
+    """The piecewise easing u: [0, 1] -> [0, 1] of the segments' cubic-bezier curves (a callable on arrays).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> eased([[0, 0, 1, 1], [0, 0, 1, 1]])(np.array([0.0, 0.25, 0.5, 1.0])).tolist()
+    [0.0, 0.25, 0.5, 1.0]
+    """
+    pieces = [_bezier(c) for c in curves]
+    m = len(pieces)
+
+    def u(s: np.ndarray) -> np.ndarray:
+        s = np.asarray(s, dtype=float)
+        seg = np.clip(np.floor(s * m).astype(int), 0, m - 1)
+        local = s * m - seg
+        out = np.empty_like(s)
+        for j, (bx, by) in enumerate(pieces):
+            pick = seg == j
+            out[pick] = (j + np.interp(local[pick], bx, by)) / m
+        return out
+
+    return u
+
+
 def bezier_times(frames: int, curve: Any) -> np.ndarray:
     """Frame times eased by a CSS-style cubic-bezier(x1, y1, x2, y2).
 
@@ -108,18 +162,7 @@ def bezier_times(frames: int, curve: Any) -> np.ndarray:
     >>> bezier_times(3, [0, 0, 1, 1]).tolist()
     [0.0, 0.5, 1.0]
     """
-    try:
-        x1, y1, x2, y2 = (float(c) for c in curve)
-    except (TypeError, ValueError):
-        raise ParameterError("easing must be four numbers (cubic-bezier x1, y1, x2, y2)") from None
-    x1, y1, x2, y2 = (float(np.clip(c, 0.0, 1.0)) for c in (x1, y1, x2, y2))
-    tau = np.linspace(0.0, 1.0, 4097)
-
-    def cubic(a: float, b: float) -> np.ndarray:
-        return 3 * (1 - tau) ** 2 * tau * a + 3 * (1 - tau) * tau ** 2 * b + tau ** 3
-
-    s = np.linspace(0.0, 1.0, int(frames))
-    t = np.interp(s, cubic(x1, x2), cubic(y1, y2))
+    t = eased(segment_curves(curve, 1))(np.linspace(0.0, 1.0, int(frames)))
     t[0], t[-1] = 0.0, 1.0
     if np.any(np.diff(t) <= 0):
         raise ParameterError("this easing curve holds still between frames; make it steeper or use fewer frames")
@@ -138,6 +181,7 @@ class Solved:
     sequence: Any  # with edits
     transfer: Any = None
     notes: list = field(default_factory=list)
+    keys: list = field(default_factory=list)  # the compatible inputs
 
 
 class Session:
@@ -228,14 +272,16 @@ class Session:
     def new_document(self, inputs: list[str]) -> dict:
         """A document of two inputs with the current (or default) options."""
         options = dict(self.doc["options"]) if self.doc else dict(DEFAULT_OPTIONS)
-        if len(inputs) != 2:
-            raise ParameterError(f"open two drawings (source and target), got {len(inputs)}")
+        if not 2 <= len(inputs) <= 12:
+            raise ParameterError(f"open two drawings (source and target) or up to 12 keyframes, got {len(inputs)}")
         for key in inputs:
             self._shape(key)
         if all(self.blobs[k].example for k in inputs):  # an example's own frame count
             from ..examples import load_example
 
             options["frames"] = int(load_example(self.blobs[inputs[0]].example)[2].get("frames", options["frames"]))
+        if isinstance(options["easing"][0], list) and len(options["easing"]) != len(inputs) - 1:
+            options["easing"] = segment_curves(options["easing"], len(inputs) - 1)
         return {"inputs": list(inputs), "third": None, "options": options, "pairs": [], "landmarks": [],
                 "edits": {}}
 
@@ -265,21 +311,40 @@ class Session:
             else:
                 notes.append("landmarks need a newer isotween; they are kept in the project but not used")
         self._stage(generation, "correspondence")
-        key = ("corr", tuple(doc["inputs"]), json.dumps(corr_kw, sort_keys=True, default=list))
-        src, tgt, report = self._cached(key, lambda: correspond(inputs[0], inputs[1], **corr_kw))
-        check()
-        times = bezier_times(frames, options["easing"])
-        self._stage(generation, "morph")
 
         def progress(iteration: int, energy: float, move: float) -> None:
             self._stage(generation, "morph", iteration=iteration, energy=float(energy))
             check()
 
-        kwargs: dict[str, Any] = {"method": options["method"], "times": times}
-        if not inputs[0].n_faces and src.n_faces:  # meshes built here: as the command line does
-            kwargs["fold"] = "fallback"
-        bkey = ("base", key, frames, json.dumps(times.tolist()), options["method"])
-        base = self._cached(bkey, lambda: interpolate(src, tgt, frames, callback=progress, **kwargs))
+        curves = segment_curves(options["easing"], len(inputs) - 1)
+        ease = json.dumps(curves)
+        if len(inputs) == 2:
+            key = ("corr", tuple(doc["inputs"]), json.dumps(corr_kw, sort_keys=True, default=list))
+            src, tgt, report = self._cached(key, lambda: correspond(inputs[0], inputs[1], **corr_kw))
+            keys = [src, tgt]
+            check()
+            times = bezier_times(frames, curves[0])
+            self._stage(generation, "morph")
+            kwargs: dict[str, Any] = {"method": options["method"], "times": times}
+            if not inputs[0].n_faces and src.n_faces:  # meshes built here: as the command line does
+                kwargs["fold"] = "fallback"
+            bkey = ("base", key, frames, ease, options["method"])
+            base = self._cached(bkey, lambda: interpolate(src, tgt, frames, callback=progress, **kwargs))
+        else:  # keyframes: made compatible together as outlines, one solve through all of them
+            from ..keyframes import interpolate_keyframes
+
+            if doc.get("pairs"):
+                notes.append("region pairs apply to two drawings; they are not used with keyframes")
+            key = ("keys", tuple(doc["inputs"]), options["points"], bool(options["rotation"]), options["unmatched"])
+            keys, report = self._cached(key, lambda: correspond_keys(
+                inputs, points=options["points"], rotation=bool(options["rotation"]), unmatched=options["unmatched"]))
+            src, tgt = keys[0], keys[1]
+            check()
+            self._stage(generation, "morph")
+            bkey = ("base", key, frames, ease, options["method"])
+            base = self._cached(bkey, lambda: interpolate_keyframes(
+                keys, frames=frames, easing=eased(curves), method=options["method"], callback=progress))
+            times = base.times
         if "fallback" in base.info:
             notes.append(f"fold check: {base.info['fallback']}")
         check()
@@ -287,22 +352,24 @@ class Session:
         edits = {int(k): np.asarray(v, dtype=np.float64) for k, v in doc.get("edits", {}).items()}
         if edits:
             self._stage(generation, "edit")
-            seq = edit(base, edits={k: base.shape.with_vertices(v) for k, v in edits.items()})
+            held = {int(k): base[int(k)] for k in base.info.get("keyframe_indices", [])}  # keyframes stay keys
+            held.update({k: base.shape.with_vertices(v) for k, v in edits.items()})
+            seq = edit(base, edits=held)
             check()
         moved = None
         if doc.get("third"):
             self._stage(generation, "transfer")
             third = self._shape(doc["third"])
-            tkey = ("transfer", tuple(doc["inputs"]), doc["third"], frames, json.dumps(times.tolist()))
+            tkey = ("transfer", tuple(doc["inputs"][:2]), doc["third"], frames, json.dumps(times.tolist()))
 
             def make_transfer() -> Any:
                 shapes, _ = correspond_keys([inputs[0], inputs[1], third], points=options["points"],
                                             rotation=bool(options["rotation"]), unmatched=options["unmatched"])
-                return transfer(shapes[0], shapes[1], shapes[2], frames, times=times)
+                return transfer(shapes[0], shapes[1], shapes[2], len(times), times=times)
 
             moved = self._cached(tkey, make_transfer)
             check()
-        return Solved(inputs, src, tgt, report, base, seq, moved, notes)
+        return Solved(inputs, src, tgt, report, base, seq, moved, notes, keys)
 
     def _check_generation(self, generation: int) -> None:
         if generation != self.generation:

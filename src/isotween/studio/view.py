@@ -78,7 +78,7 @@ def _items(shape: Any, name: str) -> list:
 def correspondence_view(solved: Any) -> dict:
     """The inputs with their items, the region pairs, ring start points and a few matched points."""
     src, tgt, report = solved.source, solved.target, solved.report
-    a, b = solved.inputs
+    a, b = solved.inputs[0], solved.inputs[1]
     pairs = [list(map(int, p)) for p in report.pairs]
     if not pairs and a.regions is not None and b.regions is not None:
         pairs = [[i, i] for i in range(min(len(a.regions), len(b.regions)))]

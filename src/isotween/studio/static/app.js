@@ -68,8 +68,16 @@ function setState(state) {
   $("method").value = doc.options.method;
   $("points").value = doc.options.points ?? "";
   $("roi").value = doc.options.roi;
-  curve.set(doc.options.easing);
-  $("easing-text").textContent = `cubic-bezier(${doc.options.easing.join(", ")})`;
+  const curves = segmentCurves();
+  const segments = curves.length;
+  const pick = $("easing-segment");
+  if (pick.options.length !== segments) {
+    pick.replaceChildren(...curves.map((_, j) => new Option(`segment ${j + 1}`, String(j))));
+  }
+  pick.hidden = segments < 2;
+  const current = curves[Math.min(Number(pick.value) || 0, segments - 1)];
+  curve.set(current);
+  $("easing-text").textContent = `cubic-bezier(${current.join(", ")})`;
   $("third-name").textContent = state.third_name ? `onto ${state.third_name}` : "";
   $("corr-summary").textContent = state.correspondence.summary +
     (state.landmarks ? "" : " (landmarks need a newer isotween)");
@@ -390,7 +398,11 @@ async function openFiles(files, role) {
   if (!files.length) return null;
   try {
     if (role === "project") return act("api/project", await files[0].text());
-    if (role !== "third" && files.length !== 2) { message("open two drawings: the source and the target", true); return null; }
+    if (role !== "third" && files.length < 2) {
+      message("open two drawings (source and target) or more (keyframes, in name order)", true);
+      return null;
+    }
+    if (role !== "third" && files.length > 2) files.sort((a, b) => a.name.localeCompare(b.name, undefined, { numeric: true }));
     const { ids } = await upload(files);
     return act("api/open", { inputs: ids, role });
   } catch (e) {
@@ -421,8 +433,26 @@ document.addEventListener("drop", (e) => {
 
 // ------------------------------------------------------------------ options, undo, export, projects
 function setOptions(options) { return act("api/options", options); }
-const curve = new CurveEditor($("curve"), (value) => setOptions({ easing: value }));
-$("easing-preset").onchange = (e) => setOptions({ easing: e.target.value.split(",").map(Number) });
+
+// the easing of every segment between keyframes (one cubic-bezier each)
+function segmentCurves() {
+  const doc = S.state.document;
+  const segments = doc.inputs.length - 1;
+  const easing = doc.options.easing;
+  const list = Array.isArray(easing[0]) ? easing : [easing];
+  return Array.from({ length: segments }, (_, j) => list[Math.min(j, list.length - 1)]);
+}
+
+function setEasing(value) {
+  const curves = segmentCurves();
+  if (curves.length === 1) return setOptions({ easing: value });
+  curves[Number($("easing-segment").value) || 0] = value;
+  return setOptions({ easing: curves });
+}
+
+const curve = new CurveEditor($("curve"), setEasing);
+$("easing-preset").onchange = (e) => setEasing(e.target.value.split(",").map(Number));
+$("easing-segment").onchange = () => { if (S.state?.document) setState(S.state); };
 $("frames").onchange = (e) => setOptions({ frames: Math.round(Number(e.target.value)) });
 $("method").onchange = (e) => setOptions({ method: e.target.value });
 $("points").onchange = (e) => setOptions({ points: e.target.value === "" ? null : Math.round(Number(e.target.value)) });
