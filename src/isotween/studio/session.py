@@ -319,6 +319,7 @@ class Session:
         curves = segment_curves(options["easing"], len(inputs) - 1)
         ease = json.dumps(curves)
         key: tuple
+        bkey: tuple
         if len(inputs) == 2:
             key = ("corr", tuple(doc["inputs"]), json.dumps(corr_kw, sort_keys=True, default=list))
             src, tgt, report = self._cached(key, lambda: correspond(inputs[0], inputs[1], **corr_kw))
