@@ -383,3 +383,45 @@ def test_keyframes_with_an_easing_per_segment_and_an_edit(tmp_path):
     state = client.post("/api/edit", json={"frame": 3, "handles": [[0, 0.5, 0.5]]}, headers=H).json()
     assert state["sequence"]["keys"] == [0, 3, 6, 12]
     assert np.array_equal(session.solved.sequence.frames[6], expected.frames[6])  # the keyframe stays held
+
+
+def test_export_render_options(opened):
+    client, session = opened
+    from PIL import Image
+
+    r = client.post("/api/export", json={"kind": "gif", "size": 80, "bounce": True, "background": "#202020"},
+                    headers=H)
+    with Image.open(io.BytesIO(r.content)) as gif:
+        assert gif.n_frames > 13 and max(gif.size) == 80
+    r = client.post("/api/export", json={"kind": "gif", "size": "big"}, headers=H)
+    assert r.status_code == 400 and "size" in r.json()["error"]
+    r = client.post("/api/export", json={"kind": "svg", "fps": 10}, headers=H)
+    assert r.status_code == 200 and b"<svg" in r.content
+
+
+def test_a_bad_file_shows_one_message_in_the_page(browser, drawings, tmp_path):  # noqa: F811
+    from isotween.studio import StudioServer
+
+    server = StudioServer(drawings).start()
+    errors = []
+    try:
+        page = browser.new_page(viewport={"width": 1280, "height": 800})
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(server.url)
+        page.wait_for_function("window.__studio && window.__studio.ready && window.__studio.seq")
+        before = server.session.doc
+        broken = tmp_path / "broken.svg"
+        broken.write_text("<svg><path d='M 0 0 L")
+        page.set_input_files("#open-files", [str(broken), str(drawings[1])])
+        page.wait_for_selector("#message.error")
+        assert "broken.svg" in page.text_content("#message")
+        assert server.session.doc is before and page.evaluate("window.__studio.seq.count") == 13
+        page.fill("#frames", "9")  # the session goes on
+        page.dispatch_event("#frames", "change")
+        page.wait_for_function("window.__studio.seq.count === 9")
+        assert not page.is_visible("#message.error")
+        # the browser logs the refused upload (HTTP 400) as a failed resource; nothing else
+        assert all("status of 400" in e for e in errors) and len(errors) == 1, errors
+    finally:
+        server.stop()

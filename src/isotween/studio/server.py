@@ -292,13 +292,14 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
             raise ParameterError("nothing to export: open two drawings first")
         seq = solved.transfer if body.get("which") == "transfer" and solved.transfer is not None else solved.sequence
         render: dict[str, Any] = {}
-        for key, cast in (("fps", float), ("size", int), ("hold", float), ("bounce", bool), ("loop", bool),
-                          ("background", str), ("title", str)):
-            if body.get(key) not in (None, ""):
-                try:
-                    render[key] = cast(body[key])
-                except (TypeError, ValueError):
-                    raise ParameterError(f"{key} must be a {cast.__name__}, got {body[key]!r}") from None
+        for key, kinds in (("fps", (int, float)), ("size", (int,)), ("hold", (int, float)), ("bounce", (bool,)),
+                           ("loop", (bool,)), ("background", (str,)), ("title", (str,))):
+            value = body.get(key)
+            if value is None or value == "":
+                continue
+            if not isinstance(value, kinds) or (bool not in kinds and isinstance(value, bool)):
+                raise ParameterError(f"malformed request: {key} must be a {kinds[0].__name__}, got {value!r}")
+            render[key] = value
         name = "isotween" + EXPORT_KINDS[kind]
         data = await run_in_threadpool(_export, seq, name, render)
         return Response(data, media_type=_MEDIA[Path(name).suffix],

@@ -476,6 +476,7 @@ $("export").onclick = async () => {
   try {
     const response = await post("api/export", {
       kind, fps: Number($("export-fps").value), size: Number($("export-size").value), which: S.showing,
+      bounce: $("export-bounce").checked, hold: Number($("export-hold").value), background: $("export-background").value,
     });
     const name = (response.headers.get("content-disposition") || "").match(/filename="([^"]+)"/)?.[1] || `isotween.${kind}`;
     download(await response.blob(), name);
