@@ -8,8 +8,8 @@ re-solved sequence is drawn: the request, the server's ARAP deformation of
 the frame and `isotween.edit` of the sequence, the JSON answer, decoding and
 drawing. Each run is undone before the next. Medians of --runs drags.
 
-Inputs: an icon (a square into a seven-pointed star, corresponded and
-meshed: the studio's path for two drawings), a glyph (the built-in example
+Inputs: an icon (a filled square into a filled seven-pointed star,
+corresponded and meshed: the studio's path for two drawings), a glyph (the built-in example
 'S' into '5', 160-point outlines), and a 10k-vertex triangle mesh (a
 100 x 100 grid bar bent by 90 degrees).
 
@@ -43,7 +43,7 @@ def inputs(folder):
 
     th = np.linspace(0, 2 * np.pi, 14, endpoint=False)
     r = np.where(np.arange(14) % 2 == 0, 1.0, 0.5)
-    square, star = folder / "square.svg", folder / "star.svg"
+    square, star = folder / "square.json", folder / "star.json"  # JSON without paint: filled regions, meshed
     isotween.save(isotween.Shape.from_polygon([[0, 0], [2, 0], [2, 2], [0, 2]]), square)
     isotween.save(isotween.Shape.from_polygon(np.c_[r * np.cos(th), r * np.sin(th)] + [3, 0]), star)
     mesh = grid_mesh(100, 100, length=4.0, width=1.0)
@@ -116,7 +116,9 @@ def main():
              "sequence (server: ARAP deformation of the frame and `isotween.edit`) is drawn. 'open' is the "
              "wall time to start the server and show the first morph (correspondence, meshing and the AIAP "
              "solve). Headless Chromium with --disable-gpu; server and browser on the same machine, "
-             "shared with other jobs.")
+             "shared with other jobs. The 10k-vertex case is dominated by `isotween.edit`'s one banded Cholesky "
+             "factorisation of Eq. (10) per edit (about 1.6 s of it under cProfile on this machine); the studio "
+             "shows the solve's stage meanwhile and keeps answering.")
     print(body)
     if not args.no_write:
         write_section("Studio", body, "python benchmarks/studio.py")
