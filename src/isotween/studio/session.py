@@ -263,13 +263,16 @@ class Session:
         return self._cached(("shape", key), lambda: self._load_blob(self.blobs[key]))
 
     def _cached(self, key: Any, make: Any) -> Any:
-        if key in self._cache:
-            self._cache.move_to_end(key)
-            return self._cache[key]
+        """``make()``, or its value from a recent call with the same key (solves run in several threads)."""
+        with self.lock:
+            if key in self._cache:
+                self._cache.move_to_end(key)
+                return self._cache[key]
         value = make()
-        self._cache[key] = value
-        while len(self._cache) > _CACHE:
-            self._cache.popitem(last=False)
+        with self.lock:
+            self._cache[key] = value
+            while len(self._cache) > _CACHE:
+                self._cache.popitem(last=False)
         return value
 
     # ---------------------------------------------------------------- solving
