@@ -60,12 +60,16 @@ def opened(drawings):
 def test_token_is_required(drawings):
     client = client_for(Session(drawings))
     for r in (client.get("/api/state"), client.get("/api/state", headers={"X-Isotween-Token": "wrong"}),
-              client.get("/?token=wrong"), client.get("/static/app.js")):
+              client.get("/?token=wrong"), client.get("/"), client.post("/api/open", json={"example": "bar"}),
+              client.get("/api/project")):
         assert r.status_code == 403 and "token" in r.json()["error"]
+    assert client.get("/static/app.js").status_code == 200  # the package's own scripts are public
+    assert client.get("/static/%2e%2e/session.py").status_code == 404  # nothing but the static folder
     r = client.get(f"/?token={TOKEN}")
     assert r.status_code == 200 and "isotween studio" in r.text
-    assert client.cookies.get("isotween_studio_token") == TOKEN  # the page's modules load with the cookie
-    assert client.get("/static/app.js").status_code == 200
+    assert client.cookies.get("isotween_studio_token") == TOKEN
+    assert client.get("/api/state").status_code == 200  # with the cookie
+    client.cookies.clear()
     assert client.get("/api/state", headers=H).status_code == 200
 
 

@@ -1,8 +1,11 @@
 """The studio's web server: Starlette on uvicorn, an HTTP JSON API and the static page.
 
-Every request needs the session's token (in the URL as ``?token=``, then a
-cookie, or the ``X-Isotween-Token`` header), a ``Host`` naming this machine,
-and no foreign ``Origin``; request bodies are limited in size. Errors come
+Every request needs a ``Host`` naming this machine and no foreign
+``Origin``; the page and the API also need the session's token (in the URL
+as ``?token=``, then a cookie, or the ``X-Isotween-Token`` header; the
+package's static scripts and styles are public, so that the page also loads
+inside a notebook's iframe, where the cookie is not sent); request bodies are
+limited in size. Errors come
 back as one JSON message ``{"error": ...}``; the session keeps its state.
 """
 
@@ -79,7 +82,7 @@ class _Guard:
             response = _error("forbidden: this server answers only to 127.0.0.1 / localhost", 403)
         elif "origin" in headers and not self._origin_ok(headers["origin"]):
             response = _error("forbidden: requests from other sites are refused", 403)
-        elif not self._token_ok(scope, headers):
+        elif not scope.get("path", "").startswith("/static/") and not self._token_ok(scope, headers):
             response = _error("forbidden: open the studio with the URL it printed (with ?token=...)", 403)
         elif scope["method"] not in ("GET", "HEAD"):
             length = headers.get("content-length")
