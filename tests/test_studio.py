@@ -429,3 +429,29 @@ def test_a_bad_file_shows_one_message_in_the_page(browser, drawings, tmp_path): 
         assert all("status of 400" in e for e in errors) and len(errors) == 1, errors
     finally:
         server.stop()
+
+
+def test_the_jupyter_widget_shows_the_studio(browser, drawings):  # noqa: F811
+    pytest.importorskip("anywidget", reason="anywidget is not installed (pip install 'isotween[widget]')")
+    from isotween.studio.widget import ESM, widget
+
+    w = widget(drawings, height=600)
+    try:
+        assert w.url == w.server.url and w.height == 600 and len(w.sequence) == 13
+        page = browser.new_page(viewport={"width": 1000, "height": 700})
+        errors = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.set_content("<div id=cell></div>")
+        page.evaluate("""async ([esm, url]) => {
+            const module = await import(URL.createObjectURL(new Blob([esm], {type: "text/javascript"})));
+            const model = {get: (k) => ({url, height: 600})[k], on() {}, off() {}};
+            module.default.render({model, el: document.getElementById("cell")});
+        }""", [ESM, w.url])
+        frame = page.frame_locator("iframe")
+        frame.locator("#frame-label").wait_for()
+        page.wait_for_function("document.querySelector('iframe').contentWindow !== null")
+        inner = page.frames[1]
+        inner.wait_for_function("window.__studio && window.__studio.ready && window.__studio.seq")
+        assert inner.evaluate("window.__studio.seq.count") == 13 and errors == []
+    finally:
+        w.close()
