@@ -515,6 +515,13 @@ S.vertexOnPage = (k, i) => {
 };
 S.setFrame = (k) => { setPlaying(false); S.frame = k; $("scrub").value = k; draw(); };
 S.act = act;
+// an action timed from the request to the animation frame after the answer is drawn (ms; null when refused)
+S.timed = async (path, body) => {
+  const started = performance.now();
+  const answer = await act(path, body);
+  await new Promise((r) => requestAnimationFrame(() => r()));
+  return answer ? performance.now() - started : null;
+};
 
 // ------------------------------------------------------------------ start
 async function start() {
