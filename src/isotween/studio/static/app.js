@@ -86,7 +86,10 @@ function setState(state) {
 }
 
 function useSequence(seq, previousCount) {
-  const fresh = !S.seq || S.seq.n !== seq.n || S.seq.count !== seq.count || previousCount === undefined;
+  const drawing = `${S.showing}:${S.state.document.inputs.join(",")}:${S.state.document.third}`;
+  const fresh = !S.seq || S.seq.n !== seq.n || S.seq.count !== seq.count || previousCount === undefined ||
+    drawing !== S.drawing;
+  S.drawing = drawing;
   S.seq = seq;
   S.frames = unpack(seq.frames);
   S.edges = unpack(seq.edges, Int32Array);
@@ -404,7 +407,9 @@ async function openFiles(files, role) {
     }
     if (role !== "third" && files.length > 2) files.sort((a, b) => a.name.localeCompare(b.name, undefined, { numeric: true }));
     const { ids } = await upload(files);
-    return act("api/open", { inputs: ids, role });
+    const answer = await act("api/open", { inputs: ids, role });
+    if (answer) setPlaying(true);
+    return answer;
   } catch (e) {
     message(e.message, true);
     return null;
@@ -415,7 +420,11 @@ $("open-files").onchange = (e) => { openFiles(e.target.files); e.target.value = 
 $("open-third").onchange = (e) => { openFiles(e.target.files, "third"); e.target.value = ""; };
 $("open-project").onchange = (e) => { openFiles(e.target.files, "project"); e.target.value = ""; };
 $("drop-third").onclick = () => act("api/third", { input: null });
-$("example").onchange = (e) => { if (e.target.value) act("api/open", { example: e.target.value }); e.target.value = ""; };
+$("example").onchange = async (e) => {
+  const name = e.target.value;
+  e.target.value = "";
+  if (name && await act("api/open", { example: name })) setPlaying(true);
+};
 $("cli-files").onchange = (e) => {
   const files = S.state.files;
   const k = Number(e.target.value);
