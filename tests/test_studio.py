@@ -455,3 +455,20 @@ def test_the_jupyter_widget_shows_the_studio(browser, drawings):  # noqa: F811
         assert inner.evaluate("window.__studio.seq.count") == 13 and errors == []
     finally:
         w.close()
+
+
+def test_a_saved_sequence_opens_on_its_own(opened, tmp_path):
+    client, session = opened
+    r = client.post("/api/export", json={"kind": "npz"}, headers=H)
+    morph = session.solved.sequence
+    ids = client.post("/api/upload", files={"file": ("morph.npz", r.content)}, headers=H).json()["ids"]
+    r = client.post("/api/open", json={"inputs": ids + ids}, headers=H)
+    assert r.status_code == 400 and "open it on its own" in r.json()["error"]
+    state = client.post("/api/open", json={"inputs": ids}, headers=H).json()
+    assert state["sequence"]["count"] == 13 and np.array_equal(session.solved.sequence.frames, morph.frames)
+    state = client.post("/api/options", json={"frames": 7}, headers=H).json()
+    assert np.allclose(session.solved.sequence.frames, morph.resample(7).frames, atol=1e-12)
+    state = client.post("/api/edit", json={"frame": 3, "handles": [[0, 0.4, 0.3]]}, headers=H).json()
+    assert state["sequence"]["keys"] == [0, 3, 6]
+    r = client.post("/api/open", json={"inputs": ids, "role": "third"}, headers=H)
+    assert r.status_code == 400 and "not a drawing to transfer onto" in r.json()["error"]

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, IsotweenError, ParameterError
+from ..shape import Shape
 
 __all__ = ["Session", "Superseded", "PROJECT_FORMAT", "DEFAULT_OPTIONS", "METHODS", "landmarks_supported"]
 
@@ -246,13 +247,15 @@ class Session:
             if "correspond" in entry and not entry.get("resample"):  # the drawings as drawn: the studio corresponds
                 return load_file(DATA / entry["source" if blob.side == 0 else "target"])
             return load_example(blob.example)[blob.side]
-        from ..io import load
+        from ..io import is_sequence_file, load, load_sequence
 
         suffix = _suffix(blob.name)
         with tempfile.TemporaryDirectory(prefix="isotween-studio-") as tmp:
             path = Path(tmp) / f"input{suffix}"
             path.write_bytes(blob.data)
             try:
+                if suffix in (".npz", ".json") and is_sequence_file(path):  # a saved sequence
+                    return load_sequence(path)
                 return load(path)
             except IsotweenError as exc:
                 raise type(exc)(str(exc).replace(str(path), blob.name)) from None
@@ -279,16 +282,23 @@ class Session:
     def new_document(self, inputs: list[str]) -> dict:
         """A document of two inputs with the current (or default) options."""
         options = dict(self.doc["options"]) if self.doc else dict(DEFAULT_OPTIONS)
-        if not 2 <= len(inputs) <= 12:
+        from ..sequence import Sequence
+
+        loaded = [self._shape(key) for key in inputs]
+        saved = [isinstance(x, Sequence) for x in loaded]
+        if len(inputs) == 1 and saved[0]:  # a saved sequence: its own frames
+            options["frames"] = len(loaded[0])
+            options["easing"] = list(DEFAULT_OPTIONS["easing"])
+        elif any(saved):
+            raise ParameterError(f"{self.blobs[inputs[saved.index(True)]].name} is a saved sequence: open it on its own")
+        elif not 2 <= len(inputs) <= 12:
             raise ParameterError(f"open two drawings (source and target) or up to 12 keyframes, got {len(inputs)}")
-        for key in inputs:
-            self._shape(key)
         if all(self.blobs[k].example for k in inputs):  # an example's own frame count
             from ..examples import load_example
 
             options["frames"] = int(load_example(self.blobs[inputs[0]].example)[2].get("frames", options["frames"]))
-        if isinstance(options["easing"][0], list) and len(options["easing"]) != len(inputs) - 1:
-            options["easing"] = segment_curves(options["easing"], len(inputs) - 1)
+        if isinstance(options["easing"][0], list) and len(options["easing"]) != max(len(inputs) - 1, 1):
+            options["easing"] = segment_curves(options["easing"], max(len(inputs) - 1, 1))
         return {"inputs": list(inputs), "third": None, "options": options, "pairs": [], "landmarks": [],
                 "edits": {}}
 
@@ -323,11 +333,27 @@ class Session:
             self._stage(generation, "morph", iteration=iteration, energy=float(energy))
             check()
 
-        curves = segment_curves(options["easing"], len(inputs) - 1)
+        curves = segment_curves(options["easing"], max(len(inputs) - 1, 1))
         ease = json.dumps(curves)
         key: tuple
         bkey: tuple
-        if len(inputs) == 2:
+        if len(inputs) == 1:  # a saved sequence, resampled when the frame count or the easing asks
+            from ..correspondence import CorrespondenceReport
+            from ..sequence import Sequence
+
+            saved = inputs[0]
+            if not isinstance(saved, Sequence):
+                raise ParameterError("open two drawings (source and target), or one saved sequence")
+            times = bezier_times(frames, curves[0])
+            same = len(saved) == frames and np.allclose(saved.times, times, rtol=0, atol=1e-12)
+            base = saved if same else self._cached(("resampled", doc["inputs"][0], frames, ease),
+                                                   lambda: saved.resample(times=times))
+            src, tgt = base[0], base[-1]
+            keys, report = [src, tgt], CorrespondenceReport(unchanged=True)
+            inputs = [src, tgt]
+            if options["method"] != "aiap" or doc.get("pairs") or doc.get("landmarks"):
+                notes.append("a saved sequence: the method and correspondence hints do not apply")
+        elif len(inputs) == 2:
             key = ("corr", tuple(doc["inputs"]), json.dumps(corr_kw, sort_keys=True, default=list))
             src, tgt, report = self._cached(key, lambda: correspond(inputs[0], inputs[1], **corr_kw))
             keys = [src, tgt]
@@ -369,6 +395,8 @@ class Session:
         if doc.get("third"):
             self._stage(generation, "transfer")
             third = self._shape(doc["third"])
+            if not isinstance(third, Shape):
+                raise ParameterError(f"{self.blobs[doc['third']].name} is a saved sequence, not a drawing to transfer onto")
             tkey = ("transfer", tuple(doc["inputs"][:2]), doc["third"], frames, json.dumps(times.tolist()))
 
             def make_transfer() -> Any:

@@ -401,10 +401,6 @@ async function openFiles(files, role) {
   if (!files.length) return null;
   try {
     if (role === "project") return act("api/project", await files[0].text());
-    if (role !== "third" && files.length < 2) {
-      message("open two drawings (source and target) or more (keyframes, in name order)", true);
-      return null;
-    }
     if (role !== "third" && files.length > 2) files.sort((a, b) => a.name.localeCompare(b.name, undefined, { numeric: true }));
     const { ids } = await upload(files);
     const answer = await act("api/open", { inputs: ids, role });
@@ -437,7 +433,8 @@ document.addEventListener("drop", (e) => {
   document.body.classList.remove("dragging");
   const files = [...e.dataTransfer.files];
   const project = files.length === 1 && files[0].name.endsWith("project.json");
-  openFiles(files, project ? "project" : files.length === 1 && S.state?.document ? "third" : undefined);
+  const lone = files.length === 1 && S.state?.document && !/\.(npz|json)$/i.test(files[0].name);
+  openFiles(files, project ? "project" : lone ? "third" : undefined);
 });
 
 // ------------------------------------------------------------------ options, undo, export, projects
