@@ -290,7 +290,8 @@ class Session:
             options["frames"] = len(loaded[0])
             options["easing"] = list(DEFAULT_OPTIONS["easing"])
         elif any(saved):
-            raise ParameterError(f"{self.blobs[inputs[saved.index(True)]].name} is a saved sequence: open it on its own")
+            name = self.blobs[inputs[saved.index(True)]].name
+            raise ParameterError(f"{name} is a saved sequence: open it on its own")
         elif not 2 <= len(inputs) <= 12:
             raise ParameterError(f"open two drawings (source and target) or up to 12 keyframes, got {len(inputs)}")
         if all(self.blobs[k].example for k in inputs):  # an example's own frame count
@@ -396,7 +397,8 @@ class Session:
             self._stage(generation, "transfer")
             third = self._shape(doc["third"])
             if not isinstance(third, Shape):
-                raise ParameterError(f"{self.blobs[doc['third']].name} is a saved sequence, not a drawing to transfer onto")
+                name = self.blobs[doc["third"]].name
+                raise ParameterError(f"{name} is a saved sequence, not a drawing to transfer onto")
             tkey = ("transfer", tuple(doc["inputs"][:2]), doc["third"], frames, json.dumps(times.tolist()))
 
             def make_transfer() -> Any:
