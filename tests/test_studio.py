@@ -425,8 +425,12 @@ def test_a_bad_file_shows_one_message_in_the_page(browser, drawings, tmp_path): 
         page.dispatch_event("#frames", "change")
         page.wait_for_function("window.__studio.seq.count === 9")
         assert not page.is_visible("#message.error")
-        # the browser logs the refused upload (HTTP 400) as a failed resource; nothing else
-        assert all("status of 400" in e for e in errors) and len(errors) == 1, errors
+        page.select_option("#method", "arap")  # needs triangles: refused, and the control shows the method in use
+        page.wait_for_selector("#message.error")
+        assert "needs a triangle mesh" in page.text_content("#message")
+        assert page.input_value("#method") == "aiap" and server.session.doc["options"]["method"] == "aiap"
+        # the browser logs the refused requests (HTTP 400) as failed resources; nothing else
+        assert all("status of 400" in e for e in errors) and len(errors) == 2, errors
     finally:
         server.stop()
 

@@ -46,7 +46,10 @@ async function act(path, body) {
     message(answer.notes?.length ? answer.notes.join("; ") : `solved in ${Math.round(performance.now() - started)} ms`);
     return answer;
   } catch (e) {
-    if (id === S.request) message(e instanceof ApiError ? e.message : `error: ${e}`, true);
+    if (id === S.request) {
+      message(e instanceof ApiError ? e.message : `error: ${e}`, true);
+      syncControls();
+    }
     return null;
   } finally {
     S.busy--;
@@ -64,6 +67,18 @@ function setState(state) {
   $("view-which").querySelector("[value=transfer]").disabled = !state.transfer;
   if (!state.transfer && S.showing === "transfer") { S.showing = "morph"; $("view-which").value = "morph"; }
   if (!doc) { draw(); return; }
+  syncControls();
+  $("third-name").textContent = state.third_name ? `onto ${state.third_name}` : "";
+  $("corr-summary").textContent = state.correspondence.summary +
+    (state.landmarks ? "" : " (landmarks need a newer isotween)");
+  useSequence(S.showing === "transfer" ? state.transfer : state.sequence, previousCount);
+  drawCorrespondence();
+}
+
+// the option controls show the session's document (also after a refused change)
+function syncControls() {
+  const doc = S.state?.document;
+  if (!doc) return;
   $("frames").value = doc.options.frames;
   $("method").value = doc.options.method;
   $("points").value = doc.options.points ?? "";
@@ -78,11 +93,6 @@ function setState(state) {
   const current = curves[Math.min(Number(pick.value) || 0, segments - 1)];
   curve.set(current);
   $("easing-text").textContent = `cubic-bezier(${current.join(", ")})`;
-  $("third-name").textContent = state.third_name ? `onto ${state.third_name}` : "";
-  $("corr-summary").textContent = state.correspondence.summary +
-    (state.landmarks ? "" : " (landmarks need a newer isotween)");
-  useSequence(S.showing === "transfer" ? state.transfer : state.sequence, previousCount);
-  drawCorrespondence();
 }
 
 function useSequence(seq, previousCount) {
