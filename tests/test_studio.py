@@ -476,3 +476,46 @@ def test_a_saved_sequence_opens_on_its_own(opened, tmp_path):
     assert state["sequence"]["keys"] == [0, 3, 6]
     r = client.post("/api/open", json={"inputs": ids, "role": "third"}, headers=H)
     assert r.status_code == 400 and "not a drawing to transfer onto" in r.json()["error"]
+
+
+def test_a_busy_port_is_refused_with_one_message(drawings):
+    import socket
+
+    from isotween.studio import StudioServer
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        s.listen()
+        with pytest.raises(isotween.errors.ParameterError, match="cannot serve on 127.0.0.1"):
+            StudioServer(drawings, port=s.getsockname()[1])
+    with pytest.raises(isotween.errors.ParameterError, match="only uploads and the files named"):
+        Session(drawings[:1]).add_path(str(drawings[1]))
+
+
+def test_the_command_serves_until_stopped(drawings, tmp_path):
+    import os
+    import subprocess
+    import urllib.request
+
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in sys.path if p)}
+    r = subprocess.run([sys.executable, "-m", "isotween", "studio", str(tmp_path / "missing.svg"), "--no-browser"],
+                       capture_output=True, text=True, env=env, timeout=60)
+    assert r.returncode == 2 and "missing.svg: no such file" in r.stderr
+    proc = subprocess.Popen([sys.executable, "-m", "isotween", "studio", *map(str, drawings), "--no-browser"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        line = proc.stdout.readline()
+        assert line.startswith("isotween studio: http://127.0.0.1:")
+        url = line.split(": ", 1)[1].strip()
+        api = url.replace("/?token=", "/api/state?token=")
+        for _ in range(100):
+            try:
+                with urllib.request.urlopen(api, timeout=5) as answer:
+                    state = json.load(answer)
+                break
+            except OSError:
+                __import__("time").sleep(0.1)
+        assert state["names"] == ["square.svg", "star.svg"] and state["sequence"]["count"] == 13
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)

@@ -52,10 +52,12 @@ class StudioServer:
 
         if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port < 65536:
             raise ParameterError(f"port must be a whole number from 0 to 65535, got {port!r}")
-        if port == 0:
-            with socket.socket() as s:
-                s.bind((host, 0))
-                port = s.getsockname()[1]
+        with socket.socket() as s:  # a free port, or the one asked for if it is free
+            try:
+                s.bind((host, port))
+            except OSError as exc:
+                raise ParameterError(f"cannot serve on {host}:{port}: {exc.strerror or exc}") from None
+            port = s.getsockname()[1]
         self.port, self.host = port, host
         self.token = secrets.token_urlsafe(24)
         self.session = Session(files)
