@@ -29,7 +29,7 @@ def main():
             page.goto(server.url)
             page.wait_for_function("window.__studio && window.__studio.ready")
             page.select_option("#example", "regions")
-            page.wait_for_function("window.__studio.seq !== null", timeout=300_000)
+            page.wait_for_function("window.__studio.seq !== null && !window.__studio.state.preview", timeout=300_000)
             k = page.evaluate("window.__studio.seq.count") // 2
             page.evaluate(f"window.__studio.setFrame({k})")
             x, y = page.evaluate(f"window.__studio.vertexOnPage({k}, 0)")

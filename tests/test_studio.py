@@ -519,3 +519,69 @@ def test_the_command_serves_until_stopped(drawings, tmp_path):
     finally:
         proc.terminate()
         proc.wait(timeout=30)
+
+
+def two_regions(tmp_path):
+    a, b = tmp_path / "two.json", tmp_path / "two-moved.json"  # no paint: closed rings are filled regions
+    left, right = [[0, 0], [1, 0], [1, 1], [0, 1]], [[3, 0], [4, 0], [4, 1], [3, 1]]
+    isotween.save(isotween.Shape.from_polygon([left, right]), a)
+    five = [[0, 0], [0.5, 0], [1, 0], [1, 1], [0, 1]]
+    isotween.save(isotween.Shape.from_polygon([np.add(five, [0, 2]), np.add(five, [3, 2])]), b)
+    return a, b
+
+
+def test_quick_outline_preview_then_meshes(tmp_path):
+    a, b = two_regions(tmp_path)
+    session = Session([a, b])
+    client = client_for(session)
+    state = client.post("/api/open", json={"paths": [str(a), str(b)], "quick": True}, headers=H).json()
+    assert state["preview"] is True and session.solved.sequence.shape.n_faces == 0
+    r = client.post("/api/edit", json={"frame": 3, "handles": [[0, 0.5, 0.5]]}, headers=H)
+    assert r.status_code == 400 and "outline preview" in r.json()["error"]
+    state = client.post("/api/refine", headers=H).json()
+    assert state["preview"] is False and state["undo"] == 0
+    src, tgt, _ = isotween.correspond(isotween.load(a), isotween.load(b))
+    assert src.n_faces and session.solved.sequence.equals(isotween.interpolate(src, tgt, 13, fold="fallback"),
+                                                          atol=1e-9)
+    client.post("/api/edit", json={"frame": 3, "handles": [[0, 0.5, 0.5]]}, headers=H)
+    assert session.doc["edits"]
+    state = client.post("/api/hints", json={"pairs": [[0, 1]], "quick": True}, headers=H).json()
+    assert state["preview"] is True and session.doc["edits"] == {}  # edits belong to the old correspondence
+    assert sorted(map(tuple, state["correspondence"]["pairs"])) == [(0, 1), (1, 0)]
+    state = client.post("/api/hints", json={"pairs": [[0, 0]], "quick": True}, headers=H).json()
+    assert state["preview"] is True
+    state = client.post("/api/refine", headers=H).json()
+    assert state["preview"] is False and session.doc["pairs"] == [[0, 0]]
+    src, tgt, _ = isotween.correspond(isotween.load(a), isotween.load(b), pairs=[(0, 0)])
+    assert session.solved.sequence.equals(isotween.interpolate(src, tgt, 13, fold="fallback"), atol=1e-9)
+    state = client.post("/api/refine", headers=H).json()  # nothing to refine: the same state
+    assert state["preview"] is False
+    state = client.post("/api/undo", headers=H).json()  # back to the crossed pairs, meshed
+    assert state["preview"] is False and session.doc["pairs"] == [[0, 1]]
+
+
+def test_pairing_regions_by_clicking_in_chromium(browser, tmp_path):  # noqa: F811
+    from isotween.studio import StudioServer
+
+    a, b = two_regions(tmp_path)
+    server = StudioServer([a, b]).start()
+    errors = []
+    try:
+        page = browser.new_page(viewport={"width": 1280, "height": 800})
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(server.url)
+        page.wait_for_function("window.__studio && window.__studio.ready && window.__studio.seq")
+        assert page.evaluate("window.__studio.state.preview") is False
+        # the left square of the source with the right square of the target
+        page.mouse.click(*page.evaluate("window.__studio.corrOnPage(0, 0.5, 0.5)"))
+        page.mouse.click(*page.evaluate("window.__studio.corrOnPage(1, 3.5, 2.5)"))
+        page.wait_for_function("window.__studio.state.document.pairs.length === 1")
+        page.wait_for_function("window.__studio.state.preview === false")
+        assert server.session.doc["pairs"] == [[0, 1]]
+        src, tgt, _ = isotween.correspond(isotween.load(a), isotween.load(b), pairs=[(0, 1)])
+        assert server.session.solved.sequence.equals(isotween.interpolate(src, tgt, 13, fold="fallback"), atol=1e-9)
+        assert page.evaluate("window.__studio.seq.faces") == src.n_faces > 0
+        assert errors == []
+    finally:
+        server.stop()

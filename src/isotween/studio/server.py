@@ -176,6 +176,7 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
                 "transfer": sequence_view(solved.transfer) if solved.transfer is not None else None,
                 "correspondence": corr_view(solved), "notes": solved.notes,
                 "energy": float(solved.sequence.energy[-1]) if solved.sequence.energy else None,
+                "preview": solved.preview,
             })
         if extra:
             out.update(extra)
@@ -230,12 +231,13 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
             ids = body.get("inputs")
             if not isinstance(ids, list):
                 raise ParameterError("malformed request: give inputs (upload ids), paths or example")
+        quick = body.get("quick") is True
         if body.get("role") == "third":
             if len(ids) != 1:
                 raise ParameterError("give one drawing to transfer the motion onto")
             return await run(lambda: session.change(third=str(ids[0])))
         doc = session.new_document([str(i) for i in ids])
-        return await run(session.apply, doc)
+        return await run(lambda: session.apply(doc, quick=quick))
 
     async def options(request: Request) -> Response:
         body = await _json(request)
@@ -249,7 +251,10 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
                 if not isinstance(body[key], list):
                     raise ParameterError(f"malformed request: {key} must be a list")
                 parts[key] = body[key]
-        return await run(lambda: session.change(**parts))
+        return await run(lambda: session.set_hints(quick=body.get("quick") is True, **parts))
+
+    async def refine(request: Request) -> Response:
+        return await run(session.refine)
 
     async def third(request: Request) -> Response:
         body = await _json(request)
@@ -326,6 +331,7 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
         Route("/api/options", options, methods=["POST"]), Route("/api/hints", hints, methods=["POST"]),
         Route("/api/third", third, methods=["POST"]), Route("/api/deform", deform, methods=["POST"]),
         Route("/api/edit", edit, methods=["POST"]), Route("/api/clear_edits", clear_edits, methods=["POST"]),
+        Route("/api/refine", refine, methods=["POST"]),
         Route("/api/undo", undo, methods=["POST"]), Route("/api/redo", redo, methods=["POST"]),
         Route("/api/project", get_project, methods=["GET"]), Route("/api/project", put_project, methods=["POST"]),
         Route("/api/export", export, methods=["POST"]),

@@ -183,6 +183,7 @@ class Solved:
     transfer: Any = None
     notes: list = field(default_factory=list)
     keys: list = field(default_factory=list)  # the compatible inputs
+    preview: bool = False  # outlines standing in for meshes not solved yet (see Session.refine)
 
 
 class Session:
@@ -303,14 +304,20 @@ class Session:
         return {"inputs": list(inputs), "third": None, "options": options, "pairs": [], "landmarks": [],
                 "edits": {}}
 
-    def solve(self, doc: dict, generation: int | None = None) -> Solved:
-        """Solve a document (raises on failure, `Superseded` when a newer request came in)."""
+    def solve(self, doc: dict, generation: int | None = None, quick: bool = False) -> Solved:
+        """Solve a document (raises on failure, `Superseded` when a newer request came in).
+
+        With ``quick``, two drawings whose filled regions would be meshed
+        afresh are solved as outlines first (``Solved.preview``); `refine`
+        then solves the meshes.
+        """
         from ..correspondence import correspond, correspond_keys
         from ..editing import edit
         from ..interpolate import interpolate
         from ..transfer import transfer
 
         check = (lambda: None) if generation is None else (lambda: self._check_generation(generation))
+        preview = False
         options = {**DEFAULT_OPTIONS, **doc.get("options", {})}
         frames = options["frames"]
         if isinstance(frames, bool) or not isinstance(frames, int) or not 2 <= frames <= 1000:
@@ -356,6 +363,14 @@ class Session:
                 notes.append("a saved sequence: the method and correspondence hints do not apply")
         elif len(inputs) == 2:
             key = ("corr", tuple(doc["inputs"]), json.dumps(corr_kw, sort_keys=True, default=list))
+            if quick and not corr_kw["outline"] and not inputs[0].n_faces and not doc.get("edits") \
+                    and not self._has(key):  # outlines now, the meshes in `refine`
+                outline_kw = {**corr_kw, "outline": True}
+                okey = ("corr", tuple(doc["inputs"]), json.dumps(outline_kw, sort_keys=True, default=list))
+                found = self._cached(okey, lambda: correspond(inputs[0], inputs[1], **outline_kw))
+                preview = any(found.report.regions.values())  # filled regions: meshing would follow
+                if preview:
+                    key = okey
             src, tgt, report = self._cached(key, lambda: correspond(inputs[0], inputs[1], **corr_kw))
             keys = [src, tgt]
             check()
@@ -408,7 +423,7 @@ class Session:
 
             moved = self._cached(tkey, make_transfer)
             check()
-        return Solved(inputs, src, tgt, report, base, seq, moved, notes, keys)
+        return Solved(inputs, src, tgt, report, base, seq, moved, notes, keys, preview)
 
     def _check_generation(self, generation: int) -> None:
         if generation != self.generation:
@@ -418,13 +433,16 @@ class Session:
         if generation is not None and generation == self.generation:
             self.progress = {"generation": generation, "stage": stage, **extra}
 
-    def apply(self, doc: dict, record: bool = True) -> Solved:
-        """Solve ``doc`` and make it the session's document (undoable); raises and keeps the old one on failure."""
+    def apply(self, doc: dict, record: bool = True, quick: bool = False) -> Solved:
+        """Solve ``doc`` and make it the session's document (undoable); raises and keeps the old one on failure.
+
+        ``quick``: an outline preview when meshes would be built (see `solve`).
+        """
         with self.lock:
             self.generation += 1
             generation = self.generation
         try:
-            solved = self.solve(doc, generation)
+            solved = self.solve(doc, generation, quick)
         finally:
             self._stage(generation, "idle")
         with self.lock:
@@ -436,13 +454,30 @@ class Session:
             self.doc, self.solved = doc, solved
         return solved
 
-    def change(self, **parts: Any) -> Solved:
+    def change(self, quick: bool = False, **parts: Any) -> Solved:
         """A new document: the current one with ``parts`` replaced, solved and committed."""
         if self.doc is None:
             raise ParameterError("open two drawings first")
         doc = copy.deepcopy(self.doc)
         doc.update(parts)
-        return self.apply(doc)
+        return self.apply(doc, quick=quick)
+
+    def set_hints(self, quick: bool = False, **hints: Any) -> Solved:
+        """New region pairs and/or landmarks; edits are dropped (they belong to the old correspondence)."""
+        unknown = sorted(set(hints) - {"pairs", "landmarks"})
+        if unknown:
+            raise ParameterError(f"unknown hint {unknown[0]!r}; give pairs and/or landmarks")
+        return self.change(quick=quick, edits={}, **hints)
+
+    def refine(self) -> Solved | None:
+        """The meshes of an outline preview, solved and committed in its place (not a new undo step)."""
+        if self.solved is None or not self.solved.preview or self.doc is None:
+            return self.solved
+        return self.apply(self.doc, record=False)
+
+    def _has(self, key: Any) -> bool:
+        with self.lock:
+            return key in self._cache
 
     def set_options(self, options: dict) -> Solved:
         """New options; edits are dropped when the frame count or the correspondence changes."""
@@ -481,6 +516,8 @@ class Session:
 
         if self.solved is None or self.doc is None:
             raise ParameterError("open two drawings first")
+        if self.solved.preview:
+            raise ParameterError("the morph is an outline preview while its meshes are solved; drag again in a moment")
         seq = self.solved.sequence
         if isinstance(frame, bool) or not isinstance(frame, int) or not 0 <= frame < len(seq):
             raise ParameterError(f"frame {frame!r} is out of range (0..{len(seq) - 1})")

@@ -44,6 +44,10 @@ async function act(path, body) {
     if (id !== S.request || answer.superseded) return null;  // a newer action replaced this one
     setState(answer);
     message(answer.notes?.length ? answer.notes.join("; ") : `solved in ${Math.round(performance.now() - started)} ms`);
+    if (answer.preview) {  // outlines shown at once; the meshes follow (dropped if a newer action comes first)
+      message("outline preview: meshing the filled regions…");
+      setTimeout(() => { if (S.request === id) act("api/refine"); }, 0);
+    }
     return answer;
   } catch (e) {
     if (id === S.request) {
@@ -73,6 +77,7 @@ function setState(state) {
     (state.landmarks ? "" : " (landmarks need a newer isotween)");
   useSequence(S.showing === "transfer" ? state.transfer : state.sequence, previousCount);
   drawCorrespondence();
+  if (!state.preview) S.finalAt = performance.now();  // drawn: the final morph (not an outline preview)
 }
 
 // the option controls show the session's document (also after a refused change)
@@ -237,6 +242,7 @@ stage.addEventListener("pointerdown", (e) => {
     return;
   }
   if (S.showing !== "morph") { message("switch the view to 'morph' to edit frames"); return; }
+  if (S.state?.preview) { message("the meshes are being solved; drag again in a moment"); return; }
   const i = nearestVertex(px, py);
   if (i < 0) {
     S.panning = { from: [px, py], pan: [...view.pan] };
@@ -373,7 +379,7 @@ function corrClick(side, e) {
     }
     const pair = side === 1 ? [S.corrPick.point, point] : [point, S.corrPick.point];
     S.corrPick = null;
-    act("api/hints", { landmarks: [...doc.landmarks, pair] });
+    act("api/hints", { landmarks: [...doc.landmarks, pair], quick: true });
     return;
   }
   const g = cv.canvas.getContext("2d");
@@ -383,7 +389,7 @@ function corrClick(side, e) {
     const existing = doc.pairs.findIndex((p) => p[side] === hit.index);
     if (existing >= 0 && S.corrPick?.side === side && S.corrPick.index === hit.index) {  // second click: unpair
       S.corrPick = null;
-      act("api/hints", { pairs: doc.pairs.filter((_, n) => n !== existing) });
+      act("api/hints", { pairs: doc.pairs.filter((_, n) => n !== existing), quick: true });
       return;
     }
     S.corrPick = { side, index: hit.index };
@@ -393,11 +399,11 @@ function corrClick(side, e) {
   }
   const pair = side === 1 ? [S.corrPick.index, hit.index] : [hit.index, S.corrPick.index];
   S.corrPick = null;
-  act("api/hints", { pairs: [...doc.pairs.filter((p) => p[0] !== pair[0] && p[1] !== pair[1]), pair] });
+  act("api/hints", { pairs: [...doc.pairs.filter((p) => p[0] !== pair[0] && p[1] !== pair[1]), pair], quick: true });
 }
 
 corrViews.forEach((cv, side) => cv.canvas.addEventListener("click", (e) => corrClick(side, e)));
-$("clear-hints").onclick = () => act("api/hints", { pairs: [], landmarks: [] });
+$("clear-hints").onclick = () => act("api/hints", { pairs: [], landmarks: [], quick: true });
 
 // ------------------------------------------------------------------ opening files
 async function upload(files) {
@@ -413,7 +419,7 @@ async function openFiles(files, role) {
     if (role === "project") return act("api/project", await files[0].text());
     if (role !== "third" && files.length > 2) files.sort((a, b) => a.name.localeCompare(b.name, undefined, { numeric: true }));
     const { ids } = await upload(files);
-    const answer = await act("api/open", { inputs: ids, role });
+    const answer = await act("api/open", { inputs: ids, role, quick: true });
     if (answer) setPlaying(true);
     return answer;
   } catch (e) {
@@ -429,12 +435,12 @@ $("drop-third").onclick = () => act("api/third", { input: null });
 $("example").onchange = async (e) => {
   const name = e.target.value;
   e.target.value = "";
-  if (name && await act("api/open", { example: name })) setPlaying(true);
+  if (name && await act("api/open", { example: name, quick: true })) setPlaying(true);
 };
 $("cli-files").onchange = (e) => {
   const files = S.state.files;
   const k = Number(e.target.value);
-  if (e.target.value !== "") act("api/open", { paths: [files[k], files[(k + 1) % files.length]] });
+  if (e.target.value !== "") act("api/open", { paths: [files[k], files[(k + 1) % files.length]], quick: true });
 };
 document.addEventListener("dragover", (e) => { e.preventDefault(); document.body.classList.add("dragging"); });
 document.addEventListener("dragleave", () => document.body.classList.remove("dragging"));
@@ -529,14 +535,24 @@ S.vertexOnPage = (k, i) => {
   const r = stage.getBoundingClientRect();
   return [r.left + (x * r.width) / stage.width, r.top + (y * r.height) / stage.height];
 };
+S.corrOnPage = (side, x, y) => {  // a drawing's point in the correspondence view, in page pixels
+  const cv = corrViews[side];
+  const [px, py] = cv.toScreen(x, y);
+  const r = cv.canvas.getBoundingClientRect();
+  return [r.left + (px * r.width) / cv.canvas.width, r.top + (py * r.height) / cv.canvas.height];
+};
 S.setFrame = (k) => { setPlaying(false); S.frame = k; $("scrub").value = k; draw(); };
 S.act = act;
-// an action timed from the request to the animation frame after the answer is drawn (ms; null when refused)
+// an action timed from the request to the animation frame after the answer is drawn, and (when the answer
+// was an outline preview) to the final morph drawn: {first, final} in ms, null when refused
 S.timed = async (path, body) => {
   const started = performance.now();
   const answer = await act(path, body);
   await new Promise((r) => requestAnimationFrame(() => r()));
-  return answer ? performance.now() - started : null;
+  if (!answer) return null;
+  const first = performance.now() - started;
+  while (S.state.preview) await new Promise((r) => setTimeout(r, 2));
+  return { first, final: answer.preview ? S.finalAt - started : first };
 };
 
 // ------------------------------------------------------------------ start
