@@ -298,6 +298,8 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
         solved = session.solved
         if solved is None:
             raise ParameterError("nothing to export: open two drawings first")
+        if solved.preview:
+            raise ParameterError("the morph is an outline preview while its meshes are solved; export in a moment")
         seq = solved.transfer if body.get("which") == "transfer" and solved.transfer is not None else solved.sequence
         render: dict[str, Any] = {}
         for key, kinds in (("fps", (int, float)), ("size", (int,)), ("hold", (int, float)), ("bounce", (bool,)),

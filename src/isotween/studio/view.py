@@ -65,10 +65,11 @@ def sequence_view(seq: Any, keys: Any = ()) -> dict:
 
 def _items(shape: Any, name: str) -> list:
     from ..correspondence.regions import items_of
+    from ..errors import ShapeError
 
     try:
         items = items_of(shape, name)
-    except Exception:  # a mesh without paths: its boundary as one region
+    except ShapeError:  # a mesh without paths: its boundary as one region
         loops = mesh_boundary(shape.faces) if shape.n_faces else []
         return [{"kind": "region", "index": 0, "rings": [shape.vertices[loop].tolist() for loop in loops]}]
     return [{"kind": it.kind, "index": int(it.index), "rings": [np.c_[z.real, z.imag].tolist() for z in it.rings]}
