@@ -311,13 +311,11 @@ class Session:
         afresh are solved as outlines first (``Solved.preview``); `refine`
         then solves the meshes.
         """
-        from ..correspondence import correspond, correspond_keys
+        from ..correspondence import correspond_keys
         from ..editing import edit
-        from ..interpolate import interpolate
         from ..transfer import transfer
 
         check = (lambda: None) if generation is None else (lambda: self._check_generation(generation))
-        preview = False
         options = {**DEFAULT_OPTIONS, **doc.get("options", {})}
         frames = options["frames"]
         if isinstance(frames, bool) or not isinstance(frames, int) or not 2 <= frames <= 1000:
@@ -341,61 +339,15 @@ class Session:
             self._stage(generation, "morph", iteration=iteration, energy=float(energy))
             check()
 
+        hooks = (progress, check, lambda stage: self._stage(generation, stage))
         curves = segment_curves(options["easing"], max(len(inputs) - 1, 1))
-        ease = json.dumps(curves)
-        key: tuple
-        bkey: tuple
-        if len(inputs) == 1:  # a saved sequence, resampled when the frame count or the easing asks
-            from ..correspondence import CorrespondenceReport
-            from ..sequence import Sequence
-
-            saved = inputs[0]
-            if not isinstance(saved, Sequence):
-                raise ParameterError("open two drawings (source and target), or one saved sequence")
-            times = bezier_times(frames, curves[0])
-            same = len(saved) == frames and np.allclose(saved.times, times, rtol=0, atol=1e-12)
-            base = saved if same else self._cached(("resampled", doc["inputs"][0], frames, ease),
-                                                   lambda: saved.resample(times=times))
-            src, tgt = base[0], base[-1]
-            keys, report = [src, tgt], CorrespondenceReport(unchanged=True)
-            inputs = [src, tgt]
-            if options["method"] != "aiap" or doc.get("pairs") or doc.get("landmarks"):
-                notes.append("a saved sequence: the method and correspondence hints do not apply")
+        if len(inputs) == 1:
+            morph = self._solve_saved(doc, inputs[0], options, curves, notes)
         elif len(inputs) == 2:
-            key = ("corr", tuple(doc["inputs"]), json.dumps(corr_kw, sort_keys=True, default=list))
-            if quick and not corr_kw["outline"] and not inputs[0].n_faces and not doc.get("edits") \
-                    and not self._has(key):  # outlines now, the meshes in `refine`
-                outline_kw = {**corr_kw, "outline": True}
-                okey = ("corr", tuple(doc["inputs"]), json.dumps(outline_kw, sort_keys=True, default=list))
-                found = self._cached(okey, lambda: correspond(inputs[0], inputs[1], **outline_kw))
-                preview = any(found.report.regions.values())  # filled regions: meshing would follow
-                if preview:
-                    key = okey
-            src, tgt, report = self._cached(key, lambda: correspond(inputs[0], inputs[1], **corr_kw))
-            keys = [src, tgt]
-            check()
-            times = bezier_times(frames, curves[0])
-            self._stage(generation, "morph")
-            kwargs: dict[str, Any] = {"method": options["method"], "times": times}
-            if not inputs[0].n_faces and src.n_faces:  # meshes built here: as the command line does
-                kwargs["fold"] = "fallback"
-            bkey = ("base", key, frames, ease, options["method"])
-            base = self._cached(bkey, lambda: interpolate(src, tgt, frames, callback=progress, **kwargs))
-        else:  # keyframes: made compatible together as outlines, one solve through all of them
-            from ..keyframes import interpolate_keyframes
-
-            if doc.get("pairs"):
-                notes.append("region pairs apply to two drawings; they are not used with keyframes")
-            key = ("keys", tuple(doc["inputs"]), options["points"], bool(options["rotation"]), options["unmatched"])
-            keys, report = self._cached(key, lambda: correspond_keys(
-                inputs, points=options["points"], rotation=bool(options["rotation"]), unmatched=options["unmatched"]))
-            src, tgt = keys[0], keys[1]
-            check()
-            self._stage(generation, "morph")
-            bkey = ("base", key, frames, ease, options["method"])
-            base = self._cached(bkey, lambda: interpolate_keyframes(
-                keys, frames=frames, easing=eased(curves), method=options["method"], callback=progress))
-            times = base.times
+            morph = self._solve_pair(doc, inputs, options, curves, corr_kw, quick, hooks)
+        else:
+            morph = self._solve_keys(doc, inputs, options, curves, notes, hooks)
+        inputs, src, tgt, report, keys, base, times, preview = morph
         if "fallback" in base.info:
             notes.append(f"fold check: {base.info['fallback']}")
         check()
@@ -424,6 +376,74 @@ class Session:
             moved = self._cached(tkey, make_transfer)
             check()
         return Solved(inputs, src, tgt, report, base, seq, moved, notes, keys, preview)
+
+    def _solve_saved(self, doc: dict, saved: Any, options: dict, curves: list, notes: list) -> tuple:
+        """A saved sequence, resampled when the frame count or the easing asks."""
+        from ..correspondence import CorrespondenceReport
+        from ..sequence import Sequence
+
+        if not isinstance(saved, Sequence):
+            raise ParameterError("open two drawings (source and target), or one saved sequence")
+        frames = options["frames"]
+        times = bezier_times(frames, curves[0])
+        same = len(saved) == frames and np.allclose(saved.times, times, rtol=0, atol=1e-12)
+        base = saved if same else self._cached(("resampled", doc["inputs"][0], frames, json.dumps(curves)),
+                                               lambda: saved.resample(times=times))
+        src, tgt = base[0], base[-1]
+        if options["method"] != "aiap" or doc.get("pairs") or doc.get("landmarks"):
+            notes.append("a saved sequence: the method and correspondence hints do not apply")
+        return [src, tgt], src, tgt, CorrespondenceReport(unchanged=True), [src, tgt], base, times, False
+
+    def _solve_pair(self, doc: dict, inputs: list, options: dict, curves: list, corr_kw: dict, quick: bool,
+                    hooks: tuple) -> tuple:
+        """Two drawings: `correspond` and `interpolate`, as ``isotween interpolate`` runs them.
+
+        ``hooks``: (the solver's callback, the supersession check, the progress stage setter).
+        """
+        from ..correspondence import correspond
+        from ..interpolate import interpolate
+
+        progress, check, stage = hooks
+        key: tuple = ("corr", tuple(doc["inputs"]), json.dumps(corr_kw, sort_keys=True, default=list))
+        preview = False
+        if quick and not corr_kw["outline"] and not inputs[0].n_faces and not doc.get("edits") \
+                and not self._has(key):  # outlines now, the meshes in `refine`
+            outline_kw = {**corr_kw, "outline": True}
+            okey = ("corr", tuple(doc["inputs"]), json.dumps(outline_kw, sort_keys=True, default=list))
+            found = self._cached(okey, lambda: correspond(inputs[0], inputs[1], **outline_kw))
+            preview = any(found.report.regions.values())  # filled regions: meshing would follow
+            if preview:
+                key = okey
+        src, tgt, report = self._cached(key, lambda: correspond(inputs[0], inputs[1], **corr_kw))
+        check()
+        frames = options["frames"]
+        times = bezier_times(frames, curves[0])
+        stage("morph")
+        kwargs: dict[str, Any] = {"method": options["method"], "times": times}
+        if not inputs[0].n_faces and src.n_faces:  # meshes built here: as the command line does
+            kwargs["fold"] = "fallback"
+        bkey = ("base", key, frames, json.dumps(curves), options["method"])
+        base = self._cached(bkey, lambda: interpolate(src, tgt, frames, callback=progress, **kwargs))
+        return inputs, src, tgt, report, [src, tgt], base, times, preview
+
+    def _solve_keys(self, doc: dict, inputs: list, options: dict, curves: list, notes: list, hooks: tuple) -> tuple:
+        """Keyframes: made compatible together as outlines, one solve through all of them (``hooks`` as above)."""
+        from ..correspondence import correspond_keys
+        from ..keyframes import interpolate_keyframes
+
+        progress, check, stage = hooks
+        if doc.get("pairs"):
+            notes.append("region pairs apply to two drawings; they are not used with keyframes")
+        key = ("keys", tuple(doc["inputs"]), options["points"], bool(options["rotation"]), options["unmatched"])
+        keys, report = self._cached(key, lambda: correspond_keys(
+            inputs, points=options["points"], rotation=bool(options["rotation"]), unmatched=options["unmatched"]))
+        check()
+        stage("morph")
+        bkey = ("base", key, options["frames"], json.dumps(curves), options["method"])
+        base = self._cached(bkey, lambda: interpolate_keyframes(
+            keys, frames=options["frames"], easing=eased(curves), method=options["method"], callback=progress))
+        return inputs, keys[0], keys[1], report, keys, base, base.times, False
+
 
     def _check_generation(self, generation: int) -> None:
         if generation != self.generation:
