@@ -585,3 +585,51 @@ def test_pairing_regions_by_clicking_in_chromium(browser, tmp_path):  # noqa: F8
         assert errors == []
     finally:
         server.stop()
+
+
+def test_a_long_solve_shows_progress_and_is_superseded(drawings, monkeypatch):
+    import threading
+    import time
+    import urllib.request
+
+    from isotween.studio import StudioServer
+
+    server = StudioServer(drawings).start()
+    real = sys.modules["isotween.interpolate"].interpolate
+
+    def slow(source, target, frames, callback=None, **kwargs):
+        if frames == 21:  # the superseded request: iterations until told to stop
+            for k in range(200):
+                time.sleep(0.02)
+                callback(k, 1.0, 0.1)
+        return real(source, target, frames, callback=callback, **kwargs)
+
+    monkeypatch.setattr(sys.modules["isotween.interpolate"], "interpolate", slow)
+    base = server.url.split("/?")[0]
+
+    def call(path, body=None):
+        data = None if body is None else json.dumps(body).encode()
+        request = urllib.request.Request(base + path, data=data, headers={**H, "X-Isotween-Token": server.token,
+                                                                          "Content-Type": "application/json"})
+        with urllib.request.urlopen(request, timeout=60) as answer:
+            return json.load(answer)
+
+    try:
+        answers = {}
+        first = threading.Thread(target=lambda: answers.update(first=call("/api/options", {"frames": 21})))
+        first.start()
+        for _ in range(200):
+            progress = call("/api/progress")
+            if progress.get("iteration", 0) > 2:
+                break
+            time.sleep(0.02)
+        assert progress["stage"] == "morph" and progress["iteration"] > 2
+        started = time.perf_counter()
+        assert call("/api/state")["sequence"]["count"] == 13  # still answering, the old morph kept
+        assert time.perf_counter() - started < 2
+        second = call("/api/options", {"frames": 9})
+        first.join(timeout=30)
+        assert answers["first"]["superseded"] is True and second["sequence"]["count"] == 9
+        assert server.session.doc["options"]["frames"] == 9 and call("/api/progress")["stage"] == "idle"
+    finally:
+        server.stop()
