@@ -278,10 +278,9 @@ def test_arap_deform_is_rigid_when_it_can_be():
 
 
 # ---------------------------------------------------------------- a whole session in Chromium
-from browser import browser  # noqa: E402,F401
+# (the `browser` fixture comes from conftest.py: skipped, with the reason, without chromium or playwright)
 
-
-def test_a_whole_session_in_chromium(browser, drawings, tmp_path):  # noqa: F811
+def test_a_whole_session_in_chromium(browser, drawings, tmp_path):
     from isotween.studio import StudioServer
 
     server = StudioServer(drawings).start()
@@ -403,7 +402,7 @@ def test_export_render_options(opened):
     assert r.status_code == 200 and b"<svg" in r.content
 
 
-def test_a_bad_file_shows_one_message_in_the_page(browser, drawings, tmp_path):  # noqa: F811
+def test_a_bad_file_shows_one_message_in_the_page(browser, drawings, tmp_path):
     from isotween.studio import StudioServer
 
     server = StudioServer(drawings).start()
@@ -435,7 +434,7 @@ def test_a_bad_file_shows_one_message_in_the_page(browser, drawings, tmp_path): 
         server.stop()
 
 
-def test_the_jupyter_widget_shows_the_studio(browser, drawings):  # noqa: F811
+def test_the_jupyter_widget_shows_the_studio(browser, drawings):
     pytest.importorskip("anywidget", reason="anywidget is not installed (pip install 'isotween[widget]')")
     from isotween.studio.widget import ESM, widget
 
@@ -560,7 +559,7 @@ def test_quick_outline_preview_then_meshes(tmp_path):
     assert state["preview"] is False and session.doc["pairs"] == [[0, 1]]
 
 
-def test_pairing_regions_by_clicking_in_chromium(browser, tmp_path):  # noqa: F811
+def test_pairing_regions_by_clicking_in_chromium(browser, tmp_path):
     from isotween.studio import StudioServer
 
     a, b = two_regions(tmp_path)
