@@ -32,7 +32,8 @@ class StudioServer:
     port : int
         0 picks a free port.
     host : str
-        Address to bind (default: this machine only).
+        Address to bind (default: this machine only); requests must name it
+        (or 127.0.0.1 / localhost) in ``Host``.
 
     Attributes
     ----------
@@ -65,7 +66,10 @@ class StudioServer:
         if len(files) >= 2:
             ids = [self.session.add_path(str(f)) for f in files[:2]]
             self.session.apply(self.session.new_document(ids))
-        self.app = create_app(self.session, self.token, port=port)
+        from .server import LOCAL_HOSTS
+
+        hosts = LOCAL_HOSTS if host in LOCAL_HOSTS or host in ("0.0.0.0", "::") else LOCAL_HOSTS + (host,)
+        self.app = create_app(self.session, self.token, port=port, hosts=hosts)
         config = uvicorn.Config(self.app, host=host, port=port, log_level="warning", lifespan="off")
         self.server = uvicorn.Server(config)
         name = "127.0.0.1" if host in ("127.0.0.1", "0.0.0.0") else host
