@@ -507,14 +507,15 @@ def test_the_command_serves_until_stopped(drawings, tmp_path):
         assert line.startswith("isotween studio: http://127.0.0.1:")
         url = line.split(": ", 1)[1].strip()
         api = url.replace("/?token=", "/api/state?token=")
-        for _ in range(100):
+        state = None
+        for _ in range(600):  # the server starts after the first morph is solved
             try:
                 with urllib.request.urlopen(api, timeout=5) as answer:
                     state = json.load(answer)
                 break
             except OSError:
                 __import__("time").sleep(0.1)
-        assert state["names"] == ["square.svg", "star.svg"] and state["sequence"]["count"] == 13
+        assert state is not None and state["names"] == ["square.svg", "star.svg"] and state["sequence"]["count"] == 13
     finally:
         proc.terminate()
         proc.wait(timeout=30)
@@ -598,7 +599,7 @@ def test_a_long_solve_shows_progress_and_is_superseded(drawings, monkeypatch):
 
     def slow(source, target, frames, callback=None, **kwargs):
         if frames == 21:  # the superseded request: iterations until told to stop
-            for k in range(200):
+            for k in range(500):
                 time.sleep(0.02)
                 callback(k, 1.0, 0.1)
         return real(source, target, frames, callback=callback, **kwargs)
@@ -617,7 +618,7 @@ def test_a_long_solve_shows_progress_and_is_superseded(drawings, monkeypatch):
         answers = {}
         first = threading.Thread(target=lambda: answers.update(first=call("/api/options", {"frames": 21})))
         first.start()
-        for _ in range(200):
+        for _ in range(400):
             progress = call("/api/progress")
             if progress.get("iteration", 0) > 2:
                 break
@@ -625,7 +626,7 @@ def test_a_long_solve_shows_progress_and_is_superseded(drawings, monkeypatch):
         assert progress["stage"] == "morph" and progress["iteration"] > 2
         started = time.perf_counter()
         assert call("/api/state")["sequence"]["count"] == 13  # still answering, the old morph kept
-        assert time.perf_counter() - started < 2
+        assert time.perf_counter() - started < 5  # (not waiting for the solve: that runs for 10 s)
         second = call("/api/options", {"frames": 9})
         first.join(timeout=30)
         assert answers["first"]["superseded"] is True and second["sequence"]["count"] == 9
