@@ -5,7 +5,7 @@ Pipeline: correspondence (compatibility, resampling, meshing) -> initialisation
 outputs (metrics, files, rendering); docs/architecture.md maps it onto the modules.
 """
 
-from . import easing, io, metrics, times
+from . import easing, io, metrics, studio, times
 from .batch import batch
 from .compare import compare
 from .correspondence import check_compatible, correspond, mesh_pair, resample
@@ -26,6 +26,6 @@ __version__ = "0.1.0"
 __all__ = [
     "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "ShapeLike", "batch", "check_compatible", "compare",
     "correspond", "easing", "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "mesh_pair",
-    "metrics", "morph", "prepare_pair", "relative_velocity_field", "resample", "save", "save_sequence", "times",
-    "transfer", "write_output",
+    "metrics", "morph", "prepare_pair", "relative_velocity_field", "resample", "save", "save_sequence", "studio",
+    "times", "transfer", "write_output",
 ]

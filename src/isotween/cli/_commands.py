@@ -1,2 +1,2 @@
 """Imports every command module so that each registers itself on the group."""
-from . import batch, compare, demo, edit, info, interpolate, keyframes, prepare, render, transfer  # noqa: F401
+from . import batch, compare, demo, edit, info, interpolate, keyframes, prepare, render, studio, transfer  # noqa: F401
