@@ -22,6 +22,8 @@ __all__ = ["align", "GAIN", "MIN_TURN"]
 
 #: a rotation is used when its fit distance is below this fraction of the unrotated fit's
 GAIN = 0.5
+#: nor unless the unrotated fit is off by at least this fraction of the diagonal (a symmetric drawing stays put)
+VISIBLE = 0.005
 #: rotations below this angle (radians) count as none
 MIN_TURN = np.deg2rad(2.0)
 #: candidate rotations tried (correlation peaks of the dominant rings)
@@ -116,7 +118,8 @@ def align(items, frames):
         dist = _fit_distance(p, q, tree, lambda v, a=a, b=b: a * v + b)
         if dist < best and abs(np.angle(a)) >= MIN_TURN:
             best, best_a, best_b = dist, a, b
-    if best_a is None or not best < GAIN * plain:
+    diagonal = abs(complex(np.ptp(q.real), np.ptp(q.imag)))
+    if best_a is None or not best < GAIN * plain or plain < VISIBLE * diagonal:
         return frames, 1.0 + 0j
     turn = best_a / abs(best_a)
     scale = frames[0].scale

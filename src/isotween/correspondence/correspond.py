@@ -429,6 +429,12 @@ def _fill_slots(items, frames, slots, unmatched):
         else:
             present = {k: ([items[k][m].rings[0]], [items[k][m].paint[0]])
                        for k, m in enumerate(slot.members) if m is not None}
+            if slot.kind == "line":  # closed strokes paired with open ones are cut open
+                k_line = next(k for k, m in enumerate(slot.members) if m is not None and items[k][m].kind == "line")
+                start_point = items[k_line][slot.members[k_line]].rings[0][0]
+                for k, (rings, paint) in present.items():
+                    if items[k][slot.members[k]].kind == "ring":
+                        present[k] = ([_opened(rings[0], frames[k_line].to(frames[k], start_point))], paint)
         ref = min(present)
         ref_rings, ref_paint = present[ref]
         start = len(closed)
@@ -439,15 +445,39 @@ def _fill_slots(items, frames, slots, unmatched):
                 rings, paint = present[k]
             else:
                 tiny[k] += list(range(start, start + len(ref_rings)))
-                rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k], unmatched)
-                # the small copy is also transparent: the item fades in (out) as it grows (shrinks)
-                paint = [None if p is None else replace(p, opacity=0.0) for p in ref_paint]
+                strokes = [items[k][m].rings[0] for kk in range(len(slots)) if slots[kk].kind != "region"
+                           for m in [slots[kk].members[k]] if m is not None]
+                if slot.kind != "region" and strokes:
+                    # a stroke grows out of (shrinks into) the nearest stroke of the other drawing, drawn as it is
+                    rings = _grown_from(ref_rings, is_closed, frames[ref], frames[k], strokes)
+                    paint = list(ref_paint)
+                else:
+                    rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k], unmatched)
+                    # the small copy is also transparent: the item fades in (out) as it grows (shrinks)
+                    paint = [None if p is None else replace(p, opacity=0.0) for p in ref_paint]
             per_key[k] += rings
             paints[k] += paint
         closed += [is_closed] * len(ref_rings)
         layout.append((slot.kind, list(range(start, len(closed)))))
     paints = [None if any(p is None for p in key) else key for key in paints]
     return per_key, closed, paints, layout, tiny
+
+
+def _grown_from(rings, closed, f_from, f_to, strokes):
+    """Small copy of a stroke's rings at the point of ``strokes`` (the other drawing's) nearest its centroid."""
+    c = _regions.centroid(rings[0], closed)
+    at = f_from.to(f_to, c)
+    every = np.concatenate(strokes)
+    at = every[int(np.argmin(np.abs(every - at)))]
+    scaled = [at + (z - c) * f_from.factor(f_to) for z in rings]
+    return _regions.small_copy(scaled, closed, at)
+
+
+def _opened(ring, near):
+    """A closed ring as an open polyline from its vertex nearest ``near`` round to that vertex again."""
+    k = int(np.argmin(np.abs(ring - near)))
+    z = np.roll(ring, -k)
+    return np.append(z, z[0])
 
 
 def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched):

@@ -29,6 +29,8 @@ __all__ = ["Item", "Slot", "Frame", "TINY", "items_of", "frames_of", "plan", "wi
 TINY = 0.05
 
 _KINDS = ("region", "ring", "line")
+#: kinds paired with each other: filled regions; strokes (closed rings and open polylines)
+_GROUPS = (("region",), ("ring", "line"))
 
 
 class Item(NamedTuple):
@@ -344,15 +346,16 @@ def plan(items, frames, pairs=None):
     """
     K = len(items)
     slots = []
-    for kind in _KINDS:
-        closed = kind != "line"
-        own = [[i for i, it in enumerate(key) if it.kind == kind] for key in items]
+    for group in _GROUPS:
+        kind = group[0]
+        closed = kind == "region"  # the overlap of filled areas counts for regions only
+        own = [[i for i, it in enumerate(key) if it.kind in group] for key in items]
         kind_slots = [[i] + [None] * (K - 1) for i in own[0]]
         owner = [0] * len(kind_slots)
         for k in range(1, K):
             refs = [(s[o], o) for s, o in zip(kind_slots, owner, strict=False)]
-            feats_ref = [_features(items[o][i].rings, closed, frames[o]) for i, o in refs]
-            feats_k = [_features(items[k][i].rings, closed, frames[k]) for i in own[k]]
+            feats_ref = [_features(items[o][i].rings, items[o][i].kind != "line", frames[o]) for i, o in refs]
+            feats_k = [_features(items[k][i].rings, items[k][i].kind != "line", frames[k]) for i in own[k]]
             forced = []
             if kind == "region" and pairs:
                 n_regions = [len(own[0]), len(own[1])]
@@ -369,7 +372,9 @@ def plan(items, frames, pairs=None):
                     owner.append(k)
         for members in kind_slots:
             holes = _plan_holes(items, frames, members) if kind == "region" else []
-            slots.append(Slot(kind, members, holes))
+            kinds = {items[k][m].kind for k, m in enumerate(members) if m is not None}
+            # an open stroke paired with a closed one: both morph as open polylines
+            slots.append(Slot(kinds.pop() if len(kinds) == 1 else "line", members, holes))
     return slots
 
 

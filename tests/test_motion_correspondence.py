@@ -1,0 +1,163 @@
+"""Correspondence that finds the motion: known motions recovered with no options, exact ends, hints.
+
+Targets are the source drawing moved by a known motion and written with other
+point counts and other ring starts, so the right in-betweens are known.
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import isotween
+from isotween.errors import IncompatibleShapesError, ParameterError
+from isotween.metrics import flipped_faces
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def glyph_rings(char):
+    pytest.importorskip("matplotlib")
+    pytest.importorskip("shapely")
+    sys.path.insert(0, str(ROOT / "scripts"))
+    from build_examples import glyph as outline
+
+    rings = outline(char)
+    return [np.asarray(r, float) for r in (rings if isinstance(rings, list) else [rings])]
+
+
+def resampled(ring, n, start):
+    """The same closed polyline with n points uniform in arc length from another start (corners kept)."""
+    z = ring[:, 0] + 1j * ring[:, 1]
+    knots = np.append(z, z[0])
+    cum = np.r_[0, np.cumsum(np.abs(np.diff(knots)))]
+    s = np.sort(np.r_[cum[:-1], np.linspace(0, cum[-1], n, endpoint=False)])  # every corner and n more
+    s = np.unique(np.round(s, 12))
+    w = np.interp(s, cum, knots.real) + 1j * np.interp(s, cum, knots.imag)
+    w = np.roll(w, start)
+    return np.c_[w.real, w.imag]
+
+
+def moved(rings, turn_deg, scale=1.0, shift=(40.0, -7.0)):
+    a = scale * np.exp(1j * np.deg2rad(turn_deg))
+    out = []
+    for k, r in enumerate(rings):
+        z = r[:, 0] + 1j * r[:, 1]
+        w = a * z + complex(*shift)
+        out.append(resampled(np.c_[w.real, w.imag], 2 * len(r) + 7, 5 + 3 * k))
+    return out
+
+
+def similarity_residual(z0, z):
+    """Largest distance of z from the best similar copy of z0 (vertex for vertex), and that copy's factor."""
+    p, q = z0 - z0.mean(), z - z.mean()
+    a = np.vdot(p, q) / np.vdot(p, p)
+    return np.abs(q - a * p).max(), a
+
+
+@pytest.mark.parametrize("char,turn,scale", [("G", 90, 1.0), ("B", 150, 1.0), ("e", 40, 1.6)])
+def test_turned_glyph_moves_rigidly_with_no_options(char, turn, scale):
+    src_rings = glyph_rings(char)
+    src = isotween.Shape.from_polygon(src_rings)
+    tgt = isotween.Shape.from_polygon(moved(src_rings, turn, scale))
+    seq = isotween.morph(src, tgt, frames=9)
+    assert seq.method == "aiap" and "fallback" not in seq.info  # the paper's method, no fallback
+    assert flipped_faces(seq, None).tolist() == [0] * 9
+    diag = src.bbox_diagonal()
+    z0 = seq.frames[0, :, 0] + 1j * seq.frames[0, :, 1]
+    for k, t in enumerate(seq.times):
+        z = seq.frames[k, :, 0] + 1j * seq.frames[k, :, 1]
+        resid, a = similarity_residual(z0, z)
+        assert resid <= 0.01 * diag  # every in-between a similar copy of the source
+        assert abs(np.angle(a, deg=True) - t * turn) < 1.0  # turning at constant speed
+        assert abs(abs(a) - (1 + t * (scale - 1))) < 0.01 * scale
+
+
+def test_exact_ends_every_input_vertex_kept():
+    src_rings = glyph_rings("R")
+    src = isotween.Shape.from_polygon(src_rings)
+    tgt = isotween.Shape.from_polygon(moved(src_rings, 70))
+    a, b, _ = isotween.correspond(src, tgt)
+    for given, made in ((src, a), (tgt, b)):
+        gz, mz = given.z, made.z
+        # every input vertex is a vertex of the output, exactly
+        assert np.abs(gz[:, None] - mz[None, :]).min(axis=1).max() == 0.0
+
+
+def test_pieces_that_turn_together_turn_as_a_whole():
+    sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    rings = [sq, sq + [6, 1]]  # two separate squares
+    src = isotween.Shape.from_polygon(rings)
+    tgt = isotween.Shape.from_polygon(moved(rings, 150))
+    seq = isotween.morph(src, tgt, frames=7)
+    z0 = seq.frames[0, :, 0] + 1j * seq.frames[0, :, 1]
+    for k in range(7):
+        z = seq.frames[k, :, 0] + 1j * seq.frames[k, :, 1]
+        resid, _ = similarity_residual(z0, z)
+        assert resid <= 1e-3 * src.bbox_diagonal()  # the pair stays rigid: no piece cuts across
+
+
+def test_landmarks_are_honoured_and_bad_ones_named():
+    src_rings = glyph_rings("L")
+    src = isotween.Shape.from_polygon(src_rings)
+    tgt = isotween.Shape.from_polygon(moved(src_rings, 0, shift=(0, 0)))
+    p = src.vertices[0]
+    q = tgt.vertices[len(tgt.vertices) // 3]  # a point the automatic match would not give
+    a, b, _ = isotween.correspond(src, tgt, landmarks=[(p, q)])
+    i = int(np.argmin(np.hypot(*(a.vertices - p).T)))
+    assert np.hypot(*(b.vertices[i] - q)) < 1e-9 * src.bbox_diagonal()
+    with pytest.raises(ParameterError, match="landmark 0: the source point .* not on the drawing"):
+        isotween.correspond(src, tgt, landmarks=[((1e4, 1e4), q)])
+    with pytest.raises(ParameterError, match="landmarks must be"):
+        isotween.correspond(src, tgt, landmarks=[(1, 2)])
+    with pytest.raises(IncompatibleShapesError, match="different order"):
+        n = len(tgt.vertices)
+        isotween.correspond(src, tgt, landmarks=[(src.vertices[0], tgt.vertices[0]),
+                                                 (src.vertices[3], tgt.vertices[n // 2]),
+                                                 (src.vertices[5], tgt.vertices[n // 4])])
+
+
+def test_drawings_always_corresponded_and_the_policy_says_so(tmp_path):
+    pytest.importorskip("svgelements")
+    sq = '<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 H4 V4 H0 Z" fill="black"/></svg>'
+    turned = '<svg xmlns="http://www.w3.org/2000/svg"><path d="M4 0 V4 H0 V0 Z" fill="black"/></svg>'
+    (tmp_path / "a.svg").write_text(sq)
+    (tmp_path / "b.svg").write_text(turned)
+    # same point counts, other starts: a drawing's point order means nothing, so correspondence runs
+    prepared = isotween.prepare_pair(tmp_path / "a.svg", tmp_path / "b.svg")
+    assert prepared.report is not None and prepared.source.n_faces > 0
+    np.testing.assert_allclose(prepared.target.vertices - prepared.source.vertices, 0, atol=1e-9)  # no spin
+    kept = isotween.prepare_pair(tmp_path / "a.svg", tmp_path / "b.svg", correspondence="never")
+    assert kept.report is None and kept.source.n_vertices == 4
+    with pytest.raises(IncompatibleShapesError, match="not compatible"):
+        isotween.prepare_pair(np.eye(3)[:, :2], [[0, 0], [1, 0], [1, 1], [0, 1]], correspondence="never")
+    with pytest.raises(ParameterError, match="correspondence must be"):
+        isotween.prepare_pair(tmp_path / "a.svg", tmp_path / "b.svg", correspondence="sometimes")
+
+
+def test_a_hole_that_closes_leaves_no_speck():
+    outer = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    hole = np.array([[3, 3], [3, 7], [7, 7], [7, 3]], float)  # clockwise: a hole
+    src = isotween.Shape.from_polygon([outer, hole])
+    tgt = isotween.Shape.from_polygon([outer + [20, 0]])
+    seq = isotween.morph(src, tgt, frames=5)
+    shape = seq.shape
+    last = seq.frames[-1, :, 0] + 1j * seq.frames[-1, :, 1]
+    areas = [abs(np.sum((np.conj(r) * np.roll(r, -1)).imag)) / 2 for r in (last[idx] for idx, _ in shape.paths)]
+    assert sorted(areas)[0] < 1e-12 and sorted(areas)[1] == pytest.approx(100.0)  # the hole is a point at the end
+    first = seq.frames[0, :, 0] + 1j * seq.frames[0, :, 1]
+    assert sorted(abs(np.sum((np.conj(r) * np.roll(r, -1)).imag)) / 2
+                  for r in (first[idx] for idx, _ in shape.paths)) == pytest.approx([16.0, 100.0])
+
+
+def test_open_and_closed_strokes_morph_as_strokes():
+    zig = isotween.Shape.from_polyline([[0, 0], [1, 2], [2, 0], [3, 2], [4, 0]])
+    theta = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    circle = isotween.Shape.from_paths([np.c_[2 + 2 * np.cos(theta), 1 + 2 * np.sin(theta)]], closed=True,
+                                       regions=[])  # a closed stroke, not a filled region
+    a, b, report = isotween.correspond(zig, circle)
+    assert report.lines == {"paired": 1, "grown": 0, "shrunk": 0}  # one stroke, not a cross-fade
+    assert len(a.paths) == 1 and not a.paths[0][1]
+    idx = a.paths[0][0]
+    assert np.allclose(b.vertices[idx[0]], b.vertices[idx[-1]])  # the circle, cut open, closes at the end
