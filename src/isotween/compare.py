@@ -16,7 +16,6 @@ from typing import TYPE_CHECKING
 
 from . import metrics
 from .baselines import METHODS as BASELINES
-from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError, ParameterError, require
 from .interpolate import interpolate
 from .io import atomic_dir
@@ -37,14 +36,14 @@ COLUMNS = ("method", "status", "edge_length_deviation", "area_deviation", "flipp
 
 
 def compare(source: ShapeLike, target: ShapeLike, methods: Iterable[str] = METHODS, frames: int = 9,
-            report_dir: str | PathLike | None = None, columns: int = 12,
+            report_dir: str | PathLike | None = None, columns: int = 12, correspondence: str = "auto",
             **options: Any) -> list[dict]:
     """Interpolate with several methods and measure each with the same metrics.
 
     Parameters
     ----------
-    source, target : Shape
-        Same vertex count and connectivity.
+    source, target : Shape, (n, 2) array_like, or path
+        Any two inputs: made compatible first as `isotween.prepare_pair` does.
     methods : sequence of str
         Any of :data:`METHODS`.
     frames : int
@@ -55,6 +54,8 @@ def compare(source: ShapeLike, target: ShapeLike, methods: Iterable[str] = METHO
     columns : int
         Most frames shown per method in ``methods.png``: every frame when
         they fit, else evenly spaced ones (`isotween.render.compared_frames`).
+    correspondence : {'auto', 'always', 'never'}
+        See `isotween.prepare_pair`.
     **options
         Passed to :func:`isotween.interpolate` (``tol``, ``max_iter``, ...).
 
@@ -87,8 +88,10 @@ def compare(source: ShapeLike, target: ShapeLike, methods: Iterable[str] = METHO
     if unknown or not methods or len(set(methods)) < len(methods):
         raise ParameterError(
             f"methods must be distinct names among {', '.join(METHODS)}; got {', '.join(methods) or 'none'}")
-    source, target = as_shape(source, "source"), as_shape(target, "target")
-    check_compatible(source, target)
+    from .pipeline import prepare_pair
+
+    prepared = prepare_pair(source, target, correspondence=correspondence)
+    source, target = prepared.source, prepared.target
     rows, sequences = [], {}
     for method in methods:
         try:

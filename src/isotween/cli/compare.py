@@ -4,7 +4,7 @@ import click
 
 from ..errors import ParameterError
 from . import main
-from .options import ensure_compatible, frames_option, timer
+from .options import frames_option, timer
 
 
 @main.command("compare")
@@ -28,8 +28,6 @@ def compare_command(source, target, example, methods, frames, tol, max_iter, rep
     polygons) is listed as skipped with the reason; the others still run.
     """
     from ..compare import compare, table_markdown
-    from ..io import load
-
     elapsed = timer()
     if example is not None:
         if source or target:
@@ -38,8 +36,12 @@ def compare_command(source, target, example, methods, frames, tol, max_iter, rep
 
         src, tgt, _ = load_example(example)
     elif source and target:
-        src, tgt = load(source), load(target)
-        ensure_compatible(src, tgt, source, target)
+        from ..pipeline import prepare_pair
+
+        prepared = prepare_pair(source, target)
+        if prepared.report is not None:
+            click.echo(prepared.summary())
+        src, tgt = prepared.source, prepared.target
     else:
         raise ParameterError("compare needs SOURCE and TARGET files, or --example NAME (see isotween demo --list)")
     names = [m.strip() for m in methods.split(",") if m.strip()]

@@ -335,9 +335,9 @@ def ensure_compatible(source, target, source_path, target_path):
         check_compatible(source, target, names=[str(source_path), str(target_path)])
     except IncompatibleShapesError as exc:
         raise IncompatibleShapesError(
-            f"{source_path} and {target_path} are not compatible: {exc}. Make them compatible first, "
-            f"e.g. `isotween prepare {source_path} {target_path} --resample N` "
-            "(same vertex count N and connectivity for both)"
+            f"{source_path} and {target_path} are not compatible: {exc}. Let correspondence run "
+            "(--correspondence auto, the default), or make them compatible first with "
+            f"`isotween prepare {source_path} {target_path} --points N -o DIR`"
         ) from None
 
 

@@ -70,7 +70,7 @@ def check_compatible(*shapes: Shape, names: Sequence[str] | None = None,
         if s.n_vertices != ref.n_vertices:
             raise IncompatibleShapesError(
                 f"{names[0]} has {ref.n_vertices} vertices but {name} has {s.n_vertices}; "
-                "resample the outlines to a common count (isotween.resample / --resample N)"
+                "put them in correspondence first (isotween.morph(source, target) or isotween.correspond)"
             )
         if s.n_edges != ref.n_edges:
             raise IncompatibleShapesError(
