@@ -15,6 +15,7 @@ import math
 from typing import TYPE_CHECKING
 
 from . import metrics
+from ._callable import make_callable
 from .baselines import METHODS as BASELINES
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError, ParameterError, require
@@ -142,3 +143,7 @@ def write_report(report_dir, rows, sequences, columns=12):
         if sequences:
             render.write_methods_figure(sequences, tmp / "methods.png", columns)
             render.write_metrics_figure(sequences, tmp / "metrics.png")
+
+
+# `isotween.compare(...)` calls `compare`; `import isotween.compare` still gives this module
+make_callable(__name__)

@@ -2,7 +2,7 @@
 
 Use as decorators on a click command::
 
-    @main.command("interpolate")
+    @click.command("interpolate")
     @frames_option
     @solver_options
     @output_options

@@ -6,10 +6,37 @@ pair; `resample` gives two sets of outlines common point counts; `mesh_pair`
 triangulates an outline pair into compatible meshes.
 """
 
+import importlib
+from typing import TYPE_CHECKING
+
+# names that are also submodules are bound here: importing the submodule would otherwise
+# replace a lazy name on the package (these modules need only numpy)
 from .compatibility import check_compatible
 from .correspond import Correspondence, CorrespondenceReport, correspond, correspond_keys
-from .meshing import MeshPair, mesh_pair
 from .resample import resample
+
+#: public name -> submodule that defines it, imported on first use (PEP 562): the meshers
+#: (scipy.sparse.linalg, shapely) load only when a pair is meshed
+_NAMES = {
+    "MeshPair": "meshing",
+    "mesh_pair": "meshing",
+}
 
 __all__ = ["Correspondence", "CorrespondenceReport", "MeshPair", "check_compatible", "correspond",
            "correspond_keys", "mesh_pair", "resample"]
+
+if TYPE_CHECKING:
+    from .meshing import MeshPair, mesh_pair
+
+
+def __getattr__(name):
+    """Load a public name on first use and keep it in the package's namespace."""
+    if name not in _NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{_NAMES[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_NAMES))

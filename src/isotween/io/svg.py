@@ -23,8 +23,8 @@ from xml.parsers import expat
 
 import numpy as np
 
-from ..correspondence.regions import fill_regions
 from ..errors import FileFormatError, ParameterError, ShapeError, require
+from ..geometry import fill_regions
 from ..paint import Paint, paint_groups, svg_paint_attributes
 from ..resources import check_memory
 from ..shape import MAX_COORDINATE, Shape
