@@ -66,14 +66,19 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and editors
 
 
 def __getattr__(name):
-    """Load a public name or submodule on first use (PEP 562) and keep it in the package's namespace."""
-    if name in _SUBMODULES:
-        value = importlib.import_module(f".{name}", __name__)
-    elif name in _NAMES:
+    """Load a public name or a submodule on first use (PEP 562) and keep it in the package's namespace."""
+    if name in _NAMES:
         module = importlib.import_module(_NAMES[name], __name__)
         value = module if module.__name__ == f"{__name__}.{name}" else getattr(module, name)
-    else:
+    elif name.startswith("__"):
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    else:  # a submodule: the public ones in _SUBMODULES, and the others as `import isotween.NAME` gives them
+        try:
+            value = importlib.import_module(f".{name}", __name__)
+        except ModuleNotFoundError as exc:
+            if exc.name != f"{__name__}.{name}":
+                raise
+            raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
     globals()[name] = value
     return value
 
