@@ -56,6 +56,7 @@ def test_serial_batch_equals_interpolate(pairs, tmp_path):
         np.testing.assert_array_equal(got.frames, expected.frames)
 
 
+@pytest.mark.slow
 def test_processes_and_dask_equal_serial_and_bad_job_is_reported(pairs, tmp_path):
     distributed = pytest.importorskip("distributed")
     folder, names = pairs
