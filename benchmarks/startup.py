@@ -23,6 +23,7 @@ Run: ``PYTHONPATH=src python benchmarks/startup.py [--runs 7] [--baseline /tmp/b
 import argparse
 import os
 import re
+import resource
 import statistics
 import subprocess
 import sys
@@ -38,19 +39,19 @@ CIRCLE = ('<svg xmlns="http://www.w3.org/2000/svg" width="16" height="16" fill="
           '<circle cx="8" cy="8" r="8"/></svg>\n')
 
 #: in a fresh process: numba imported and the kernels a small morph calls loaded (or compiled), then the same
-#: morph again; prints the seconds of the first and of the second
+#: morph again; prints the wall and CPU seconds of the first and of the second
 KERNELS = """
 import time
 import numpy as np
 import isotween
 from isotween.optimisation import backend
 ring = isotween.Shape.from_polygon(np.c_[np.cos(np.arange(12) / 2), np.sin(np.arange(12) / 2)])
-t0 = time.perf_counter()
+t0, c0 = time.perf_counter(), time.process_time()
 isotween.interpolate(ring, ring.rotate(1.0), frames=5)
-t1 = time.perf_counter()
+t1, c1 = time.perf_counter(), time.process_time()
 isotween.interpolate(ring, ring.rotate(1.0), frames=5)
-t2 = time.perf_counter()
-print(backend.current().name, t1 - t0, t2 - t1)
+t2, c2 = time.perf_counter(), time.process_time()
+print(backend.current().name, t1 - t0, c1 - c0, t2 - t1, c2 - c1)
 """
 
 
@@ -67,16 +68,23 @@ def _cli(src):
     return [str(script)] if script.exists() else [sys.executable, "-m", "isotween"]
 
 
+def _cpu():
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def _seconds(cmd, src, cwd, **env):
-    t0 = time.perf_counter()
+    """Wall and CPU (user + system) seconds of one fresh process running ``cmd``."""
+    t0, c0 = time.perf_counter(), _cpu()
     subprocess.run(cmd, env=_env(src, **env), cwd=cwd, check=True, stdout=subprocess.DEVNULL,
                    stderr=subprocess.DEVNULL)
-    return time.perf_counter() - t0
+    return time.perf_counter() - t0, _cpu() - c0
 
 
 def _median(cmd, src, cwd, runs, **env):
     _seconds(cmd, src, cwd, **env)  # warm the file cache and the byte code
-    return statistics.median(_seconds(cmd, src, cwd, **env) for _ in range(runs))
+    wall, cpu = zip(*(_seconds(cmd, src, cwd, **env) for _ in range(runs)), strict=True)
+    return statistics.median(wall), statistics.median(cpu)
 
 
 def _import_seconds(args, src, cwd):
@@ -99,8 +107,9 @@ def _clear_numba_cache(src):
 def _kernels(src, cwd):
     out = subprocess.run([sys.executable, "-c", KERNELS], env=_env(src), cwd=cwd, check=True,
                          capture_output=True, text=True)
-    name, first, second = out.stdout.split()
-    return name, float(first), float(second)
+    name, *numbers = out.stdout.split()
+    first_wall, first_cpu, second_wall, second_cpu = map(float, numbers)
+    return name, (first_wall, first_cpu), (second_wall, second_cpu)
 
 
 def measure(src, cwd, runs):
@@ -118,7 +127,7 @@ def measure(src, cwd, runs):
     out["isotween --help"] = _median([*cli, "--help"], src, cwd, runs)
     out["isotween interpolate A.svg B.svg -o out.npz"] = _median(interpolate, src, cwd, runs)
     out["  of which importing (-X importtime, numba's imports at the first kernel call included)"] = \
-        statistics.median(_import_seconds(args, src, cwd) for _ in range(3))
+        statistics.median(_import_seconds(args, src, cwd) for _ in range(3)), None
     out["  the same with ISOTWEEN_NUMBA=0 (numpy backend, no numba)"] = _median(interpolate, src, cwd, runs,
                                                                               ISOTWEEN_NUMBA="0")
     name, first, second = _kernels(src, cwd)
@@ -141,13 +150,17 @@ def main():
         Path(tmp, "B.svg").write_text(CIRCLE)
         after = measure(src, tmp, args.runs)
         before = measure(args.baseline, tmp, args.runs) if args.baseline else None
-    header = ["fresh process", "seconds"] + (["before (baseline)"] if before else [])
-    rows = [[name, f"{s:.3f}"] + ([f"{before[name]:.3f}"] if before else []) for name, s in after.items()]
+    def cells(wall, cpu):
+        return [f"{wall:.3f}", "" if cpu is None else f"{cpu:.3f}"]
+
+    header = ["fresh process", "wall s", "CPU s"] + (["wall s before", "CPU s before"] if before else [])
+    rows = [[name, *cells(*s)] + (cells(*before[name]) if before else []) for name, s in after.items()]
     text = table(header, rows)
     print(text)
     if not args.no_write:
         load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
-        body = (f"Load average at the end of the run: {load} (the numbers grow with it). "
+        body = (f"Load average at the end of the run: {load}; wall times grow with it, CPU times (user + system "
+                "of the process and its children) much less. "
                 f"Median of {args.runs} fresh processes (one run for the first after install, which compiles "
                 "the numba kernels a morph calls; numba's cache under the package removed first). A and B: a "
                 "rounded square and a circle, 16 px filled icons (benchmarks/startup.py writes them). Targets "

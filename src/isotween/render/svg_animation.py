@@ -107,6 +107,11 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
     background : matplotlib colour, optional
         Fills the view box; transparent when None.
 
+    Returns
+    -------
+    str
+        The SVG document (what `write_svg_animation` writes; the HTML page embeds it).
+
     Notes
     -----
     A sequence with paint (`isotween.paint.sequence_paint`) draws one path
