@@ -140,6 +140,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=7, help="fresh processes per median [7]")
     parser.add_argument("--baseline", type=Path, help="another checkout's src folder, timed in a second column")
+    parser.add_argument("--baseline-name", default=None, help="what the baseline is, for RESULTS.md (a commit)")
     parser.add_argument("--no-write", action="store_true", help="print only; leave RESULTS.md alone")
     args = parser.parse_args()
     import isotween
@@ -166,7 +167,10 @@ def main():
                 "rounded square and a circle, 16 px filled icons (benchmarks/startup.py writes them). Targets "
                 "(issue 21): `import isotween` at most 0.2 s, the interpolate command at most 0.5 s.\n\n" + text)
         if before:
-            body += f"\n\nbefore: the same commands on {args.baseline}."
+            body += f"\n\nbefore: the same commands on {args.baseline_name or args.baseline}."
+        body += ("\n\nThe interpolate command's CPU time is mostly the work (meshing, solve) and numba's first "
+                 "kernel call in the process; the ISOTWEEN_NUMBA=0 row shows what loading numba costs on a pair "
+                 "this small.")
         write_section("Start-up", body, "PYTHONPATH=src python benchmarks/startup.py" +
                       (f" --baseline {args.baseline}" if args.baseline else ""))
 
