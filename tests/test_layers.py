@@ -206,6 +206,13 @@ def test_cli_command_loads_only_its_module():
     assert not {"matplotlib", "svgelements", "numba", "PIL"} & loaded
 
 
+def test_cli_render_loads_no_solver():
+    loaded = _loaded_after("from isotween.cli import main; main(['render', '--help'])")
+    solver = sorted(m for m in loaded if m.startswith(("isotween.optimisation", "isotween.interpolate",
+                                                       "isotween.baselines", "scipy.sparse.linalg", "numba")))
+    assert not solver, f"isotween render imports {solver}"
+
+
 def test_cli_summaries_match_the_commands():
     import click.utils
 
