@@ -119,6 +119,13 @@ def run(method, source, target, n_frames, *, times=None, **options):
     return result.sequence(problem.shape, problem.times, method=method)
 
 
+def __getattr__(name):
+    """A method's module (``isotween.baselines.convex``, ...), imported on first use."""
+    if name in _MODULES.values():
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 def _accepted(module, options):
     """The options a method's module names in ``OPTIONS``."""
     names = getattr(module, "OPTIONS", ())

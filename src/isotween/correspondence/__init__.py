@@ -30,10 +30,13 @@ if TYPE_CHECKING:
 
 
 def __getattr__(name):
-    """Load a public name on first use and keep it in the package's namespace."""
-    if name not in _NAMES:
+    """Load a public name, or a submodule (``meshing``, ``compatible_mesh``), on first use."""
+    if name in _NAMES:
+        value = getattr(importlib.import_module(f".{_NAMES[name]}", __name__), name)
+    elif name in ("meshing", "compatible_mesh"):
+        value = importlib.import_module(f".{name}", __name__)
+    else:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_NAMES[name]}", __name__), name)
     globals()[name] = value
     return value
 
