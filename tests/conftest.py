@@ -12,6 +12,13 @@ from isotween import Shape, interpolate
 from shapes import bend, ellipse, grid_mesh
 
 
+def pytest_collection_modifyitems(config, items):
+    """Every test that uses the ``browser`` fixture carries the ``browser`` marker (``-m "not browser"``)."""
+    for item in items:
+        if "browser" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.browser)
+
+
 @pytest.fixture(scope="session")
 def bent_bar():
     """A real AIAP sequence: a triangulated bar bending by 90 degrees, 7 frames."""

@@ -134,6 +134,7 @@ def test_hard_cases_have_no_flipped_triangle(case):
     assert info["min_angle_source"] > 0 and info["min_angle_target"] > 0
 
 
+@pytest.mark.slow
 def test_random_star_polygons_never_flip():
     rng = np.random.default_rng(7)
     overlays = [0, 0]

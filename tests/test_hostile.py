@@ -564,6 +564,7 @@ def _wait_for(condition, timeout):
     return False
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("stage", ["solve", "render"])
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_signal_keeps_the_old_output(files, tmp_path, stage, sig):

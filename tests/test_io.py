@@ -71,9 +71,8 @@ def test_outline_round_trip_is_exact(tmp_path, ext):
     shape = path_shape()
     io.save(shape, tmp_path / f"s{ext}")
     back = io.load(tmp_path / f"s{ext}")
-    if ext == ".svg":  # SVG is y-down: a y-up shape is written upright, as (x, -y)
-        assert back.y_down
-        back = back.with_vertices(back.vertices * [1, -1])
+    # SVG is y-down: a y-up shape is written upright, as (x, -y), marked so, and negated back on reading
+    assert not back.y_down
     assert_same_shape(back, shape)
 
 
@@ -92,7 +91,7 @@ def test_svg_writes_mesh_edges_as_a_drawing(tmp_path):
     shape = mesh_shape()
     io.save(shape, tmp_path / "m.svg")
     back = io.load(tmp_path / "m.svg")
-    back = back.with_vertices(back.vertices * [1, -1])  # y-up mesh, written upright
+    assert not back.y_down  # y-up mesh, written upright and read back as it was
     # every edge of the mesh is drawn: the segments read back are the same set
     def seg(s):
         return {tuple(sorted(map(tuple, s.vertices[e].round(12).tolist()))) for e in s.edges}
@@ -417,9 +416,7 @@ def test_frame_folder_round_trip(tmp_path, fmt):
     files = io.write_frames(seq, tmp_path / "frames", format=fmt)
     assert [f.name for f in files] == [f"frame_{k:04d}.{fmt}" for k in range(4)]
     back = io.load_sequence(tmp_path / "frames")
-    if fmt == "svg":  # y-up frames are written upright and read back as y-down (x, -y)
-        assert back.shape.y_down
-        back = Sequence(back.frames * [1, -1], back.shape.with_vertices(back.shape.vertices * [1, -1]))
+    assert not back.shape.y_down  # y-up frames, in SVG written upright and read back as they were
     np.testing.assert_array_equal(back.frames, seq.frames)
     assert_same_shape(back.shape, seq.shape)
 
@@ -463,7 +460,7 @@ def test_write_output_dispatches_on_the_name(tmp_path):
     np.testing.assert_array_equal(io.load_sequence(tmp_path / "s.npz").frames, seq.frames)
     written = isotween.write_output(seq, tmp_path / "frames", format="svg")
     assert [p.name for p in written] == ["frame_0000.svg", "frame_0001.svg", "frame_0002.svg"]
-    np.testing.assert_array_equal(io.load_sequence(tmp_path / "frames").frames, seq.frames * [1, -1])  # upright
+    np.testing.assert_array_equal(io.load_sequence(tmp_path / "frames").frames, seq.frames)  # as written
     written = isotween.write_output(seq, tmp_path / "plain")  # no extension: a folder of OBJ frames
     assert written[0].name == "frame_0000.obj"
 

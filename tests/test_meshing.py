@@ -154,10 +154,15 @@ def test_open_or_incompatible_outlines(washer):
 
 
 # ---------------------------------------------------------------- command line
+def _drawn(shape):
+    """The y-down shape an SVG file shows for a y-up ``shape``: (x, -y)."""
+    return Shape(shape.vertices * [1, -1] + 0.0, shape.edges, paths=shape.paths, y_down=True)
+
+
 def svg_pair(tmp_path):
-    """Two outlines with holes and different point counts, as SVG files."""
-    io.save(Shape.from_polygon([ellipse(70, 3, 2), ellipse(20, 0.8, 0.8, reverse=True)]), tmp_path / "a.svg")
-    io.save(Shape.from_polygon([ellipse(45, 2, 3, 1j), ellipse(33, 0.5, 1, 1.2j, reverse=True)]),
+    """Two outlines with holes and different point counts, as plain (y-down) SVG files."""
+    io.save(_drawn(Shape.from_polygon([ellipse(70, 3, 2), ellipse(20, 0.8, 0.8, reverse=True)])), tmp_path / "a.svg")
+    io.save(_drawn(Shape.from_polygon([ellipse(45, 2, 3, 1j), ellipse(33, 0.5, 1, 1.2j, reverse=True)])),
             tmp_path / "b.svg")
     return tmp_path / "a.svg", tmp_path / "b.svg"
 
@@ -172,9 +177,9 @@ def test_cli_mesh_on_the_fly_matches_prepare(tmp_path):
     expected = mesh_pair(*outlines)
     np.testing.assert_array_equal(src.faces, expected.source.faces)
     assert expected.source.y_down and expected.target.y_down  # drawn like the SVG files
-    # OBJ is y-up: the y-down meshes are written with y negated, so they are drawn the same way
-    np.testing.assert_array_equal(tgt.vertices, expected.target.vertices * [1, -1])
-    assert not tgt.y_down
+    # OBJ is y-up: the y-down meshes are written with y negated (drawn the same way) and read back y-down
+    np.testing.assert_array_equal(tgt.vertices, expected.target.vertices)
+    assert tgt.y_down
     result = run(main, ["interpolate", str(a), str(b), "--resample", "80", "--mesh", "-n", "5",
                         "-o", str(tmp_path / "s.npz"), "-q"])
     assert result.exit_code == 0, result.output

@@ -5,6 +5,7 @@ import pytest
 
 from browser import screenshot
 from isotween import Sequence, Shape, io
+from isotween.io._mesh import Y_DOWN_NOTE
 from isotween.render import write_frame_png
 
 UP = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, 2.0]])  # y-up: apex on top
@@ -35,15 +36,22 @@ def test_static_svg_of_a_y_up_shape_reads_back_as_the_same_drawing(tmp_path):
     shape = Shape.from_polygon(UP)
     io.save(shape, tmp_path / "t.svg")
     back = io.load(tmp_path / "t.svg")
-    assert back.y_down
-    np.testing.assert_array_equal(back.vertices, UP * [1, -1])  # exact: (x, -y), y-down
+    # written upright as (x, -y) and marked so: it reads back exactly as the y-up shape it was
+    assert not back.y_down
+    np.testing.assert_array_equal(back.vertices, UP)
     np.testing.assert_array_equal(back.edges, shape.edges)
     # drawn by isotween, both are the same picture (the file's default stroke paint set aside)
-    plain = Shape(back.vertices, back.edges, paths=back.paths, y_down=True)
+    plain = Shape(back.vertices, back.edges, paths=back.paths)
     assert same_picture(png(plain, tmp_path / "b.png"), png(shape, tmp_path / "a.png"))
+    # the file holds the upright drawing: without the mark it reads as the y-down shape (x, -y)
+    unmarked = tmp_path / "u.svg"
+    unmarked.write_text((tmp_path / "t.svg").read_text().replace(' data-isotween-y="up"', ""))
+    drawn = io.load(unmarked)
+    assert drawn.y_down
+    np.testing.assert_array_equal(drawn.vertices, UP * [1, -1])
     # a y-down shape is written as it is and reads back exactly
-    io.save(back, tmp_path / "d.svg")
-    np.testing.assert_array_equal(io.load(tmp_path / "d.svg").vertices, back.vertices)
+    io.save(drawn, tmp_path / "d.svg")
+    np.testing.assert_array_equal(io.load(tmp_path / "d.svg").vertices, drawn.vertices)
 
 
 @pytest.mark.parametrize("ext", [".obj", ".off"])
@@ -52,9 +60,17 @@ def test_y_down_shape_in_obj_and_off_keeps_its_look(tmp_path, ext):
     down = Shape(down.vertices, down.edges, paths=down.paths, y_down=True)
     io.save(down, tmp_path / f"s{ext}")
     back = io.load(tmp_path / f"s{ext}")
-    assert not back.y_down
-    np.testing.assert_array_equal(back.vertices, UP)
+    # written with y negated and a note saying so: it reads back exactly as the y-down shape it was
+    assert back.y_down
+    np.testing.assert_array_equal(back.vertices, down.vertices)
     assert same_picture(png(back, tmp_path / "b.png"), png(down, tmp_path / "a.png"))
+    # the file holds the upright shape: a reader that ignores the note sees it y-up, drawn the same way
+    plain = tmp_path / f"plain{ext}"
+    plain.write_text((tmp_path / f"s{ext}").read_text().replace(Y_DOWN_NOTE, "#"))
+    upright = io.load(plain)
+    assert not upright.y_down
+    np.testing.assert_array_equal(upright.vertices, UP)
+    assert same_picture(png(upright, tmp_path / "c.png"), png(down, tmp_path / "a.png"))
 
 
 def test_prepare_output_draws_like_the_svg_inputs(tmp_path):

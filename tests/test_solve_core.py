@@ -145,7 +145,7 @@ def test_use_switches_the_backend_and_back():
                                     "isotween.transfer", "isotween.optimisation.solve"])
 def test_no_import_cycle(module):
     """Each module imports first in a fresh interpreter, and interpolate reaches baselines at module level."""
-    code = (f"import importlib, sys; importlib.import_module({module!r}); "
+    code = (f"import importlib, sys; importlib.import_module({module!r}); import isotween.interpolate; "
             "m = sys.modules['isotween.interpolate']; import isotween.baselines as b; assert m.baselines is b")
     subprocess.run([sys.executable, "-c", code], env={"PYTHONPATH": str(SRC.parent), "PATH": ""}, check=True)
 

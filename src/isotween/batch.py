@@ -21,6 +21,7 @@ import os
 import time
 from pathlib import Path
 
+from ._callable import make_callable
 from .errors import FileFormatError, ParameterError
 
 __all__ = ["batch", "read_manifest", "run_job", "run_jobs", "run_jobs_one_thread", "single_threaded",
@@ -557,3 +558,7 @@ def _prepare(job, outdir):
         return {**failed, "key": prepared["key"],
                 "error": f"FileFormatError: cannot create {out.parent}: {exc.strerror or exc}"}
     return prepared
+
+
+# `isotween.batch(...)` calls `batch`; `import isotween.batch` still gives this module
+make_callable(__name__)

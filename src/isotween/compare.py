@@ -15,6 +15,7 @@ import math
 from typing import TYPE_CHECKING
 
 from . import metrics
+from ._callable import make_callable
 from .baselines import METHODS as BASELINES
 from .errors import MethodError, ParameterError, require
 from .interpolate import interpolate
@@ -145,3 +146,7 @@ def write_report(report_dir, rows, sequences, columns=12):
         if sequences:
             render.write_methods_figure(sequences, tmp / "methods.png", columns)
             render.write_metrics_figure(sequences, tmp / "metrics.png")
+
+
+# `isotween.compare(...)` calls `compare`; `import isotween.compare` still gives this module
+make_callable(__name__)

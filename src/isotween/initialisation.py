@@ -2,8 +2,6 @@
 
 import numpy as np
 
-from .optimisation import backend, reference
-
 __all__ = ["INITIALISERS", "edge_rotations", "edge_vector_init", "linear_init"]
 
 INITIALISERS = ("edge", "linear")
@@ -34,6 +32,8 @@ def edge_rotations(shape, e0, e1):
     if shape.n_edges == 0:
         ratio = np.asarray(e1) / np.asarray(e0)
         return np.abs(ratio), np.angle(ratio)
+    from .optimisation import reference
+
     return reference.edge_angles(shape.topology, e0, e1)
 
 
@@ -52,6 +52,8 @@ def edge_vector_init(shape, e0, e1, t):
     -------
     (E, F) complex
     """
+    from .optimisation import backend  # the solver's kernels: imported by the first solve, not by the CLI's options
+
     return backend.current().edge_init(shape.topology, e0, e1, np.asarray(t, dtype=float))
 
 

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from . import baselines
+from ._callable import make_callable
 from ._heap import keep_heap_if_asked
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError
@@ -196,3 +197,7 @@ def _fallback(seq, source, target, t, options):
         free.info["fallback"] = f"{folded}; replaced by the fold-free convex morph (injective failed: {exc})"
     free.timings["total"] = free.timings.get("total", 0.0) + seq.timings.get("total", 0.0)
     return free
+
+
+# `isotween.interpolate(...)` calls `interpolate`; `import isotween.interpolate` still gives this module
+make_callable(__name__)

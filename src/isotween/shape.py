@@ -11,8 +11,6 @@ from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from .errors import ParameterError, ShapeError
 
@@ -252,6 +250,9 @@ class Shape:
         self.paths = None if paths is None else _as_paths(paths, n)
         self.y_down = bool(y_down)
         self.regions, self.paint = _check_regions_paint(self.paths, regions, paint)
+        from scipy.sparse import coo_matrix  # here: scipy.sparse takes 0.1 s to import
+        from scipy.sparse.csgraph import connected_components
+
         graph = coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n, n))
         self.n_components, self.components = connected_components(graph, directed=False)
         self._freeze()

@@ -6,6 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ._callable import make_callable
 from .correspondence.compatibility import as_shape, check_compatible
 from .interpolate import interpolate
 from .metrics import isometric_energy
@@ -120,3 +121,7 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     out = done.sequence(target_start, problem.times, method="transfer", scheme=seq.scheme, info={"source": seq})
     out.energy = [isometric_energy(out)]  # of the frames returned, not of the source run
     return out
+
+
+# `isotween.transfer(...)` calls `transfer`; `import isotween.transfer` still gives this module
+make_callable(__name__)

@@ -29,27 +29,25 @@ method         what is blended                              needs
 =============  ===========================================  ==================
 """
 
+import importlib
 import time
 
 import numpy as np
 
-from ..correspondence.compatibility import as_shape, check_compatible
 from ..errors import MethodError
-from ..problems import check_stopping, keyed_problem
 from ..times import frame_times
-from . import arap, arap_baxter, convex, injective, intrinsic, linear, shapespace
 
 __all__ = ["METHODS", "run"]
 
-#: method name -> module with ``solve(problem, **options) -> Result``
+#: method name -> module with ``solve(problem, **options) -> Result``, imported when the method runs
 _MODULES = {
-    "linear": linear,
-    "intrinsic": intrinsic,
-    "arap": arap,
-    "arap-baxter": arap_baxter,
-    "shapespace": shapespace,
-    "convex": convex,
-    "injective": injective,
+    "linear": "linear",
+    "intrinsic": "intrinsic",
+    "arap": "arap",
+    "arap-baxter": "arap_baxter",
+    "shapespace": "shapespace",
+    "convex": "convex",
+    "injective": "injective",
 }
 METHODS = tuple(_MODULES)
 
@@ -99,6 +97,9 @@ def run(method, source, target, n_frames, *, times=None, **options):
     >>> seq.method, seq.frames[1].tolist()
     ('linear', [[1.0, 0.0], [2.0, 0.0]])
     """
+    from ..correspondence.compatibility import as_shape, check_compatible
+    from ..problems import check_stopping, keyed_problem
+
     if method not in _MODULES:
         raise MethodError(f"unknown method {method!r}; choose one of aiap, {', '.join(METHODS)}")
     start = time.perf_counter()
@@ -111,11 +112,18 @@ def run(method, source, target, n_frames, *, times=None, **options):
     check_stopping(options["tol"], options["max_iter"])
     problem = keyed_problem([source, target], t, np.array([0, len(t) - 1]), init=None, scheme="midpoint",
                             tol=options["tol"], max_iter=options["max_iter"])
-    module = _MODULES[method]
+    module = importlib.import_module(f".{_MODULES[method]}", __name__)
     result = module.solve(problem, **_accepted(module, options))
     total = time.perf_counter() - start
     result.timings = {"solve": total, "total": total}
     return result.sequence(problem.shape, problem.times, method=method)
+
+
+def __getattr__(name):
+    """A method's module (``isotween.baselines.convex``, ...), imported on first use."""
+    if name in _MODULES.values():
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _accepted(module, options):

@@ -1,6 +1,13 @@
-"""The ``isotween`` command line: one click group, one module per command."""
+"""The ``isotween`` command line: one click group, one module per command.
+
+Commands load lazily: the group lists them in `COMMANDS` and imports a
+command's module (``isotween.cli.NAME``, defining ``NAME_command``) only
+when that command runs or its help is shown, so ``isotween interpolate``
+does not import what ``isotween render`` needs.
+"""
 
 import functools
+import importlib
 import signal
 import sys
 from pathlib import Path
@@ -10,6 +17,22 @@ import click
 from .. import __version__
 from .._heap import keep_heap
 from ..errors import IsotweenError
+
+#: command name -> the summary line of its help, for ``isotween --help`` without importing every command
+#: (checked against the commands by tests/test_cli.py); command NAME is ``NAME_command`` in module ``.NAME``
+COMMANDS = {
+    "batch": "Run every job of MANIFEST.",
+    "compare": "Interpolate SOURCE into TARGET (or a built-in --example) with several methods and compare them.",
+    "demo": "Interpolate the built-in example NAME (default: the first one).",
+    "edit": "Replace frames of SEQUENCE and carry the change through its motion (Sec. 5.2).",
+    "info": "Print what FILE holds: vertices, edges, faces, components, bounding box.",
+    "interpolate": "Interpolate SOURCE into TARGET as-isometrically-as-possible.",
+    "keyframes": "AIAP through every KEYFRAME file at once (at least two).",
+    "prepare": "Make SOURCE and TARGET compatible and write them into OUTDIR.",
+    "render": "Render SEQUENCE (.npz/.json, or a folder of frames) to -o without solving again.",
+    "studio": "Start isotween studio in the web browser (Ctrl-C stops it).",
+    "transfer": "Move TARGET_START the way SOURCE_START moves into SOURCE_END (Sec. 5.1).",
+}
 
 #: parameters that name files a command reads, and ones it writes
 _INPUTS = ("source", "target", "source_start", "source_end", "target_start", "sequence",
@@ -77,6 +100,33 @@ class _Group(click.Group):
             _fail("interrupted; no output was written", 130)
         sys.exit(rv if isinstance(rv, int) else 0)
 
+    def list_commands(self, ctx):
+        """The command names, sorted (click's order): `COMMANDS` and any added directly."""
+        return sorted(set(COMMANDS) | set(self.commands))
+
+    def get_command(self, ctx, cmd_name):
+        """The command ``cmd_name``, its module imported (and the command registered) on first use."""
+        if cmd_name in COMMANDS and cmd_name not in self.commands:
+            module = importlib.import_module(f".{cmd_name}", __name__)
+            self.add_command(getattr(module, f"{cmd_name}_command"), cmd_name)
+        return super().get_command(ctx, cmd_name)
+
+    def format_commands(self, ctx, formatter):
+        """The commands section of ``isotween --help``: summaries from `COMMANDS` for commands not loaded yet."""
+        names = self.list_commands(ctx)
+        rows = []
+        if names:
+            limit = formatter.width - 6 - max(len(name) for name in names)
+            for name in names:
+                cmd = self.commands.get(name)
+                if cmd is None:
+                    rows.append((name, click.utils.make_default_short_help(COMMANDS[name], limit)))
+                elif not cmd.hidden:
+                    rows.append((name, cmd.get_short_help_str(limit)))
+        if rows:
+            with formatter.section("Commands"):
+                formatter.write_dl(rows)
+
     def add_command(self, cmd, name=None):
         cmd.params.append(click.Option(
             ["--max-memory"], default=None, metavar="SIZE", expose_value=False, callback=_set_max_memory,
@@ -125,7 +175,3 @@ def _fail(message, code):
 def main():
     """As-isometric-as-possible interpolation of planar shapes."""
     keep_heap()  # a command is its own process: the process-wide malloc tuning is safe here
-
-
-# each command lives in its own module and registers itself on `main`
-from . import _commands  # noqa: E402,F401

@@ -2,10 +2,8 @@
 
 import click
 
-from . import main
 
-
-@main.command("batch")
+@click.command("batch")
 @click.argument("manifest")
 @click.option("-o", "--output", "outdir", required=True,
               help="Folder for the outputs (relative output paths) and the report (created if missing).")

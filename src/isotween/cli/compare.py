@@ -3,11 +3,10 @@
 import click
 
 from ..errors import ParameterError
-from . import main
 from .options import frames_option, timer
 
 
-@main.command("compare")
+@click.command("compare")
 @click.argument("source", required=False)
 @click.argument("target", required=False)
 @click.option("--example", default=None, help="Compare on a built-in example (isotween demo --list) instead of files.")

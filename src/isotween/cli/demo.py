@@ -6,11 +6,10 @@ import click
 
 from ..errors import FileFormatError, MissingDependencyError, ParameterError
 from ..outputs import with_paint, write_output
-from . import main
 from .options import SOLVER_KEYS, progress, render_options, summary, timer
 
 
-@main.command("demo")
+@click.command("demo")
 @click.argument("name", required=False)
 @click.option("-o", "--output", "outdir", default="isotween-demo", show_default=True,
               help="Folder for NAME.gif and NAME.html (created if missing).")

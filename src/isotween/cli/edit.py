@@ -2,11 +2,10 @@
 
 import click
 
-from . import main
 from .options import check_outputs, emit, output_options, timer
 
 
-@main.command("edit")
+@click.command("edit")
 @click.argument("sequence")
 @click.option("--frame", "-k", "frames", type=int, multiple=True, required=True,
               help="Index of an edited frame (repeat with --shape for several).")

@@ -4,7 +4,6 @@ import click
 import numpy as np
 
 from ..paint import sequence_paint
-from . import main
 
 
 def shape_lines(shape):
@@ -60,7 +59,7 @@ def sequence_lines(seq):
     return lines
 
 
-@main.command("info")
+@click.command("info")
 @click.argument("file")
 def info_command(file):
     """Print what FILE holds: vertices, edges, faces, components, bounding box.

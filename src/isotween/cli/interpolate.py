@@ -2,7 +2,6 @@
 
 import click
 
-from . import main
 from .options import (
     check_outputs,
     emit,
@@ -16,7 +15,7 @@ from .options import (
 from .prepare import correspondence_kwargs, correspondence_options, make_compatible
 
 
-@main.command("interpolate")
+@click.command("interpolate")
 @click.argument("source")
 @click.argument("target")
 @frames_option

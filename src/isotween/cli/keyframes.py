@@ -2,12 +2,11 @@
 
 import click
 
-from . import main
 from .options import check_outputs, emit, output_options, progress, solver_options_for, timer
 from .prepare import correspondence_kwargs, make_keys_compatible, outline_correspondence_options
 
 
-@main.command("keyframes")
+@click.command("keyframes")
 @click.argument("keyframes", nargs=-1, required=True)
 @click.option("--frames", "-n", type=int, default=None,
               help="Total number of frames, keyframes included [default: 8 per segment + 1].")

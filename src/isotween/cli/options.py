@@ -2,7 +2,7 @@
 
 Use as decorators on a click command::
 
-    @main.command("interpolate")
+    @click.command("interpolate")
     @frames_option
     @solver_options
     @output_options
@@ -138,8 +138,13 @@ def solver_options_for(*keys):
     return _compose(*(_solver_option(k) for k in keys))
 
 
-#: every option `isotween.interpolate` takes
-solver_options = solver_options_for("solver", "init", "scheme", "tol", "max_iter", "method", "easing")
+def solver_options(func):
+    """A decorator adding every option `isotween.interpolate` takes.
+
+    The choices come from the solver's modules, imported here when a command is
+    decorated, not when this module is (``isotween render`` does not load the solver).
+    """
+    return solver_options_for("solver", "init", "scheme", "tol", "max_iter", "method", "easing")(func)
 
 render_options = _compose(
     click.option("--fps", type=click.FloatRange(0, 100, min_open=True), default=None,

@@ -8,7 +8,6 @@ import warnings
 import click
 
 from ..errors import IncompatibleShapesError, ParameterError, ShapeError
-from . import main
 from .options import _compose, ensure_compatible
 
 __all__ = ["correspondence_options", "outline_correspondence_options", "correspondence_kwargs",
@@ -174,7 +173,7 @@ def make_keys_compatible(shapes, paths, quiet=False, points=None, segment=None, 
     return shapes
 
 
-@main.command("prepare")
+@click.command("prepare")
 @click.argument("source")
 @click.argument("target")
 @click.option("-o", "--output", "outdir", required=True,

@@ -2,11 +2,10 @@
 
 import click
 
-from . import main
 from .options import check_outputs, emit, output_options, timer
 
 
-@main.command("render")
+@click.command("render")
 @click.argument("sequence")
 @output_options
 def render_command(sequence, output, fmt, texture, plot, quiet, **render):

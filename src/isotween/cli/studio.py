@@ -2,10 +2,8 @@
 
 import click
 
-from . import main
 
-
-@main.command("studio")
+@click.command("studio")
 @click.argument("files", nargs=-1)
 @click.option("--port", type=click.IntRange(0, 65535), default=0, show_default=True,
               help="Port on 127.0.0.1 (0: a free one).")

@@ -2,12 +2,11 @@
 
 import click
 
-from . import main
 from .options import check_outputs, emit, frames_option, output_options, progress, solver_kwargs, solver_options, timer
 from .prepare import correspondence_kwargs, make_keys_compatible, outline_correspondence_options
 
 
-@main.command("transfer")
+@click.command("transfer")
 @click.argument("source_start")
 @click.argument("source_end")
 @click.argument("target_start")

@@ -1,11 +1,19 @@
 """Shared by the OBJ and OFF codecs: turning parsed elements into a Shape and back."""
 
+import re
+
 import numpy as np
 
 from ..errors import FileFormatError, ShapeError
 from ..shape import MAX_COORDINATE, Shape
 
-__all__ = ["fan", "assemble", "chains", "face_edges", "edges_need_listing", "planar", "y_up_vertices"]
+__all__ = ["fan", "assemble", "chains", "face_edges", "edges_need_listing", "planar", "y_up_vertices",
+           "Y_DOWN_NOTE", "written_y_down", "flip_y"]
+
+#: the comment line with which the OBJ and OFF writers mark a y-down shape written with y negated;
+#: their readers negate y back and return a y-down shape, so the file reads back as it was written
+Y_DOWN_NOTE = "# y negated from the y-down (SVG) original, so that up is up"
+_Y_DOWN_LINE = re.compile(rf"^{re.escape(Y_DOWN_NOTE)}[ \t\r]*$", re.MULTILINE)
 
 
 def planar(path, xyz, lines, base=1):
@@ -29,13 +37,23 @@ def planar(path, xyz, lines, base=1):
     return xyz[:, :2]
 
 
+def written_y_down(text):
+    """Whether an OBJ or OFF text holds a y-down shape written with y negated (its `Y_DOWN_NOTE` line)."""
+    return _Y_DOWN_LINE.search(text) is not None
+
+
+def flip_y(vertices):
+    """(n, 2) vertices with y negated (never -0.0)."""
+    return vertices * np.array([1.0, -1.0]) + 0.0
+
+
 def y_up_vertices(shape):
     """(n, 2) vertices as drawn with y up: y negated for a ``y_down`` shape.
 
     Formats without an orientation flag (OBJ, OFF) are y-up by convention;
     writing these coordinates keeps a y-down shape looking as it did.
     """
-    return shape.vertices * np.array([1.0, -1.0]) + 0.0 if shape.y_down else shape.vertices  # + 0.0: no -0.0
+    return flip_y(shape.vertices) if shape.y_down else shape.vertices
 
 
 def fan(polygon):
@@ -95,7 +113,7 @@ def paths_of_chains(chain_list):
     return paths
 
 
-def assemble(path, vertices, triangles, tri_lines, polylines, poly_lines, uv=None, paths=True, base=1):
+def assemble(path, vertices, triangles, tri_lines, polylines, poly_lines, uv=None, paths=True, base=1, y_down=False):
     """Build a Shape from parsed mesh elements, naming the line of a bad element.
 
     Parameters
@@ -115,6 +133,8 @@ def assemble(path, vertices, triangles, tri_lines, polylines, poly_lines, uv=Non
         Record the chains as shape paths when there are no triangles.
     base : int
         Index of the first vertex in the file (1 for OBJ, 0 for OFF), for messages.
+    y_down : bool
+        The shape's `~isotween.Shape.y_down` (vertices as given).
 
     Notes
     -----
@@ -167,6 +187,6 @@ def assemble(path, vertices, triangles, tri_lines, polylines, poly_lines, uv=Non
         edges = np.zeros((0, 2), dtype=np.int64)
     shape_paths = paths_of_chains(polylines) if paths and faces is None and polylines else None
     try:
-        return Shape(vertices, edges, faces, uv=uv, paths=shape_paths)
+        return Shape(vertices, edges, faces, uv=uv, paths=shape_paths, y_down=y_down)
     except ShapeError as exc:
         raise FileFormatError(f"{path}: {exc}") from exc

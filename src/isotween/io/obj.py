@@ -4,7 +4,7 @@ import numpy as np
 
 from ..errors import FileFormatError
 from ._files import read_text, write_text
-from ._mesh import assemble, chains, edges_need_listing, fan, planar, y_up_vertices
+from ._mesh import Y_DOWN_NOTE, assemble, chains, edges_need_listing, fan, flip_y, planar, written_y_down, y_up_vertices
 
 __all__ = ["read_obj", "write_obj"]
 
@@ -67,6 +67,9 @@ def read_obj(path):
     Returns
     -------
     Shape
+        y-up, unless the file is a y-down shape written by `write_obj` (with
+        y negated and a note saying so): then y is negated back and the
+        shape is y-down, as it was written.
         Edges are the ``l`` edges in file order, then the face sides not listed.
         Without faces, every ``l`` statement is also a path (closed when it
         ends on its first vertex). ``uv`` comes from the ``v/vt`` pairs (or,
@@ -115,7 +118,9 @@ def read_obj(path):
                 poly_lines.append(lineno)
     vertices = planar(path, np.array(xyz, dtype=np.float64).reshape(-1, 3), v_lines)
     uv = _uv(path, len(vertices), np.array(vts, dtype=np.float64).reshape(-1, 2), uv_pairs)
-    return assemble(path, vertices, triangles, tri_lines, polylines, poly_lines, uv=uv)
+    y_down = written_y_down(text)
+    return assemble(path, flip_y(vertices) if y_down else vertices, triangles, tri_lines, polylines, poly_lines,
+                    uv=uv, y_down=y_down)
 
 
 def _uv(path, n, vts, pairs):
@@ -166,11 +171,12 @@ def write_obj(shape, path):
     as one ``vt`` per vertex (references ``i/i``). Edges are written as ``l``
     chains unless they are exactly the face sides in the default order.
     OBJ is y-up: a ``y_down`` shape (read from SVG) is written with y negated,
-    so that it reads back as a y-up shape that is drawn the same way.
+    so that other programs show it upright, and a comment says so, from which
+    `read_obj` restores the y-down shape.
     """
     lines = [f"# isotween shape: {shape.n_vertices} vertices, {shape.n_edges} edges, {shape.n_faces} faces"]
     if shape.y_down:
-        lines.append("# y negated from the y-down (SVG) original, so that up is up")
+        lines.append(Y_DOWN_NOTE)
     lines += [f"v {_num(x)} {_num(y)} 0" for x, y in y_up_vertices(shape).tolist()]
     has_uv = shape.uv is not None
     if has_uv:

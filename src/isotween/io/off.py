@@ -6,7 +6,7 @@ import numpy as np
 
 from ..errors import FileFormatError
 from ._files import read_text, write_text
-from ._mesh import assemble, chains, edges_need_listing, fan, planar, y_up_vertices
+from ._mesh import Y_DOWN_NOTE, assemble, chains, edges_need_listing, fan, flip_y, planar, written_y_down, y_up_vertices
 
 __all__ = ["read_off", "write_off"]
 
@@ -61,6 +61,9 @@ def read_off(path):
     Returns
     -------
     Shape
+        y-up, unless the file is a y-down shape written by `write_off` (with
+        y negated and a note saying so): then y is negated back and the
+        shape is y-down, as it was written.
         Edges are the two-vertex faces in file order, then the triangle sides
         not listed. Without triangles, runs of consecutive edges become the
         shape's paths (closed when a run returns to its start).
@@ -128,9 +131,10 @@ def read_off(path):
             merged_lines.append(poly_lines[k])
             k += len(c) - 1
         polylines, poly_lines = merged, merged_lines
+    y_down = written_y_down(text)
     return assemble(
-        path, vertices, triangles, tri_lines, polylines, poly_lines,
-        uv=np.array(uv, dtype=np.float64) if textured else None, base=0,
+        path, flip_y(vertices) if y_down else vertices, triangles, tri_lines, polylines, poly_lines,
+        uv=np.array(uv, dtype=np.float64) if textured else None, base=0, y_down=y_down,
     )
 
 
@@ -143,7 +147,9 @@ def write_off(shape, path):
 
     Triangles are written as faces; the edges are added as two-vertex faces
     unless they are exactly the triangle sides in the default order. OFF is
-    y-up: a ``y_down`` shape is written with y negated (drawn the same way).
+    y-up: a ``y_down`` shape is written with y negated (drawn the same way),
+    and a comment after the announced lines says so, from which `read_off`
+    restores the y-down shape.
     """
     vertices = y_up_vertices(shape)
     faces = shape.faces if shape.faces is not None else np.zeros((0, 3), dtype=np.int64)
@@ -157,4 +163,6 @@ def write_off(shape, path):
         lines += [f"{_num(x)} {_num(y)} 0" for x, y in vertices.tolist()]
     lines += [f"3 {a} {b} {c}" for a, b, c in faces.tolist()]
     lines += [f"2 {i} {j}" for i, j in edges.tolist()]
+    if shape.y_down:
+        lines.append(Y_DOWN_NOTE)
     write_text(path, "\n".join(lines) + "\n")

@@ -23,8 +23,8 @@ from xml.parsers import expat
 
 import numpy as np
 
-from ..correspondence.regions import fill_regions
 from ..errors import FileFormatError, ParameterError, ShapeError, require
+from ..geometry import fill_regions
 from ..paint import Paint, paint_groups, svg_paint_attributes
 from ..resources import check_memory
 from ..shape import MAX_COORDINATE, Shape
@@ -148,6 +148,10 @@ def _quiet_numbers(reader):
     return read
 
 
+#: root attribute with which `write_svg` marks a y-up shape written with y negated (`read_svg` undoes it)
+Y_UP_ATTRIBUTE = "data-isotween-y"
+
+
 @_quiet_numbers
 def read_svg(path, curve_segments=None):
     """Read every drawn outline of an SVG file as one Shape.
@@ -163,7 +167,8 @@ def read_svg(path, curve_segments=None):
     Returns
     -------
     Shape
-        Vertices (n, 2) in SVG user units (y down), one path per subpath:
+        Vertices (n, 2) in SVG user units (y down; a y-up shape written by
+        `write_svg` reads back y-up, as it was), one path per subpath:
         filled subpaths (closed by ``Z`` or not), closed unfilled subpaths,
         polygons, rects, circles and ellipses as closed rings; other unfilled
         subpaths, polylines and lines as open polylines. ``regions`` lists the
@@ -199,8 +204,9 @@ def read_svg(path, curve_segments=None):
         raise FileFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
     if root.tag.rsplit("}", 1)[-1] != "svg":
         raise FileFormatError(f"{path}: the root element is <{root.tag.rsplit('}', 1)[-1]}>, not <svg>")
+    y_up = root.get(Y_UP_ATTRIBUTE) == "up"  # a y-up shape written by write_svg, y negated
     # keep user coordinates: no viewBox-to-viewport scaling
-    for attr in ("viewBox", "width", "height", "preserveAspectRatio"):
+    for attr in ("viewBox", "width", "height", "preserveAspectRatio", Y_UP_ATTRIBUTE):
         root.attrib.pop(attr, None)
     try:
         document = se.SVG.parse(io.BytesIO(ET.tostring(root)), reify=True)
@@ -261,7 +267,9 @@ def read_svg(path, curve_segments=None):
         raise FileFormatError(
             f"{path}: nothing to read (no path, polygon, polyline, rect, circle, ellipse or line){why}"
         )
-    return _shape_of_rings(path, rings, regions, paints)
+    if y_up:
+        rings = [(points * np.array([1.0, -1.0]) + 0.0, closed) for points, closed in rings]
+    return _shape_of_rings(path, rings, regions, paints, y_down=not y_up)
 
 
 #: what svgelements raises on drawings it cannot interpret
@@ -419,10 +427,10 @@ def _ring_length(points):
     return float(np.sum(np.hypot(*(np.roll(points, -1, axis=0) - points).T)))
 
 
-def _shape_of_rings(path, rings, regions=None, paints=None):
+def _shape_of_rings(path, rings, regions=None, paints=None, y_down=True):
     """One Shape from (points, closed) subpaths, in order."""
     try:
-        return Shape.from_paths([p for p, _ in rings], [c for _, c in rings], y_down=True,
+        return Shape.from_paths([p for p, _ in rings], [c for _, c in rings], y_down=y_down,
                                 regions=regions, paint=paints)
     except ShapeError as exc:
         raise FileFormatError(f"{path}: {exc}") from exc
@@ -442,8 +450,9 @@ def write_svg(shape, path):
     decimals in user units, so a shape whose edges are its paths, listing the
     vertices in order (what `read_svg` returns), reads back identically. SVG
     is y-down: a y-down shape is written as it is, a y-up shape with y
-    negated, so that the file shows it upright (it reads back as the y-down
-    shape ``(x, -y)``). A shape with ``paint`` is written in its colours, one
+    negated, so that the file shows it upright, and marked so (the root's
+    ``data-isotween-y="up"``): `read_svg` negates y back and returns the
+    y-up shape. A shape with ``paint`` is written in its colours, one
     ``<path>`` per region (holes cut by the even-odd rule) or lone path, so
     regions and paint read back (colours to 8 bits). uv and faces are not
     stored.
@@ -479,10 +488,11 @@ def write_svg(shape, path):
             closed = len(c) >= 4 and c[0] == c[-1]
             parts.append(_subpath_data(v[c[:-1] if closed else c], closed))
         elements.append(f'  <path id="edges" d="{" ".join(parts)}"/>')
+    marker = "" if shape.y_down else f' {Y_UP_ATTRIBUTE}="up"'
     text = (
         '<?xml version="1.0" encoding="UTF-8"?>\n'
         f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{x0!r} {y0!r} {w!r} {h!r}" '
-        f'width="{512 * w / max(w, h):.6g}" height="{512 * h / max(w, h):.6g}">\n'
+        f'width="{512 * w / max(w, h):.6g}" height="{512 * h / max(w, h):.6g}"{marker}>\n'
         f'<g fill="none" stroke="black" stroke-width="{stroke!r}" stroke-linejoin="round">\n'
         + "\n".join(elements)
         + "\n</g>\n</svg>\n"

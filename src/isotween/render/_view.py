@@ -1,10 +1,12 @@
 """World-to-pixel framing shared by every raster output."""
 
+import math
+
 import numpy as np
 
 from ..errors import ParameterError, ShapeError
 
-__all__ = ["check_frames", "bbox_of", "image_size", "fit_view"]
+__all__ = ["check_frames", "bbox_of", "decimals", "image_size", "fit_view"]
 
 PAD = 0.05  # margin around the shape, as a fraction of the bounding box's longer side
 
@@ -92,3 +94,19 @@ def fit_view(bbox, width, height):
     else:
         h = w * height / width
     return cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2
+
+
+def decimals(frames):
+    """Decimal places that keep about 1e-5 of the shape's size (text outputs: the HTML page, animated SVG).
+
+    Parameters
+    ----------
+    frames : (..., 2) array of float
+
+    Returns
+    -------
+    int
+        From 0 to 15.
+    """
+    side = float(np.max(np.ptp(frames.reshape(-1, 2), axis=0))) or 1.0
+    return int(np.clip(5 - math.floor(math.log10(side)), 0, 15))

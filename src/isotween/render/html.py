@@ -4,12 +4,9 @@ import base64
 import html
 import io
 import json
-import math
 import re
-import tempfile
 import zlib
 from importlib import resources
-from pathlib import Path
 
 import numpy as np
 
@@ -24,12 +21,6 @@ from .outline import mesh_boundary
 from .texture import load_texture, texture_uv
 
 __all__ = ["write_html", "page_html"]
-
-
-def _decimals(frames):
-    """Decimal places that keep about 1e-5 of the shape's size."""
-    side = float(np.max(np.ptp(frames.reshape(-1, 2), axis=0))) or 1.0
-    return int(np.clip(5 - math.floor(math.log10(side)), 0, 15))
 
 
 def _png_data_url(tex, max_side=1024):
@@ -201,7 +192,7 @@ EMBED_LIMIT = 4_000_000
 def _embedded_animations(seq, fps, bounce, title, background):
     """The animated SVG and the Lottie of ``seq`` as text, each when small enough to embed."""
     from .lottie import lottie_data
-    from .svg_animation import write_svg_animation
+    from .svg_animation import svg_animation_text
 
     out = {}
     # a cheap size estimate first: both hold every vertex of every frame as text, ~12 bytes a number
@@ -209,10 +200,7 @@ def _embedded_animations(seq, fps, bounce, title, background):
         return out
     out["lottie"] = json.dumps(lottie_data(seq, fps=fps, bounce=bounce, title=title, background=None),
                                separators=(",", ":"), allow_nan=False)
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "a.svg"
-        write_svg_animation(seq, path, fps=fps, bounce=bounce, title=title)
-        out["svg"] = path.read_text(encoding="utf-8")
+    out["svg"] = svg_animation_text(seq, fps=fps, bounce=bounce, title=title)
     return {k: v for k, v in out.items() if len(v) <= EMBED_LIMIT}
 
 

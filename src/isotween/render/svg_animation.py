@@ -13,12 +13,11 @@ import numpy as np
 from ..io import write_text
 from ..paint import paint_groups, sequence_paint, svg_paint_attributes
 from ._frames import sequence_frames
-from ._view import PAD, bbox_of
+from ._view import PAD, bbox_of, decimals
 from .animation import FPS, playback_order
 from .frame import FILL, FILL_EDGE, WIRE, check_colour
-from .html import _decimals
 
-__all__ = ["write_svg_animation", "path_data"]
+__all__ = ["write_svg_animation", "svg_animation_text", "path_data"]
 
 
 def _pieces(shape):
@@ -74,12 +73,25 @@ def _values(attr, seq_values):
 
 def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=480, title=None,
                         background=None):
-    """Write a sequence as one animated SVG file.
+    """Write a sequence as one animated SVG file (the text of `svg_animation_text`).
 
     Parameters
     ----------
     seq : Sequence
     path : str or os.PathLike
+    fps, bounce, hold, loop, size, title, background
+        As in `svg_animation_text`.
+    """
+    write_text(path, svg_animation_text(seq, fps, bounce, hold=hold, loop=loop, size=size, title=title,
+                                        background=background))
+
+
+def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=480, title=None, background=None):
+    """A sequence as the text of one animated SVG document.
+
+    Parameters
+    ----------
+    seq : Sequence
     fps : float
         Frames per second.
     bounce : bool
@@ -94,6 +106,11 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
         Document title (default: frames, vertices and method).
     background : matplotlib colour, optional
         Fills the view box; transparent when None.
+
+    Returns
+    -------
+    str
+        The SVG document (what `write_svg_animation` writes; the HTML page embeds it).
 
     Notes
     -----
@@ -110,7 +127,7 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
     x0, y0, x1, y1 = bbox_of(frames)
     pad = PAD * max(x1 - x0, y1 - y0, 1e-12)
     box = (x0 - pad, y0 - pad, x1 - x0 + 2 * pad, y1 - y0 + 2 * pad)
-    digits = max(_decimals(frames) - 1, 0)  # 1e-4 of the size: below a pixel at any display size
+    digits = max(decimals(frames) - 1, 0)  # 1e-4 of the size: below a pixel at any display size
     frames = frames[order]
     seconds = len(order) / fps
     timing = (f'dur="{seconds:.6g}s" repeatCount="indefinite"' if loop else f'dur="{seconds:.6g}s" fill="freeze"')
@@ -151,9 +168,8 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
         back = (f'  <rect x="{box[0]:.{digits}f}" y="{box[1]:.{digits}f}" width="{box[2]:.{digits}f}" '
                 f'height="{box[3]:.{digits}f}" '
                 f'fill="#{round(255 * r):02x}{round(255 * g):02x}{round(255 * b):02x}"/>\n')
-    text = (
+    return (
         '<?xml version="1.0" encoding="UTF-8"?>\n'
         f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{view}" width="{width:.0f}" height="{height:.0f}">\n'
         f"  <title>{escape(title)}</title>\n" + back + "\n".join(body).replace("@@TIMING@@", timing) + "\n</svg>\n"
     )
-    write_text(path, text)
