@@ -260,7 +260,8 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs, la
         raise ParameterError("landmarks are for two drawings")
     if len(shapes) == 2:
         hints = _landmark_anchors(landmarks, per_key, closed)
-        rings = _matched_rings(per_key, closed, points, segment, turn, hints)
+        rings = _matched_rings(per_key, closed, points, segment, turn, hints,
+                               place=lambda v: frames[0].to(frames[1], v))
         counts = [len(r) for r in rings[0]]
     else:
         counts = _ring_counts(per_key, closed, points, segment)
@@ -324,7 +325,7 @@ def _landmark_anchors(landmarks, per_key, closed):
     return anchors
 
 
-def _matched_rings(per_key, closed, points, segment, turn, anchors):
+def _matched_rings(per_key, closed, points, segment, turn, anchors, place=None):
     """Rings of two drawings matched point for point, every input vertex kept (`matching.match_rings`).
 
     Edges longer than the drawing's outline length over ``points`` (default:
@@ -343,7 +344,8 @@ def _matched_rings(per_key, closed, points, segment, turn, anchors):
         if c:
             reverse = bool(np.sign(_regions.ring_area(z)) != np.sign(_regions.ring_area(w)))
         try:
-            pair = match_rings(z, w, c, turn=turn, spacing=spacing, reverse=reverse, anchors=anchors[r])
+            pair = match_rings(z, w, c, turn=turn, spacing=spacing, reverse=reverse, anchors=anchors[r],
+                               place=place)
         except IncompatibleShapesError as exc:
             raise IncompatibleShapesError(f"outline {r}: {exc}") from None
         out[0].append(pair.source)

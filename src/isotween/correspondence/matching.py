@@ -36,6 +36,14 @@ CORNER = np.deg2rad(28.0)
 SAMPLES = 512
 #: how far (fraction of the ring) a corner may land from its partner and still anchor
 CORNER_WINDOW = 0.15
+#: rings whose best similarity fit (normalised correlation) is below this are matched by warping
+WARP_FIT = 0.97
+#: samples per ring of the warped match, the cost of a step along one ring alone, and anchors every so many steps
+WARP_SAMPLES = 128
+WARP_STEP = 0.02
+WARP_EVERY = 4
+#: corners within this fraction of the ring of their partner under the warped match are paired exactly
+CORNER_SNAP = 0.02
 #: corner pairs (source corners x target corners) above which corners are not matched
 MAX_CORNER_PAIRS = 4000
 #: weight of a start's worse fit to the drawing's rotation against its corners' cost
@@ -247,7 +255,7 @@ def _snap_pairs(s_src, s_tgt_back, closed):
     return i, j_of_i[i]
 
 
-def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None):
+def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None, place=None):
     """Corresponding points of two rings, every vertex of both kept (see the module notes).
 
     Parameters
@@ -268,6 +276,10 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None)
     reverse : bool, optional
         Traverse the target backwards (a polyline's other end first). Default:
         a ring keeps its direction; a polyline takes the better one.
+    place : callable, optional
+        Source points (complex array) to their place in the target drawing
+        (the drawings' alignment). With it, rings that are not similar copies
+        (`WARP_FIT`) are matched by `_warp`.
 
     Returns
     -------
@@ -305,8 +317,12 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None)
         if anchors:
             a0, b0 = np.r_[a0, np.array(anchors)[:, 0]], np.r_[b0, np.array(anchors)[:, 1]]
     phi = _Map(a0, b0, closed)
-    # corners to corners
-    if not anchors:
+    if closed and not anchors and place is not None and abs(rho[k]) < WARP_FIT:
+        # not a similar copy: the match warped along the ring by position and turning, corners kept
+        a0, b0 = _warp(z, w, phi, place)
+        a0, b0 = _with_near_corners(z, w, s_z, s_w, a0, b0)
+        phi = _Map(a0, b0, closed)
+    elif not anchors:  # corners to corners
         found = _corner_anchors(z, w, s_z, s_w, closed, phi, turn)
         if found is not None:
             a0, b0 = found
@@ -344,6 +360,72 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None)
     if spacing is not None:
         s_all, u_all = _split(s_all, u_all, closed, spacing[0] / len_z, spacing[1] / len_w)
     return RingPair(points_at(z, closed, s_all), points_at(w, closed, u_all), s_all, u_all)
+
+
+def _warp(z, w, phi, place, n=WARP_SAMPLES):
+    """Anchors (source params, target params) of a monotone match warped along two rings.
+
+    Both rings are sampled at ``n`` points uniform in arc length, the target
+    from where ``phi`` puts the source's start. The cost of matching sample
+    i with sample j is their distance (the source placed in the target
+    drawing, over the target's diagonal) squared plus the difference of
+    their turning angles squared; a step along one ring alone costs
+    `WARP_STEP` more (dynamic time warping, within a band of a quarter ring).
+    The path's diagonal steps, every few samples, are the anchors.
+    """
+    u0 = float(phi(np.zeros(1))[0])
+    grid = np.arange(n) / n
+    x = place(points_at(z, True, grid))
+    y = points_at(w, True, u0 + grid)
+    diag = max(abs(complex(np.ptp(y.real), np.ptp(y.imag))), 1e-300)
+    kx = _turning(x, True)
+    ky = _turning(y, True)
+    C = np.abs(x[:, None] - y[None, :]) ** 2 / diag ** 2 + (kx[:, None] - ky[None, :]) ** 2
+    band = np.abs(np.arange(n)[:, None] - np.arange(n)[None, :]) > n // 4
+    C[band] = 1e6  # outside the band: never taken (finite, so that the prefix sums below stay exact)
+    D = np.empty((n, n))
+    D[0] = np.cumsum(C[0] + WARP_STEP) - WARP_STEP
+    for i in range(1, n):
+        x_j = C[i] + np.minimum(np.r_[1e12, D[i - 1, :-1]], D[i - 1] + WARP_STEP)
+        P = np.cumsum(C[i] + WARP_STEP)
+        D[i] = P + np.minimum.accumulate(x_j - P)
+    # back from the end: the diagonal steps of the cheapest path
+    i, j, pairs = n - 1, n - 1, []
+    while i > 0 and j > 0:
+        diag_cost = D[i - 1, j - 1]
+        up, left = D[i - 1, j] + WARP_STEP, D[i, j - 1] + WARP_STEP
+        if diag_cost <= up and diag_cost <= left:
+            pairs.append((i, j))
+            i, j = i - 1, j - 1
+        elif up <= left:
+            i -= 1
+        else:
+            j -= 1
+    pairs.append((0, 0))
+    pairs = np.array(pairs[::-1])[:: WARP_EVERY]
+    return pairs[:, 0] / n, np.mod(u0 + pairs[:, 1] / n, 1.0)
+
+
+def _with_near_corners(z, w, s_z, s_w, a0, b0):
+    """The anchors with every corner pair that lands within `CORNER_SNAP` of its partner under them."""
+    phi = _Map(a0, b0, True)
+    tz, tw = _turning(z, True), _turning(w, True)
+    cz, cw = np.flatnonzero(np.abs(tz) >= CORNER), np.flatnonzero(np.abs(tw) >= CORNER)
+    if not len(cz) or not len(cw):
+        return a0, b0
+    d = np.abs(_wrap(phi(s_z[cz])[:, None] - s_w[cw][None, :]))
+    d = np.where(np.abs(tz[cz][:, None] - tw[cw][None, :]) <= CORNER_TURN, d, np.inf)
+    j, i = np.argmin(d, axis=1), np.argmin(d, axis=0)
+    mutual = np.flatnonzero((i[j] == np.arange(len(cz))) & (d[np.arange(len(cz)), j] < CORNER_SNAP))
+    if not len(mutual):
+        return a0, b0
+    a1, b1 = s_z[cz[mutual]], s_w[cw[j[mutual]]]
+    # corners replace the warp's anchors near them
+    far = np.min(np.abs(_wrap(a0[:, None] - a1[None, :])), axis=1) > CORNER_SNAP
+    a_all, b_all = np.r_[a0[far], a1], np.r_[b0[far], b1]
+    order = np.argsort(a_all, kind="stable")
+    keep = order[_monotone(a_all[order], b_all[order], True)]
+    return a_all[keep], b_all[keep]
 
 
 def _align_sequences(da, ta, db, tb, window):
