@@ -290,6 +290,14 @@ def test_region_pairs_are_passed_to_correspond(tmp_path):
     assert straight == [(0, 0), (1, 1)]
     state = client.post("/api/hints", json={"pairs": [[0, 1]]}, headers=H).json()
     assert sorted(map(tuple, state["correspondence"]["pairs"])) == [(0, 1), (1, 0)]
+    # a landmark across outlines that do not correspond is refused; once its regions are paired it holds
+    client.post("/api/hints", json={"pairs": []}, headers=H)
+    doc = json.dumps(session.doc)
+    corner = [[0, 0], [3, 2]]  # the left square's corner, the right five-gon's corner
+    r = client.post("/api/hints", json={"landmarks": [corner]}, headers=H)
+    assert r.status_code == 400 and "does not correspond" in r.json()["error"] and json.dumps(session.doc) == doc
+    state = client.post("/api/hints", json={"pairs": [[0, 1]], "landmarks": [corner]}, headers=H).json()
+    assert state["document"]["landmarks"] == [corner] and near_target(session.solved.sequence, corner) < 1e-9
 
 
 # ---------------------------------------------------------------- ARAP drag
