@@ -236,16 +236,45 @@ def test_transfer_export_and_project_round_trip(opened, drawings, tmp_path):
     assert fresh.solved.transfer.equals(session.solved.transfer, atol=1e-12)
 
 
+def near_target(sequence, pair):
+    """How far the vertex nearest a landmark's source point in frame 0 is from its target point in the last."""
+    (x0, y0), (x1, y1) = pair
+    i = int(np.argmin(np.linalg.norm(sequence.frames[0] - [x0, y0], axis=1)))
+    return float(np.linalg.norm(sequence.frames[-1][i] - [x1, y1]))
+
+
 def test_examples_and_landmarks(drawings):
     session = Session()
     client = client_for(session)
     state = client.post("/api/open", json={"example": "bar"}, headers=H).json()
     assert state["sequence"]["count"] == 13 and state["names"] == ["bar (source)", "bar (target)"]
     state = client.post("/api/hints", json={"landmarks": [[[0, 0], [0, 0]]]}, headers=H).json()
-    if state["landmarks"]:
-        assert state["document"]["landmarks"] == [[[0, 0], [0, 0]]]
-    else:
-        assert "landmarks need a newer isotween" in " ".join(state["notes"])
+    assert state["document"]["landmarks"] == [[[0, 0], [0, 0]]]
+
+
+def test_landmarks_are_passed_to_correspond(opened, drawings):
+    client, session = opened
+    a, b = isotween.load(drawings[0]), isotween.load(drawings[1])  # the square's corner (0, 0), a tip of the star
+    pair = [[0.0, 0.0], [4.0, 0.0]]
+    before = near_target(session.solved.sequence, pair)
+    assert before > 0.5  # not where the landmark puts it
+    state = client.post("/api/hints", json={"landmarks": [pair]}, headers=H).json()
+    assert state["document"]["landmarks"] == [pair] and state["notes"] == []
+    src, tgt, _ = isotween.correspond(a, b, landmarks=[pair])
+    assert session.solved.sequence.equals(isotween.interpolate(src, tgt, 13, fold="fallback"), atol=1e-9)
+    assert near_target(session.solved.sequence, pair) < 1e-9
+    doc = json.dumps(session.doc)
+    for bad, says in (([[0.0, 0.0], [3.0, 0.0]], "is not on the drawing"),  # the star's centre: off its outline
+                      ([[1.0, -1.0], [4.0, 0.0]], "is not on the drawing"),
+                      ([[0.0, 0.0]], "point pairs"), ([["x", 0], [4, 0]], "point pairs")):
+        r = client.post("/api/hints", json={"landmarks": [pair, bad]}, headers=H)
+        assert r.status_code == 400 and says in r.json()["error"], r.text
+        assert "\n" not in r.json()["error"]
+    assert json.dumps(session.doc) == doc  # a refused landmark changes nothing
+    state = client.post("/api/undo", headers=H).json()  # undo removes the landmark
+    assert state["document"]["landmarks"] == [] and near_target(session.solved.sequence, pair) == before
+    state = client.post("/api/redo", headers=H).json()
+    assert state["document"]["landmarks"] == [pair] and near_target(session.solved.sequence, pair) < 1e-9
 
 
 def test_region_pairs_are_passed_to_correspond(tmp_path):
@@ -261,6 +290,14 @@ def test_region_pairs_are_passed_to_correspond(tmp_path):
     assert straight == [(0, 0), (1, 1)]
     state = client.post("/api/hints", json={"pairs": [[0, 1]]}, headers=H).json()
     assert sorted(map(tuple, state["correspondence"]["pairs"])) == [(0, 1), (1, 0)]
+    # a landmark across outlines that do not correspond is refused; once its regions are paired it holds
+    client.post("/api/hints", json={"pairs": []}, headers=H)
+    doc = json.dumps(session.doc)
+    corner = [[0, 0], [3, 2]]  # the left square's corner, the right five-gon's corner
+    r = client.post("/api/hints", json={"landmarks": [corner]}, headers=H)
+    assert r.status_code == 400 and "does not correspond" in r.json()["error"] and json.dumps(session.doc) == doc
+    state = client.post("/api/hints", json={"pairs": [[0, 1]], "landmarks": [corner]}, headers=H).json()
+    assert state["document"]["landmarks"] == [corner] and near_target(session.solved.sequence, corner) < 1e-9
 
 
 # ---------------------------------------------------------------- ARAP drag
@@ -296,16 +333,34 @@ def test_a_whole_session_in_chromium(browser, drawings, tmp_path):
         page.wait_for_function("window.__studio.seq && window.__studio.state.names[0] === 'square.svg'")
         session = server.session
         src, tgt, _ = isotween.correspond(isotween.load(drawings[0]), isotween.load(drawings[1]))
+        plain = isotween.interpolate(src, tgt, 13, fold="fallback")
+        assert session.solved.sequence.equals(plain, atol=1e-9)
+        # a landmark: click a point on an outline of each drawing (the square's corner, a tip of the star)
+        page.check("input[name=corr-mode][value=landmark]")
+        corner, tip = [0.0, 0.0], [4.0, 0.0]
+        page.mouse.click(*page.evaluate("window.__studio.corrOnPage(0, 1, -1)"))  # the square's middle: off its outline
+        page.mouse.click(*page.evaluate(f"window.__studio.corrOnPage(1, {tip[0]}, {tip[1]})"))
+        page.wait_for_selector("#message.error")
+        assert "is not on the drawing" in page.text_content("#message") and session.doc["landmarks"] == []
+        assert session.solved.sequence.equals(plain, atol=1e-9)  # refused: the session is as it was
+        page.mouse.click(*page.evaluate(f"window.__studio.corrOnPage(0, {corner[0]}, {corner[1]})"))
+        page.mouse.click(*page.evaluate(f"window.__studio.corrOnPage(1, {tip[0]}, {tip[1]})"))
+        page.wait_for_function("window.__studio.state.document.landmarks.length === 1")
+        page.wait_for_function("window.__studio.state.preview === false")
+        assert not page.is_visible("#message.error")
+        (landmark,) = session.doc["landmarks"]
+        assert np.allclose(landmark, [corner, tip], atol=0.05)  # where it was clicked (to a pixel)
+        src, tgt, _ = isotween.correspond(isotween.load(drawings[0]), isotween.load(drawings[1]), landmarks=[landmark])
         base = isotween.interpolate(src, tgt, 13, fold="fallback")
         assert session.solved.sequence.equals(base, atol=1e-9)
-        # a landmark: click a point on each drawing
-        page.check("input[name=corr-mode][value=landmark]")
-        page.click("#corr-0", position={"x": 40, "y": 40})
-        if session.doc is not None and not page.evaluate("window.__studio.state.landmarks"):
-            page.wait_for_function("document.querySelector('#message').textContent.includes('newer isotween')")
-        else:
-            page.click("#corr-1", position={"x": 75, "y": 40})
-            page.wait_for_function("window.__studio.state.document.landmarks.length === 1")
+        assert near_target(plain, [corner, tip]) > 0.5 and near_target(base, [corner, tip]) < 0.05
+        # undo removes the landmark, redo brings it back
+        page.click("#undo")
+        page.wait_for_function("window.__studio.state.document.landmarks.length === 0")
+        assert session.solved.sequence.equals(plain, atol=1e-9)
+        page.click("#redo")
+        page.wait_for_function("window.__studio.state.document.landmarks.length === 1")
+        assert session.solved.sequence.equals(base, atol=1e-9)
         # drag a handle on an in-between; on release the frame is held and the sequence re-solved
         k = 6
         page.evaluate(f"window.__studio.setFrame({k})")
@@ -358,7 +413,9 @@ def test_a_whole_session_in_chromium(browser, drawings, tmp_path):
         page.wait_for_function("window.__studio.seq.count === 13 && window.__studio.seq.keys.length === 3")
         assert session.doc == saved["document"]
         assert np.max(np.abs(session.solved.sequence.frames - expected.frames)) < 1e-9
-        assert errors == []
+        assert session.doc["landmarks"] == [landmark]
+        # the browser logs the refused landmark (HTTP 400) as a failed resource; nothing else
+        assert all("status of 400" in e for e in errors) and len(errors) == 1, errors
     finally:
         server.stop()
 

@@ -28,7 +28,7 @@ from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
 from ..errors import IsotweenError, ParameterError
-from .session import METHODS, Session, Superseded, landmarks_supported
+from .session import METHODS, Session, Superseded
 from .view import correspondence_view, pack, sequence_view
 
 __all__ = ["create_app", "MAX_UPLOAD", "EXPORT_KINDS", "LOCAL_HOSTS"]
@@ -162,7 +162,7 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
         doc, solved = session.doc, session.solved
         out: dict[str, Any] = {
             "version": __version__, "examples": [{"name": n, "description": describe(n)} for n in names()],
-            "methods": list(METHODS), "export_kinds": list(EXPORT_KINDS), "landmarks": landmarks_supported(),
+            "methods": list(METHODS), "export_kinds": list(EXPORT_KINDS),
             "files": sorted(session.allowed), "generation": session.generation,
             "undo": len(session.undo_stack), "redo": len(session.redo_stack), "document": None,
         }

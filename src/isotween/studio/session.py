@@ -12,7 +12,6 @@ from __future__ import annotations
 import base64
 import copy
 import hashlib
-import inspect
 import json
 import tempfile
 import threading
@@ -26,7 +25,7 @@ import numpy as np
 from ..errors import FileFormatError, IsotweenError, ParameterError
 from ..shape import Shape
 
-__all__ = ["Session", "Superseded", "PROJECT_FORMAT", "DEFAULT_OPTIONS", "METHODS", "landmarks_supported"]
+__all__ = ["Session", "Superseded", "PROJECT_FORMAT", "DEFAULT_OPTIONS", "METHODS"]
 
 #: the ``format`` field of a project file
 PROJECT_FORMAT = "isotween-studio-project/1"
@@ -44,13 +43,6 @@ _CACHE = 12
 
 class Superseded(Exception):
     """A newer request replaced this one; its result is dropped."""
-
-
-def landmarks_supported() -> bool:
-    """Whether this isotween's `correspond` takes ``landmarks=`` (bool)."""
-    from ..correspondence import correspond
-
-    return "landmarks" in inspect.signature(correspond).parameters
 
 
 @dataclass
@@ -323,16 +315,13 @@ class Session:
         if options["method"] not in METHODS:
             raise ParameterError(f"unknown method {options['method']!r}; choose one of {', '.join(METHODS)}")
         inputs = [self._shape(k) for k in doc["inputs"]]
-        notes = []
+        notes: list[str] = []
         corr_kw: dict[str, Any] = {"points": options["points"], "rotation": bool(options["rotation"]),
                                    "outline": bool(options["outline"]), "unmatched": options["unmatched"]}
         if doc.get("pairs"):
             corr_kw["pairs"] = [tuple(int(v) for v in p) for p in doc["pairs"]]
-        if doc.get("landmarks"):
-            if landmarks_supported():
-                corr_kw["landmarks"] = [tuple(tuple(float(c) for c in pt) for pt in pair) for pair in doc["landmarks"]]
-            else:
-                notes.append("landmarks need a newer isotween; they are kept in the project but not used")
+        if doc.get("landmarks"):  # checked by `correspond` (a point off the drawing: its one-line message)
+            corr_kw["landmarks"] = doc["landmarks"]
         self._stage(generation, "correspondence")
 
         def progress(iteration: int, energy: float, move: float) -> None:
@@ -432,8 +421,8 @@ class Session:
         from ..keyframes import interpolate_keyframes
 
         progress, check, stage = hooks
-        if doc.get("pairs"):
-            notes.append("region pairs apply to two drawings; they are not used with keyframes")
+        if doc.get("pairs") or doc.get("landmarks"):
+            notes.append("region pairs and landmarks apply to two drawings; they are not used with keyframes")
         key = ("keys", tuple(doc["inputs"]), options["points"], bool(options["rotation"]), options["unmatched"])
         keys, report = self._cached(key, lambda: correspond_keys(
             inputs, points=options["points"], rotation=bool(options["rotation"]), unmatched=options["unmatched"]))

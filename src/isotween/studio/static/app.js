@@ -73,8 +73,7 @@ function setState(state) {
   if (!doc) { draw(); return; }
   syncControls();
   $("third-name").textContent = state.third_name ? `onto ${state.third_name}` : "";
-  $("corr-summary").textContent = state.correspondence.summary +
-    (state.landmarks ? "" : " (landmarks need a newer isotween)");
+  $("corr-summary").textContent = state.correspondence.summary;
   useSequence(S.showing === "transfer" ? state.transfer : state.sequence, previousCount);
   drawCorrespondence();
   if (!state.preview) S.finalAt = performance.now();  // drawn: the final morph (not an outline preview)
@@ -369,7 +368,6 @@ function corrClick(side, e) {
   const mode = document.querySelector("input[name=corr-mode]:checked").value;
   const doc = S.state.document;
   if (mode === "landmark") {
-    if (!S.state.landmarks) { message("landmarks need a newer isotween"); return; }
     const point = cv.toWorld(px, py);
     if (!S.corrPick || S.corrPick.side === side || !S.corrPick.point) {
       S.corrPick = { side, point };
@@ -379,6 +377,7 @@ function corrClick(side, e) {
     }
     const pair = side === 1 ? [S.corrPick.point, point] : [point, S.corrPick.point];
     S.corrPick = null;
+    drawCorrespondence();  // a refused landmark (off the drawing) leaves no pick behind; its message says why
     act("api/hints", { landmarks: [...doc.landmarks, pair], quick: true });
     return;
   }
