@@ -279,7 +279,7 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None,
     place : callable, optional
         Source points (complex array) to their place in the target drawing
         (the drawings' alignment). With it, rings that are not similar copies
-        (`WARP_FIT`) are matched by `_warp`.
+        (`WARP_FIT`) and have fewer than two corner pairs are matched by `_warp`.
 
     Returns
     -------
@@ -317,13 +317,11 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None,
         if anchors:
             a0, b0 = np.r_[a0, np.array(anchors)[:, 0]], np.r_[b0, np.array(anchors)[:, 1]]
     phi = _Map(a0, b0, closed)
-    if closed and not anchors and place is not None and abs(rho[k]) < WARP_FIT:
-        # not a similar copy: the match warped along the ring by position and turning, corners kept
-        a0, b0 = _warp(z, w, phi, place)
-        a0, b0 = _with_near_corners(z, w, s_z, s_w, a0, b0)
-        phi = _Map(a0, b0, closed)
-    elif not anchors:  # corners to corners
+    if not anchors:  # corners to corners
         found = _corner_anchors(z, w, s_z, s_w, closed, phi, turn)
+        if closed and (found is None or len(found[0]) < 2) and place is not None and abs(rho[k]) < WARP_FIT:
+            # not a similar copy, too few corners: the match warped along the ring by position and turning
+            found = _with_near_corners(z, w, s_z, s_w, *_warp(z, w, phi, place))
         if found is not None:
             a0, b0 = found
             phi = _Map(a0, b0, closed)
