@@ -22,6 +22,7 @@ __all__ = ["write_output", "output_kind", "with_paint", "OUTPUT_KINDS", "FRAME_F
 #: file name ending -> kind of output (longest ending first when names overlap)
 OUTPUT_KINDS = {
     ".lottie.json": "lottie",
+    ".waapi.json": "waapi",
     ".npz": "sequence",
     ".json": "sequence",
     ".gif": "gif",
@@ -30,10 +31,11 @@ OUTPUT_KINDS = {
     ".apng": "apng",
     ".html": "html",
     ".svg": "svg",
+    ".css": "css",
     ".png": "strip",
 }
 #: kinds that play the frames in time (take fps, hold, bounce, loop)
-ANIMATIONS = ("gif", "mp4", "webp", "apng", "html", "svg", "lottie")
+ANIMATIONS = ("gif", "mp4", "webp", "apng", "html", "svg", "lottie", "css", "waapi")
 #: ``format`` values: one file per frame in a folder, or ``lottie`` for one Lottie file
 FRAME_FORMATS = DATA_FRAME_FORMATS + ("png",)
 FORMATS = FRAME_FORMATS + ("lottie",)
@@ -56,6 +58,8 @@ _TAKES = {
     "mp4": ("fps", "size", "hold", "bounce", "background"),
     "svg": ("fps", "size", "hold", "bounce", "loop", "title", "background"),
     "lottie": ("fps", "size", "hold", "bounce", "title", "background"),
+    "css": ("fps", "size", "hold", "bounce", "loop", "title", "background"),
+    "waapi": ("fps", "size", "hold", "bounce", "loop", "title", "background"),
     "html": ("fps", "bounce", "title", "background"),
     "strip": ("size", "background"),
     "frames": ("size", "background"),
@@ -79,7 +83,7 @@ def output_kind(out, format=None):
 
     Returns
     -------
-    {'sequence', 'gif', 'mp4', 'webp', 'apng', 'html', 'svg', 'lottie', 'strip', 'frames'}
+    {'sequence', 'gif', 'mp4', 'webp', 'apng', 'html', 'svg', 'lottie', 'css', 'waapi', 'strip', 'frames'}
 
     Raises
     ------
@@ -139,8 +143,10 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
     """Write a sequence as the kind of output ``out`` names.
 
     ``.npz`` / ``.json``: sequence file (`save_sequence`); ``.gif``, ``.webp``,
-    ``.apng``, ``.mp4``, ``.html``, ``.svg`` (SMIL), ``.lottie.json``:
-    animation (`isotween.render`); ``.png``: a strip of frames; a folder
+    ``.apng``, ``.mp4``, ``.html``, ``.svg`` (SMIL), ``.lottie.json``,
+    ``.css`` (``@keyframes``, with an ``.html`` page beside it),
+    ``.waapi.json`` (Web Animations): animation (`isotween.render`);
+    ``.png``: a strip of frames; a folder
     (existing, without extension, or with ``format``): one file per frame
     (``format`` defaulting to ``obj``).
 
@@ -191,7 +197,7 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
     writers = {
         "gif": render.write_gif, "mp4": render.write_mp4, "webp": render.write_webp, "apng": render.write_apng,
         "html": render.write_html, "svg": render.write_svg_animation, "lottie": render.write_lottie,
-        "strip": render.write_strip,
+        "strip": render.write_strip, "css": render.write_css, "waapi": render.write_waapi,
     }
     if kind == "strip" and "size" in take:
         take["cell"] = take.pop("size")
@@ -199,8 +205,8 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
         take["progress"] = not quiet
     if kind in ("gif", "mp4", "webp", "apng", "html", "strip"):
         take["texture"] = texture
-    writers[kind](seq, out, **take)
-    return [out]
+    written = writers[kind](seq, out, **take)
+    return list(written) if isinstance(written, list) else [out]
 
 
 def with_paint(seq, fill=None, stroke=None, stroke_width=None):

@@ -4,7 +4,7 @@ import numpy as np
 
 from ..errors import ParameterError, ShapeError
 
-__all__ = ["check_frames", "bbox_of", "image_size", "fit_view"]
+__all__ = ["check_frames", "bbox_of", "image_size", "fit_view", "to_pixels"]
 
 PAD = 0.05  # margin around the shape, as a fraction of the bounding box's longer side
 
@@ -92,3 +92,25 @@ def fit_view(bbox, width, height):
     else:
         h = w * height / width
     return cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2
+
+
+def to_pixels(frames, bbox, width, height, y_down):
+    """Map data coordinates to composition pixels (x right, y down).
+
+    Parameters
+    ----------
+    frames : (..., 2) float array
+    bbox : (4,) float
+        ``(x0, y0, x1, y1)`` shown, framed by `fit_view`.
+    width, height : int
+    y_down : bool
+
+    Returns
+    -------
+    (..., 2) float array
+    """
+    x0, x1, y0, y1 = fit_view(bbox, width, height)
+    out = np.empty_like(frames, dtype=np.float64)
+    out[..., 0] = (frames[..., 0] - x0) * (width / (x1 - x0))
+    out[..., 1] = ((frames[..., 1] - y0) if y_down else (y1 - frames[..., 1])) * (height / (y1 - y0))
+    return out

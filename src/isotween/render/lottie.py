@@ -13,7 +13,7 @@ import numpy as np
 from ..io import write_text
 from ..paint import paint_groups, sequence_paint
 from ._frames import sequence_frames
-from ._view import bbox_of, fit_view, image_size
+from ._view import bbox_of, fit_view, image_size, to_pixels
 from .animation import FPS, SIZE, playback_order
 from .frame import FILL, FILL_EDGE, WIRE, check_colour
 from .svg_animation import _pieces
@@ -23,28 +23,6 @@ __all__ = ["write_lottie", "lottie_data", "to_pixels"]
 # a linear keyframe: out tangent (0, 0), in tangent (1, 1) of the unit easing square
 _LINEAR = {"o": {"x": [0.0], "y": [0.0]}, "i": {"x": [1.0], "y": [1.0]}}
 _EDGE_POINTS = 0.5  # width in points of the edges drawn over the default fill (as `draw_frame`)
-
-
-def to_pixels(frames, bbox, width, height, y_down):
-    """Map data coordinates to composition pixels (x right, y down).
-
-    Parameters
-    ----------
-    frames : (..., 2) float array
-    bbox : (4,) float
-        ``(x0, y0, x1, y1)`` shown, framed by `fit_view`.
-    width, height : int
-    y_down : bool
-
-    Returns
-    -------
-    (..., 2) float array
-    """
-    x0, x1, y0, y1 = fit_view(bbox, width, height)
-    out = np.empty_like(frames, dtype=np.float64)
-    out[..., 0] = (frames[..., 0] - x0) * (width / (x1 - x0))
-    out[..., 1] = ((frames[..., 1] - y0) if y_down else (y1 - frames[..., 1])) * (height / (y1 - y0))
-    return out
 
 
 def _static(value):

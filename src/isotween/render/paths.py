@@ -144,6 +144,10 @@ class PathData:
         diagonal of all frames).
     corner : float
         Corner angle in degrees (see `fit_curves`).
+    frames : (F, n, 2) float array, optional
+        The sequence's frames in other units (composition pixels, say) to
+        choose the curves on; default `svg_frames`. `__call__` always
+        gives SVG user units.
 
     Attributes
     ----------
@@ -165,9 +169,9 @@ class PathData:
     (1, 'M', True)
     """
 
-    def __init__(self, seq, curves=True, precision=None, tolerance=None, corner=CORNER):
+    def __init__(self, seq, curves=True, precision=None, tolerance=None, corner=CORNER, frames=None):
         self.seq = seq
-        frames = svg_frames(seq)
+        frames = svg_frames(seq) if frames is None else np.asarray(frames, dtype=np.float64)
         if precision is None:
             precision = default_digits(frames)
         if isinstance(precision, bool) or not isinstance(precision, (int, np.integer)) or not 0 <= precision <= 15:
