@@ -112,3 +112,24 @@ def test_write_output_names_css_and_waapi_outputs(tmp_path, seq):
     assert [p.name for p in written] == ["a.css", "a.html"] and all(p.stat().st_size for p in written)
     [path] = write_output(seq, tmp_path / "a.waapi.json", fps=FPS, size=SIZE, loop=False)
     assert json.loads(path.read_text())["timing"]["iterations"] == 1
+
+
+def test_animated_svg_paused_at_three_times_matches_our_render(tmp_path, browser, seq):
+    from isotween.render import write_svg_animation
+
+    renderer = SequenceRenderer(seq, SIZE, background="white")
+    path = tmp_path / "a.svg"
+    write_svg_animation(seq, path, fps=FPS, hold=HOLD, size=SIZE, background="white")
+    text = path.read_text()
+    order, ticks = ticks_to_check(seq)
+    key_times = text.split('keyTimes="', 1)[1].split('"', 1)[0].split(";")
+    assert "C" in text and len(key_times) < len(order)  # curves; the holds at least collapse
+    page = browser.new_page(viewport={"width": renderer.width + 20, "height": renderer.height + 20})
+    try:
+        page.set_content(f'<body style="margin:0">{text.split("?>", 1)[1]}</body>')
+        for k in ticks:
+            page.evaluate("t => { const s = document.querySelector('svg'); s.pauseAnimations();"
+                          " s.setCurrentTime(t); }", k / FPS)
+            compare(page, renderer, int(order[k]), "smil")
+    finally:
+        page.close()

@@ -22,7 +22,7 @@ from .curves import CORNER, fit_curves
 from .frame import FILL, FILL_EDGE, WIRE, check_colour
 from .outline import mesh_boundary
 
-__all__ = ["PathData", "outline_groups", "svg_document", "svg_frames", "default_digits"]
+__all__ = ["PathData", "RunStrings", "outline_groups", "polylines", "svg_document", "svg_frames", "default_digits"]
 
 _ZEROS = re.compile(r"(\.\d*?)0+(?=[^\d]|$)")
 _DOT = re.compile(r"\.(?=[^\d]|$)")
@@ -129,6 +129,40 @@ class _Polyline:
         return np.stack([a, (2 * a + b) / 3, (a + 2 * b) / 3, b], axis=2)
 
 
+class RunStrings:
+    """One ``d`` string per frame for a fixed list of runs (curves or polylines) drawn as one path.
+
+    Parameters
+    ----------
+    runs : list of CurvePath
+        Or polylines with the same interface; each is one subpath.
+    digits : int
+        Decimal places.
+    """
+
+    def __init__(self, runs, digits):
+        self.runs = list(runs)
+        num = f"{{:.{int(digits)}f}}"
+        self.orders = [_number_order(c) for c in self.runs]
+        self.template = " ".join(t for t, _ in self.orders if t).replace("{}", num)
+
+    def values(self, frames):
+        """(F, N) numbers that fill the template, per frame of (F, n, 2) positions."""
+        f = len(frames)
+        numbers = [c.controls(frames).reshape(f, -1, 2)[:, idx] for c, (_, idx) in zip(self.runs, self.orders,
+                                                                                       strict=True)]
+        return np.concatenate(numbers, axis=1).reshape(f, -1) if numbers else np.zeros((f, 0))
+
+    def strings(self, frames):
+        """The ``d`` string of every frame (list of str)."""
+        return [compact(self.template.format(*row)) for row in self.values(np.asarray(frames)).tolist()]
+
+
+def polylines(runs):
+    """Straight-segment stand-ins of `CurvePath` for ``(indices, closed)`` runs (triangles, edges)."""
+    return [_Polyline(idx, closed) for idx, closed in runs]
+
+
 class PathData:
     """SVG ``d`` strings of a sequence's outlines at any time.
 
@@ -188,12 +222,7 @@ class PathData:
         for group in self.groups:
             self.runs.append(fitted[start:start + len(group)])
             start += len(group)
-        num = f"{{:.{self.digits}f}}"
-        self._templates = []
-        for group in self.runs:
-            orders = [_number_order(c) for c in group]
-            template = " ".join(t for t, _ in orders if t).replace("{}", num)
-            self._templates.append((template, orders))
+        self._formats = [RunStrings(group, self.digits) for group in self.runs]
 
     def controls(self, frames):
         """(F, S, 4, 2) control points of every run: list (groups) of lists (runs)."""
@@ -214,12 +243,7 @@ class PathData:
             ``out[k][g]``: group ``g`` in frame ``k``.
         """
         frames = np.asarray(frames, dtype=np.float64)
-        per_group = []
-        for (template, orders), group in zip(self._templates, self.runs, strict=True):
-            numbers = [c.controls(frames).reshape(len(frames), -1, 2)[:, idx] for c, (_, idx) in zip(group, orders,
-                                                                                                    strict=True)]
-            values = np.concatenate(numbers, axis=1).reshape(len(frames), -1) if numbers else np.zeros((len(frames), 0))
-            per_group.append([compact(template.format(*row)) for row in values.tolist()])
+        per_group = [f.strings(frames) for f in self._formats]
         return [list(row) for row in zip(*per_group, strict=True)] if per_group else [[] for _ in frames]
 
     def frame(self, t):
