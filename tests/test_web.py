@@ -133,3 +133,16 @@ def test_animated_svg_paused_at_three_times_matches_our_render(tmp_path, browser
             compare(page, renderer, int(order[k]), "smil")
     finally:
         page.close()
+
+
+def test_timed_keeps_every_frame_in_its_place_and_the_easing():
+    from isotween.outputs import timed
+
+    bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+    seq = isotween.interpolate(bar, bar.rotate(1.5), frames=5, times=np.linspace(0, 1, 5) ** 2)  # eased in
+    assert not np.allclose(np.diff(seq.times), 0.25)  # eased: uneven times
+    out = timed(seq, 1.0, fps=24)
+    assert len(out) == 25
+    np.testing.assert_allclose(out.frames[::6], seq.frames, atol=1e-12)  # frame k at k / 4 of the second
+    np.testing.assert_allclose(out.times[::6], seq.times, atol=1e-12)
+    assert timed(seq, 0, fps=24) is seq

@@ -27,7 +27,7 @@ import click
 from ..errors import FileFormatError, IncompatibleShapesError, require
 from ..io import atomic_path
 from ..outputs import FORMATS, output_kind, with_paint, write_output
-from ..render.defaults import BACKGROUND, FPS, SIZE
+from ..render.defaults import BACKGROUND, DURATION, FPS, HOLD, SIZE
 
 __all__ = [
     "frames_option",
@@ -50,7 +50,7 @@ __all__ = [
 
 SOLVER_KEYS = ("frames", "solver", "init", "scheme", "tol", "max_iter", "method", "times")
 #: parameters of `render_options`, passed on to `isotween.write_output`
-RENDER_KEYS = ("fps", "size", "hold", "bounce", "loop", "title", "background")
+RENDER_KEYS = ("fps", "duration", "size", "hold", "bounce", "loop", "title", "background")
 PAINT_KEYS = ("fill", "stroke", "stroke_width")
 
 
@@ -146,8 +146,11 @@ render_options = _compose(
                  help=f"Frames per second of animations [default: {FPS}]."),
     click.option("--size", type=SizeType(), default=None,
                  help=f"Picture size: longest side N or WxH in pixels [default: {SIZE}; strip cells 240]."),
+    click.option("--duration", type=click.FloatRange(0, 3600), default=None,
+                 help=f"Seconds of motion in animations other than the page; 0 plays one frame per tick "
+                      f"[default: {DURATION:g}]."),
     click.option("--hold", type=click.FloatRange(0, 3600), default=None,
-                 help="Seconds to stay on the first and the last frame [default: 0]."),
+                 help=f"Seconds to stay on the first and the last frame [default: {HOLD:g}; the page: 0]."),
     click.option("--bounce/--no-bounce", default=None, help="Play forward then backward [default: no]."),
     click.option("--loop/--no-loop", default=None, help="Repeat forever or play once [default: loop]."),
     click.option("--title", default=None, help="Title of the page, SVG or Lottie [default: the input files]."),
