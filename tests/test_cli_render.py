@@ -167,3 +167,14 @@ def test_info_reports_the_paint(tmp_path):
     io.save_sequence(interpolate(a, b, frames=3), tmp_path / "p.npz")
     result = run("info", tmp_path / "p.npz")
     assert result.exit_code == 0 and "paint: fills #ff0000 -> #0000ff (Oklab blend)" in result.output
+
+
+@pytest.mark.parametrize("name", ["s.svg", "s.css", "s.lottie.json"])
+def test_summary_gives_the_size_of_what_was_written(tmp_path, saved, name):
+    result = run("render", saved, "-o", tmp_path / name, "-q")
+    assert result.exit_code == 0, result.output
+    written = result.output.strip().split(" -> ")[1].split(", ")
+    total = sum((tmp_path / w).stat().st_size for w in written)
+    size = re.search(r"size=(\S+)", result.output).group(1)
+    value, unit = float(re.match(r"[\d.]+", size).group()), re.sub(r"[\d.]+", "", size)
+    assert value * {"B": 1, "kB": 1e3, "MB": 1e6}[unit] == pytest.approx(total, rel=0.06, abs=1)

@@ -373,7 +373,7 @@ def progress(quiet=False, total=None, desc="iterations"):
 
 
 def summary(seq, seconds, written):
-    """One line: frames, vertices, iterations, the written sequence's own metrics, wall time, outputs.
+    """One line: frames, vertices, iterations, the written sequence's own metrics, wall time, size, outputs.
 
     The metrics (docs/how-it-works.md, "Metric definitions") are measured on ``seq`` itself, so a transferred
     or edited sequence reports its own numbers, never the solver's of
@@ -392,7 +392,31 @@ def summary(seq, seconds, written):
     if seq.shape.n_faces:
         parts.append(f"flipped={int(metrics.flipped_faces(seq))}")
     parts.append(f"seconds={seconds:.3f}")
+    if written:
+        parts.append(f"size={human_size(sum(_bytes(p) for p in written))}")
     return " ".join(parts) + f" -> {', '.join(str(p) for p in written)}"
+
+
+def _bytes(path):
+    """Size of a written file, or of all files in a written folder (0 when missing)."""
+    path = Path(path)
+    if path.is_dir():
+        return sum(p.stat().st_size for p in path.rglob("*") if p.is_file())
+    return path.stat().st_size if path.exists() else 0
+
+
+def human_size(n):
+    """Bytes as ``812B``, ``45.3kB``, ``12.1MB`` (powers of 1000).
+
+    Examples
+    --------
+    >>> human_size(812), human_size(45_300), human_size(12_100_000)
+    ('812B', '45.3kB', '12.1MB')
+    """
+    for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n >= scale:
+            return f"{n / scale:.1f}{unit}"
+    return f"{int(n)}B"
 
 
 def _input_names(ctx):
