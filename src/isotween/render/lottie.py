@@ -153,6 +153,19 @@ def _painted_groups(seq, px, order, paints, unit, options):
     return groups
 
 
+def _loose_edges(shape):
+    """(k, 2) edges that are no side of a triangle (for a mesh) or of a closed path (else)."""
+    edges = np.asarray(shape.edges, dtype=np.int64).reshape(-1, 2)
+    if shape.n_faces:
+        sides = np.asarray(shape.faces)[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    else:
+        rings = [np.asarray(p) for p, closed in shape.paths or [] if closed]
+        sides = np.concatenate([np.column_stack([r, np.roll(r, -1)]) for r in rings]) if rings else edges[:0]
+    n = max(int(edges.max(initial=0)), int(sides.max(initial=0))) + 1
+    key = lambda e: np.sort(e, axis=1) @ np.array([n, 1])  # noqa: E731
+    return edges[~np.isin(key(edges), key(sides))]
+
+
 def _default_groups(shape, px, order, dpi_scale, options):
     """The default look of isotween: light fill (triangles or rings) with thin edges, or wire lines."""
     fill_runs, line_runs = _pieces(shape)
@@ -177,13 +190,19 @@ def _default_groups(shape, px, order, dpi_scale, options):
             cw = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0] > 0  # y down: positive cross is clockwise
             runs = [(idx[::-1] if flip else idx, True) for (idx, _), flip in zip(fill_runs, cw.tolist(), strict=True)]
         items += [_path_item(f"piece {j}", c, ticks, tol, digits, reduce) for j, c in enumerate(shapes(runs))]
-        edges = [_path_item(f"edge {j}", _Polyline(e, False), ticks, tol, digits, reduce)
-                 for j, e in enumerate(shape.edges)]
-        items += _colour_items([rgb(FILL)], [100.0], None, None, None, rule=1 if shape.n_faces else 2)
+        edge_colour = ([rgb(FILL_EDGE)], [100.0], [_EDGE_POINTS * dpi_scale])
+        lean = options["curves"] or options["reduce"]
+        # lean: the pieces' own stroke (listed above their fill) draws the edges; else one path per edge
+        extra = _loose_edges(shape) if lean else shape.edges
+        edges = [_path_item(f"edge {j}", _Polyline(e, False), ticks, tol, digits, reduce) for j, e in enumerate(extra)]
+        items += _colour_items([rgb(FILL)], [100.0], *(edge_colour if lean else (None, None, None)),
+                               rule=1 if shape.n_faces else 2)
         items.append(_transform())
-        edge_items = edges + _colour_items(None, None, [rgb(FILL_EDGE)], [100.0], [_EDGE_POINTS * dpi_scale])
-        edge_items.append(_transform())
-        groups += [{"ty": "gr", "nm": "edges", "it": edge_items}, {"ty": "gr", "nm": "fill", "it": items}]
+        if len(edges):
+            edge_items = edges + _colour_items(None, None, *edge_colour)
+            edge_items.append(_transform())
+            groups.append({"ty": "gr", "nm": "edges", "it": edge_items})
+        groups.append({"ty": "gr", "nm": "fill", "it": items})
     if line_runs:
         items = [_path_item(f"line {j}", c, ticks, tol, digits, reduce) for j, c in enumerate(shapes(line_runs))]
         items += _colour_items(None, None, [rgb(WIRE)], [100.0], [1.2 * dpi_scale])
