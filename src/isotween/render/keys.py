@@ -14,8 +14,11 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["reduce_keys", "ease", "LINEAR", "X1", "X2"]
+__all__ = ["reduce_keys", "ease", "LINEAR", "X1", "X2", "TOLERANCE"]
 
+#: default tolerance of the keys, as a fraction of the drawing's diagonal (looser than the curves': a
+#: skipped tick is on screen for 1 / fps seconds; tests/test_lottie.py's pixel bound holds with room)
+TOLERANCE = 2.5e-3
 #: x of the two easing handles (the easing's x is then the elapsed fraction)
 X1, X2 = 1.0 / 3.0, 2.0 / 3.0
 #: (y1, y2) of a linear easing

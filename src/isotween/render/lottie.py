@@ -16,6 +16,7 @@ from ._view import to_pixels
 from .animation import FPS, SIZE, playback_order
 from .curves import TOLERANCE, fit_curves
 from .frame import FILL, FILL_EDGE, WIRE, check_colour
+from .keys import TOLERANCE as KEY_TOLERANCE
 from .keys import X1, X2, reduce_keys
 from .paths import PathData, _Polyline, default_digits, hex_colour
 from .svg_animation import _pieces
@@ -91,6 +92,7 @@ def _shape_values(controls, straight, closed):
 
 
 def _path_item(name, curve, ticks, tol, digits, reduce):
+    # tol: of the keys
     """An ``sh`` item drawing ``curve`` (`CurvePath` or polyline) at pixel positions ``ticks`` (P, n, 2)."""
     controls = curve.controls(ticks)
     v, i, o = (np.round(a, digits) for a in _shape_values(controls, curve.straight, curve.closed))
@@ -131,7 +133,7 @@ def _painted_groups(seq, px, order, paints, unit, options):
     groups = []
     for runs, first in zip(data.runs, data.first_path, strict=True):
         track = [paints[int(k)][first] for k in order]
-        items = [_path_item(f"path {j}", c, ticks, options["tol"], options["digits"], options["reduce"])
+        items = [_path_item(f"path {j}", c, ticks, options["key_tol"], options["digits"], options["reduce"])
                  for j, c in enumerate(runs)]
         has_fill = any(p.fill is not None for p in track) and any(c.closed for c in runs)
         has_stroke = any(p.stroke is not None and p.stroke_width > 0 for p in track)
@@ -171,14 +173,14 @@ def _default_groups(shape, px, order, dpi_scale, options):
     fill_runs, line_runs = _pieces(shape)
     ticks = px[order]
     groups = []
-    reduce, tol, digits = options["reduce"], options["tol"], options["digits"]
+    reduce, tol, digits = options["reduce"], options["key_tol"], options["digits"]
 
     def rgb(hex_colour):
         return [*check_colour(hex_colour)[:3], 1.0]
 
     def shapes(runs):  # curves for outlines, the triangles as they are
         if options["curves"] and not shape.n_faces:
-            return fit_curves(px, runs, tolerance=tol)
+            return fit_curves(px, runs, tolerance=options["tol"])
         return [_Polyline(idx, closed) for idx, closed in runs]
 
     if fill_runs:
@@ -212,7 +214,7 @@ def _default_groups(shape, px, order, dpi_scale, options):
 
 
 def lottie_data(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, title=None, background=None, *, curves=True,
-                reduce=True, tolerance=None):
+                reduce=True, tolerance=None, key_tolerance=None):
     """The Lottie animation of a sequence as JSON-ready Python values.
 
     Parameters
@@ -236,8 +238,11 @@ def lottie_data(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, title=None, bac
         reproduce the tick (`reduce_keys`; eases as Lottie bezier handles),
         else one linear keyframe per tick.
     tolerance : float, optional
-        In pixels, for curves and keyframes (default 0.1 % of the
-        composition's diagonal).
+        Of the curves, in pixels (default 0.1 % of the composition's
+        diagonal).
+    key_tolerance : float, optional
+        Of the keyframes, in pixels (default `keys.TOLERANCE`, 0.25 %, of
+        the composition's diagonal).
 
     Returns
     -------
@@ -252,7 +257,9 @@ def lottie_data(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, title=None, bac
     px, w, h, unit = pixel_frames(seq, size)
     if tolerance is None:
         tolerance = TOLERANCE * float(np.hypot(w, h))
-    options = {"curves": bool(curves), "reduce": bool(reduce), "tol": float(tolerance),
+    if key_tolerance is None:
+        key_tolerance = KEY_TOLERANCE * float(np.hypot(w, h))
+    options = {"curves": bool(curves), "reduce": bool(reduce), "tol": float(tolerance), "key_tol": float(key_tolerance),
                "digits": 3 if not (curves or reduce) else default_digits(px)}
     _, paints = sequence_paint(seq)
     if paints is None:

@@ -83,10 +83,12 @@ def outline_groups(shape, regions=None, paint=None):
     return ([[(np.asarray(e), False) for e in shape.edges]] if shape.n_edges else []), None
 
 
-def _number_order(curves):
+def _number_order(curves, relative=False):
     """Template and the indices into (S * 4) control points that fill it, for one run."""
     if curves.n_segments == 0:
         return "", np.zeros(0, dtype=np.int64)
+    line_cmd, cubic, close = ("l{},{}", "c{},{} {},{} {},{}", "z") if relative else \
+        ("L{},{}", "C{},{} {},{} {},{}", "Z")
     parts, index = ["M{},{}"], [0]
     straight = curves.straight
     last = curves.n_segments - 1
@@ -94,13 +96,13 @@ def _number_order(curves):
         if line and curves.closed and j == last:
             break  # Z draws the closing line
         if line:
-            parts.append("L{},{}")
+            parts.append(line_cmd)
             index.append(4 * j + 3)
         else:
-            parts.append("C{},{} {},{} {},{}")
+            parts.append(cubic)
             index += [4 * j + 1, 4 * j + 2, 4 * j + 3]
     if curves.closed:
-        parts.append("Z")
+        parts.append(close)
     return "".join(parts), np.asarray(index, dtype=np.int64)
 
 
@@ -138,19 +140,34 @@ class RunStrings:
         Or polylines with the same interface; each is one subpath.
     digits : int
         Decimal places.
+    relative : bool
+        Relative commands (``c``, ``l``: offsets from each segment's start,
+        shorter numbers); the offsets are differences of positions rounded
+        first, so that no rounding error builds up along a path.
     """
 
-    def __init__(self, runs, digits):
+    def __init__(self, runs, digits, relative=False):
         self.runs = list(runs)
-        num = f"{{:.{int(digits)}f}}"
-        self.orders = [_number_order(c) for c in self.runs]
+        self.digits = int(digits)
+        self.relative = bool(relative)
+        num = f"{{:.{self.digits}f}}"
+        self.orders = [_number_order(c, self.relative) for c in self.runs]
         self.template = " ".join(t for t, _ in self.orders if t).replace("{}", num)
+
+    def _controls(self, curve, frames):
+        """(F, S * 4, 2) control points of one run, as the template's numbers (offsets when relative)."""
+        ctrl = curve.controls(frames)
+        if self.relative and ctrl.shape[1]:
+            ctrl = np.round(ctrl, self.digits)
+            start = ctrl[:, 0, 0].copy()
+            ctrl = ctrl - ctrl[:, :, :1]
+            ctrl[:, 0, 0] = start  # the moveto stays absolute
+        return ctrl.reshape(len(frames), -1, 2)
 
     def values(self, frames):
         """(F, N) numbers that fill the template, per frame of (F, n, 2) positions."""
         f = len(frames)
-        numbers = [c.controls(frames).reshape(f, -1, 2)[:, idx] for c, (_, idx) in zip(self.runs, self.orders,
-                                                                                       strict=True)]
+        numbers = [self._controls(c, frames)[:, idx] for c, (_, idx) in zip(self.runs, self.orders, strict=True)]
         return np.concatenate(numbers, axis=1).reshape(f, -1) if numbers else np.zeros((f, 0))
 
     def strings(self, frames):
@@ -182,6 +199,8 @@ class PathData:
         The sequence's frames in other units (composition pixels, say) to
         choose the curves on; default `svg_frames`. `__call__` always
         gives SVG user units.
+    relative : bool
+        Relative commands after each subpath's moveto (see `RunStrings`).
 
     Attributes
     ----------
@@ -203,7 +222,7 @@ class PathData:
     (1, 'M', True)
     """
 
-    def __init__(self, seq, curves=True, precision=None, tolerance=None, corner=CORNER, frames=None):
+    def __init__(self, seq, curves=True, precision=None, tolerance=None, corner=CORNER, frames=None, relative=False):
         self.seq = seq
         frames = svg_frames(seq) if frames is None else np.asarray(frames, dtype=np.float64)
         if precision is None:
@@ -222,7 +241,7 @@ class PathData:
         for group in self.groups:
             self.runs.append(fitted[start:start + len(group)])
             start += len(group)
-        self._formats = [RunStrings(group, self.digits) for group in self.runs]
+        self._formats = [RunStrings(group, self.digits, relative) for group in self.runs]
 
     def controls(self, frames):
         """(F, S, 4, 2) control points of every run: list (groups) of lists (runs)."""

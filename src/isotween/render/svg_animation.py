@@ -17,6 +17,7 @@ from .curves import TOLERANCE, fit_curves
 from .frame import FILL, FILL_EDGE, WIRE
 from .html import _decimals
 from .keys import LINEAR, X1, X2, reduce_keys
+from .keys import TOLERANCE as KEY_TOLERANCE
 from .paths import PathData, RunStrings, compact, hex_colour, pixel_size, polylines, svg_frames, view_box
 
 __all__ = ["write_svg_animation", "path_data"]
@@ -97,7 +98,7 @@ def _paint_numbers(attrs):
 
 
 def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=480, title=None,
-                        background=None, curves=True, reduce=True, tolerance=None):
+                        background=None, curves=True, reduce=True, tolerance=None, key_tolerance=None):
     """Write a sequence as one animated SVG file.
 
     Parameters
@@ -126,8 +127,11 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
         not reproduce it (`reduce_keys`, eases as ``keySplines``), else
         every tick, linear.
     tolerance : float, optional
-        For curves and keys, in shape units (default 0.1 % of the diagonal
-        of all frames).
+        Of the curves, in shape units (default 0.1 % of the diagonal of
+        all frames).
+    key_tolerance : float, optional
+        Of the keys, in shape units (default `keys.TOLERANCE`, 0.25 %, of
+        the diagonal).
 
     Notes
     -----
@@ -143,8 +147,9 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
     regions, paints = sequence_paint(seq)
     box = view_box(frames)
     digits = max(_decimals(frames) - 1, 0)  # 1e-4 of the size: below a pixel at any display size
-    if tolerance is None:
-        tolerance = TOLERANCE * float(np.hypot(*np.ptp(frames.reshape(-1, 2), axis=0)))
+    diagonal = float(np.hypot(*np.ptp(frames.reshape(-1, 2), axis=0)))
+    tolerance = TOLERANCE * diagonal if tolerance is None else tolerance
+    key_tolerance = KEY_TOLERANCE * diagonal if key_tolerance is None else key_tolerance
     ticks_order = np.append(order, order[-1])  # one more tick: the last frame shows for 1 / fps
     ticks = frames[ticks_order]
     times = np.arange(len(ticks)) / float(fps)
@@ -154,8 +159,8 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
 
     def keyed(runs, extra=()):
         """Keys, eases and d strings of one element drawing ``runs`` (curves or polylines)."""
-        strings = RunStrings(runs, digits)
-        tracks = [(np.concatenate([c.controls(ticks).reshape(len(ticks), -1) for c in runs], axis=1), tolerance,
+        strings = RunStrings(runs, digits, relative=curves or reduce)
+        tracks = [(np.concatenate([c.controls(ticks).reshape(len(ticks), -1) for c in runs], axis=1), key_tolerance,
                    True), *extra]
         keys, eases = reduce_keys(times, tracks, unit=True, reduce=reduce)
         return keys, eases, strings.strings(ticks[keys])
@@ -176,7 +181,8 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
             body.append(f'  <path d="{d[0]}" {style}>' + _values("d", d, _timing(times, keys, eases, duration, reduce))
                         + "\n  </path>")
     else:
-        data = PathData(seq, curves=curves, precision=digits, tolerance=tolerance, frames=frames)
+        data = PathData(seq, curves=curves, precision=digits, tolerance=tolerance, frames=frames,
+                        relative=curves or reduce)
         for runs, first in zip(data.runs, data.first_path, strict=True):
             attrs = [svg_paint_attributes(paints[int(k)][first]) for k in ticks_order]
             colours, widths = _paint_numbers(attrs)

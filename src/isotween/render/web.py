@@ -23,6 +23,7 @@ from .animation import FPS, SIZE, playback_order
 from .curves import TOLERANCE
 from .frame import FILL, FILL_EDGE, WIRE
 from .keys import LINEAR, X1, X2, reduce_keys
+from .keys import TOLERANCE as KEY_TOLERANCE
 from .paths import PathData, compact, hex_colour
 
 __all__ = ["web_animation", "css_text", "snippet_html", "waapi_data", "write_css", "write_waapi",
@@ -83,7 +84,7 @@ def _css_value(name, value, digits):
 
 
 def web_animation(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, loop=True, title=None, background=None,
-                  curves=True, reduce=True, tolerance=None):
+                  curves=True, reduce=True, tolerance=None, key_tolerance=None):
     """Keys of every drawn group, ready for CSS or the Web Animations API.
 
     Parameters
@@ -104,8 +105,11 @@ def web_animation(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, loop=True, ti
     reduce : bool
         Drop the keys that easing reproduces (else one key per tick).
     tolerance : float, optional
-        In pixels, for the curves and for the keys (default 0.1 % of the
-        composition's diagonal).
+        Of the curves, in pixels (default 0.1 % of the composition's
+        diagonal).
+    key_tolerance : float, optional
+        Of the keys, in pixels (default `keys.TOLERANCE`, 0.25 %, of the
+        diagonal).
 
     Returns
     -------
@@ -121,7 +125,9 @@ def web_animation(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, loop=True, ti
     px, w, h, unit = pixel_frames(seq, size)
     if tolerance is None:
         tolerance = TOLERANCE * float(np.hypot(w, h))
-    data = PathData(seq, curves=curves, frames=px, tolerance=tolerance)
+    if key_tolerance is None:
+        key_tolerance = KEY_TOLERANCE * float(np.hypot(w, h))
+    data = PathData(seq, curves=curves, frames=px, tolerance=tolerance, relative=curves or reduce)
     digits = data.digits
     ticks = px[np.append(order, order[-1])]  # one more tick: the last frame shows for 1 / fps
     times = np.arange(len(ticks)) / float(fps)
@@ -130,7 +136,8 @@ def web_animation(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, loop=True, ti
     groups = []
     for g, runs in enumerate(data.runs):
         closed = any(c.closed for c in runs)
-        tracks = [(np.concatenate([c.controls(ticks).reshape(len(ticks), -1) for c in runs], axis=1), tolerance, True)]
+        tracks = [(np.concatenate([c.controls(ticks).reshape(len(ticks), -1) for c in runs], axis=1), key_tolerance,
+                   True)]
         static, animated = {}, {}
         if paints is None:
             static = ({"fill": FILL, "fill-rule": "evenodd", "stroke": FILL_EDGE,
