@@ -18,7 +18,7 @@ from .curves import TOLERANCE, fit_curves
 from .frame import FILL, FILL_EDGE, WIRE, check_colour
 from .keys import TOLERANCE as KEY_TOLERANCE
 from .keys import X1, X2, reduce_keys
-from .paths import PathData, _Polyline, default_digits, hex_colour
+from .paths import PathData, _Polyline, hex_colour, tolerance_digits
 from .svg_animation import _pieces
 from .web import pixel_frames
 
@@ -260,7 +260,7 @@ def lottie_data(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, title=None, bac
     if key_tolerance is None:
         key_tolerance = KEY_TOLERANCE * float(np.hypot(w, h))
     options = {"curves": bool(curves), "reduce": bool(reduce), "tol": float(tolerance), "key_tol": float(key_tolerance),
-               "digits": 3 if not (curves or reduce) else default_digits(px)}
+               "digits": 3 if not (curves or reduce) else tolerance_digits(tolerance)}
     _, paints = sequence_paint(seq)
     if paints is None:
         groups = _default_groups(shape, px, order, 100.0 / 72.0, options)  # points -> px at the renderers' 100 dpi

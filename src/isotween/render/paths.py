@@ -22,7 +22,8 @@ from .curves import CORNER, fit_curves
 from .frame import FILL, FILL_EDGE, WIRE, check_colour
 from .outline import mesh_boundary
 
-__all__ = ["PathData", "RunStrings", "outline_groups", "polylines", "svg_document", "svg_frames", "default_digits"]
+__all__ = ["PathData", "RunStrings", "outline_groups", "polylines", "svg_document", "svg_frames", "default_digits",
+           "tolerance_digits"]
 
 _ZEROS = re.compile(r"(\.\d*?)0+(?=[^\d]|$)")
 _DOT = re.compile(r"\.(?=[^\d]|$)")
@@ -38,6 +39,17 @@ def default_digits(frames):
     """Decimal places that keep about 1e-4 of the drawing's size."""
     side = float(np.max(np.ptp(np.asarray(frames).reshape(-1, 2), axis=0))) or 1.0
     return int(np.clip(4 - np.floor(np.log10(side)), 0, 15))
+
+
+def tolerance_digits(tolerance):
+    """Decimal places whose rounding (half a unit of the last place) is at most an eighth of ``tolerance``.
+
+    Examples
+    --------
+    >>> tolerance_digits(0.68), tolerance_digits(0.01)
+    (1, 3)
+    """
+    return int(np.clip(np.ceil(-np.log10(max(float(tolerance), 1e-300) / 4.0)), 0, 15))
 
 
 def svg_frames(seq):

@@ -18,7 +18,17 @@ from .frame import FILL, FILL_EDGE, WIRE
 from .html import _decimals
 from .keys import LINEAR, X1, X2, reduce_keys
 from .keys import TOLERANCE as KEY_TOLERANCE
-from .paths import PathData, RunStrings, compact, hex_colour, pixel_size, polylines, svg_frames, view_box
+from .paths import (
+    PathData,
+    RunStrings,
+    compact,
+    hex_colour,
+    pixel_size,
+    polylines,
+    svg_frames,
+    tolerance_digits,
+    view_box,
+)
 
 __all__ = ["write_svg_animation", "path_data"]
 
@@ -84,17 +94,15 @@ def _values(attr, seq_values, timing):
     return f'\n    <animate attributeName="{attr}" values="{";".join(seq_values)}" {timing} @@TIMING@@/>'
 
 
-def _paint_numbers(attrs):
-    """(P, D) numbers of SVG paint attributes per tick (colours as RGB in [0, 1]), for `reduce_keys`."""
+def _paint_numbers(track):
+    """(P, D) colours and opacities, (P, 1) stroke widths of a list of Paint, for `reduce_keys`."""
     rows = []
-    for a in attrs:
+    for p in track:
         row = []
-        for key in ("fill", "stroke"):
-            c = a[key]
-            row += [int(c[1:3], 16) / 255, int(c[3:5], 16) / 255, int(c[5:7], 16) / 255] if c != "none" else [0, 0, 0]
-        row += [float(a[k]) for k in ("fill-opacity", "stroke-opacity", "opacity")]
-        rows.append(row)
-    return np.array(rows), np.array([float(a["stroke-width"]) for a in attrs])[:, None]
+        for c in (p.fill, p.stroke):
+            row += [0.0, 0.0, 0.0, 0.0] if c is None else list(c)
+        rows.append(row + [p.opacity])
+    return np.array(rows), np.array([p.stroke_width for p in track])[:, None]
 
 
 def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=480, title=None,
@@ -146,10 +154,11 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
     shape = seq.shape
     regions, paints = sequence_paint(seq)
     box = view_box(frames)
-    digits = max(_decimals(frames) - 1, 0)  # 1e-4 of the size: below a pixel at any display size
     diagonal = float(np.hypot(*np.ptp(frames.reshape(-1, 2), axis=0)))
     tolerance = TOLERANCE * diagonal if tolerance is None else tolerance
     key_tolerance = KEY_TOLERANCE * diagonal if key_tolerance is None else key_tolerance
+    # before: 1e-4 of the size; lean: rounding within an eighth of the curve tolerance
+    digits = tolerance_digits(tolerance) if curves or reduce else max(_decimals(frames) - 1, 0)
     ticks_order = np.append(order, order[-1])  # one more tick: the last frame shows for 1 / fps
     ticks = frames[ticks_order]
     times = np.arange(len(ticks)) / float(fps)
@@ -184,8 +193,9 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
         data = PathData(seq, curves=curves, precision=digits, tolerance=tolerance, frames=frames,
                         relative=curves or reduce)
         for runs, first in zip(data.runs, data.first_path, strict=True):
-            attrs = [svg_paint_attributes(paints[int(k)][first]) for k in ticks_order]
-            colours, widths = _paint_numbers(attrs)
+            track = [paints[int(k)][first] for k in ticks_order]
+            attrs = [svg_paint_attributes(p) for p in track]
+            colours, widths = _paint_numbers(track)
             keys, eases, d = keyed(runs, [(colours, 0.5 / 255, False), (widths, 0.01 * tolerance, False)])
             kept = [attrs[k] for k in keys]
             when = _timing(times, keys, eases, duration, reduce)

@@ -24,7 +24,7 @@ from .curves import TOLERANCE
 from .frame import FILL, FILL_EDGE, WIRE
 from .keys import LINEAR, X1, X2, reduce_keys
 from .keys import TOLERANCE as KEY_TOLERANCE
-from .paths import PathData, compact, hex_colour
+from .paths import PathData, compact, hex_colour, tolerance_digits
 
 __all__ = ["web_animation", "css_text", "snippet_html", "waapi_data", "write_css", "write_waapi",
            "pixel_frames"]
@@ -127,7 +127,8 @@ def web_animation(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, loop=True, ti
         tolerance = TOLERANCE * float(np.hypot(w, h))
     if key_tolerance is None:
         key_tolerance = KEY_TOLERANCE * float(np.hypot(w, h))
-    data = PathData(seq, curves=curves, frames=px, tolerance=tolerance, relative=curves or reduce)
+    data = PathData(seq, curves=curves, frames=px, tolerance=tolerance, relative=curves or reduce,
+                    precision=tolerance_digits(tolerance) if curves or reduce else None)
     digits = data.digits
     ticks = px[np.append(order, order[-1])]  # one more tick: the last frame shows for 1 / fps
     times = np.arange(len(ticks)) / float(fps)
