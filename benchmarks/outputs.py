@@ -29,7 +29,6 @@ sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent / "tests"))
 
 import _results  # noqa: E402
-
 import isotween  # noqa: E402
 from isotween.outputs import timed, with_paint  # noqa: E402
 from isotween.render import playback_order  # noqa: E402

@@ -146,3 +146,40 @@ def test_timed_keeps_every_frame_in_its_place_and_the_easing():
     np.testing.assert_allclose(out.frames[::6], seq.frames, atol=1e-12)  # frame k at k / 4 of the second
     np.testing.assert_allclose(out.times[::6], seq.times, atol=1e-12)
     assert timed(seq, 0, fps=24) is seq
+
+
+def test_edge_chains_pass_along_every_edge_once():
+    from isotween.render.outline import edge_chains
+    from shapes import grid_mesh
+
+    mesh = grid_mesh(9, 4, length=4.0, width=1.0)
+    walks = edge_chains(mesh.edges)
+    steps = np.concatenate([np.sort(np.column_stack([w[:-1], w[1:]]), axis=1) for w in walks])
+    assert len(steps) == mesh.n_edges
+    np.testing.assert_array_equal(np.unique(steps, axis=0), np.unique(np.sort(mesh.edges, axis=1), axis=0))
+    odd = int((np.bincount(np.asarray(mesh.edges).ravel()) % 2 == 1).sum())
+    assert len(walks) <= max(odd // 2, 1) + 2  # close to the least number of open walks
+    assert len(walks) < mesh.n_faces / 3  # far fewer subpaths than the triangles of before
+
+
+def test_animated_svg_of_a_mesh_in_the_default_look_matches_our_render(tmp_path, browser):
+    from isotween.render import write_svg_animation
+    from shapes import bend, grid_mesh
+
+    bar = grid_mesh(9, 3, length=4.0, width=1.0)
+    mesh = isotween.interpolate(bar, bar.with_vertices(bend(bar.vertices, np.pi / 2)), frames=5)
+    renderer = SequenceRenderer(mesh, SIZE, background="white")
+    path, old = tmp_path / "a.svg", tmp_path / "old.svg"
+    write_svg_animation(mesh, path, fps=FPS, hold=HOLD, size=SIZE, background="white")
+    write_svg_animation(mesh, old, fps=FPS, hold=HOLD, size=SIZE, background="white", curves=False, reduce=False)
+    assert path.stat().st_size * 2 < old.stat().st_size
+    order, ticks = ticks_to_check(mesh)
+    page = browser.new_page(viewport={"width": renderer.width + 20, "height": renderer.height + 20})
+    try:
+        page.set_content(f'<body style="margin:0">{path.read_text().split("?>", 1)[1]}</body>')
+        for k in ticks:
+            page.evaluate("t => { const s = document.querySelector('svg'); s.pauseAnimations();"
+                          " s.setCurrentTime(t); }", k / FPS)
+            compare(page, renderer, int(order[k]), "smil mesh")
+    finally:
+        page.close()

@@ -18,6 +18,7 @@ from .frame import FILL, FILL_EDGE, WIRE
 from .html import _decimals
 from .keys import LINEAR, X1, X2, reduce_keys
 from .keys import TOLERANCE as KEY_TOLERANCE
+from .outline import edge_chains, mesh_boundary
 from .paths import (
     PathData,
     RunStrings,
@@ -176,16 +177,25 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
 
     if paints is None:
         fill, line = _pieces(shape)
-        styles = (
-            (fill, f'fill="{FILL}" fill-rule="evenodd" stroke="{FILL_EDGE}" stroke-width="0.5" stroke-linejoin="round" '
-                   'vector-effect="non-scaling-stroke"'),
+        edge_style = (f'stroke="{FILL_EDGE}" stroke-width="0.5" stroke-linejoin="round" '
+                      'vector-effect="non-scaling-stroke"')
+        styles = [
+            (fill, f'fill="{FILL}" fill-rule="evenodd" {edge_style}'),
             (line, f'fill="none" stroke="{WIRE}" stroke-width="1.5" stroke-linecap="round" stroke-linejoin="round" '
                    'vector-effect="non-scaling-stroke"'),
-        )
-        for runs, style in styles:
+        ]
+        lean = curves or reduce
+        loops = mesh_boundary(shape.faces) if lean and shape.n_faces else []
+        if loops:  # a mesh: its outline filled, its edges as few long strokes (not every triangle)
+            styles = [([(loop, True) for loop in loops], f'fill="{FILL}" fill-rule="nonzero"'),
+                      ([(w, False) for w in edge_chains(shape.edges)], f'fill="none" {edge_style}')]
+        elif lean and line and all(len(idx) == 2 for idx, _ in line):  # an edge soup: chained
+            styles[1] = ([(w, False) for w in edge_chains([idx for idx, _ in line])], styles[1][1])
+        for k, (runs, style) in enumerate(styles):
             if not runs:
                 continue
-            fitted = fit_curves(frames, runs, tolerance=tolerance) if curves and not shape.n_faces else polylines(runs)
+            smooth = curves and (not shape.n_faces or (bool(loops) and k == 0))  # outlines, not triangles or edges
+            fitted = fit_curves(frames, runs, tolerance=tolerance) if smooth else polylines(runs)
             keys, eases, d = keyed(fitted)
             body.append(f'  <path d="{d[0]}" {style}>' + _values("d", d, _timing(times, keys, eases, duration, reduce))
                         + "\n  </path>")
