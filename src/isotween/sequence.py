@@ -344,7 +344,7 @@ class Sequence:
         >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
         >>> seq = isotween.interpolate(bar, bar.translate([0, 1]), frames=3)
         >>> seq.path_data(0.5, precision=1), seq.path_data(0.5, precision=1, curves=False)
-        (['M0,-0.5C0.7,-0.5 1.3,-0.5 2,-0.5'], ['M0,-0.5L1,-0.5L2,-0.5'])
+        (['M0,-.5C.7,-.5 1.3,-.5 2,-.5'], ['M0,-.5L1,-.5L2,-.5'])
         """
         from .render.paths import PathData
 

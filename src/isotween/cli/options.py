@@ -165,7 +165,8 @@ render_options = _compose(
 
 output_options = _compose(
     click.option("-o", "--output", "output", required=True,
-                 help="Output: .gif .webp .apng .mp4 .svg .html .lottie.json (animation), .png (strip), "
+                 help="Output: .gif .webp .apng .mp4 .svg .html .lottie.json .css .waapi.json (animation), "
+                      ".png (strip), "
                       ".npz .json (sequence) or a folder of frames."),
     click.option("--format", "fmt", type=click.Choice(FORMATS), default=None,
                  help="Write one file per frame in this format into the -o folder (lottie: one Lottie .json)."),

@@ -35,6 +35,23 @@ def compact(text):
     return _MINUS_ZERO.sub("0", _DOT.sub("", _ZEROS.sub(r"\1", text)))
 
 
+_LEADING_ZERO = re.compile(r"(?<![\d.])0\.(?=\d)")
+_SPACE_MINUS = re.compile(r" (?=-)")
+
+
+def compact_path(text):
+    """`compact` path data, also without leading zeros (``0.5`` -> ``.5``) and spaces before a minus.
+
+    Both are valid SVG path grammar (and CSS ``path()``), shorter by about a character a number.
+
+    Examples
+    --------
+    >>> compact_path("M10.500,0.250 C-0.125,2.000 1.000,-0.500 3.000,4.000Z")
+    'M10.5,.25 C-.125,2 1,-.5 3,4Z'
+    """
+    return _SPACE_MINUS.sub("", _LEADING_ZERO.sub(".", compact(text)))
+
+
 def default_digits(frames):
     """Decimal places that keep about 1e-4 of the drawing's size."""
     side = float(np.max(np.ptp(np.asarray(frames).reshape(-1, 2), axis=0))) or 1.0
@@ -184,7 +201,7 @@ class RunStrings:
 
     def strings(self, frames):
         """The ``d`` string of every frame (list of str)."""
-        return [compact(self.template.format(*row)) for row in self.values(np.asarray(frames)).tolist()]
+        return [compact_path(self.template.format(*row)) for row in self.values(np.asarray(frames)).tolist()]
 
 
 def polylines(runs):
