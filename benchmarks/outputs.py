@@ -5,7 +5,8 @@ pairs of the correspondence corpus (benchmarks/corpus.py: the classic icon
 morphs when the icon sets are installed, else DejaVu glyph pairs), each
 sequence is written as the rendered outputs are by default (1 s of motion at
 24 fps, 0.25 s hold at both ends, 480 px): Lottie and animated SVG the old way
-(``curves=False, reduce=False``: a polyline keyframe per tick) and the new way
+(the writers of the last commit before issue 24, read from git; without git,
+``curves=False, reduce=False``: a polyline keyframe per tick) and the new way
 (Bezier curves, reduced keys), and the CSS animation. Pixels: Chromium draws the
 new Lottie (lottie-web) and the new SVG (SMIL, paused) at a few ticks; the
 fraction of pixels that differ by more than 60 levels from isotween's own PNG
@@ -82,16 +83,55 @@ def corpus_pairs(n):
         yield name, seq
 
 
+#: the last commit before issue 24: its Lottie and SVG writers are "before"
+BEFORE = "43a940c"
+
+
+def old_writers():
+    """``lottie_data`` and ``write_svg_animation`` of commit `BEFORE`, loaded from git; None without git.
+
+    The modules are loaded inside the package (``isotween.render._before_*``) so that their relative
+    imports resolve; everything they import still exists under the same name.
+    """
+    import importlib.util
+    import subprocess
+
+    out = []
+    for name in ("svg_animation", "lottie"):
+        try:
+            text = subprocess.run(["git", "show", f"{BEFORE}:src/isotween/render/{name}.py"], cwd=HERE.parent,
+                                  check=True, capture_output=True, text=True).stdout
+        except (OSError, subprocess.CalledProcessError):
+            return None
+        folder = Path(tempfile.mkdtemp())
+        (folder / f"{name}.py").write_text(text)
+        spec = importlib.util.spec_from_file_location(f"isotween.render._before_{name}", folder / f"{name}.py")
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[spec.name] = module
+        spec.loader.exec_module(module)
+        out.append(module)
+    return out[1].lottie_data, out[0].write_svg_animation
+
+
+OLD = old_writers()
+
+
 def sizes(seq):
     """Bytes of each output, old and new (the default timing of rendered outputs)."""
     out = {}
-    lottie_old = lottie_data(seq, hold=HOLD, background="white", curves=False, reduce=False)
+    if OLD is not None:  # the writers of before, as they were
+        lottie_old = OLD[0](seq, hold=HOLD, background="white")
+    else:  # the closest option of today's writer
+        lottie_old = lottie_data(seq, hold=HOLD, background="white", curves=False, reduce=False)
     lottie_new = lottie_data(seq, hold=HOLD, background="white")
     out["lottie_old"] = len(json.dumps(lottie_old, separators=(",", ":")))
     out["lottie_new"] = len(json.dumps(lottie_new, separators=(",", ":")))
     with tempfile.TemporaryDirectory() as folder:
         old, new = Path(folder) / "old.svg", Path(folder) / "new.svg"
-        write_svg_animation(seq, old, hold=HOLD, curves=False, reduce=False)
+        if OLD is not None:
+            OLD[1](seq, old, hold=HOLD)
+        else:
+            write_svg_animation(seq, old, hold=HOLD, curves=False, reduce=False)
         write_svg_animation(seq, new, hold=HOLD)
         out["svg_old"], out["svg_new"] = old.stat().st_size, new.stat().st_size
     out["css"] = len(css_text(web_animation(seq, hold=HOLD)))
@@ -190,8 +230,10 @@ def main():
         summary += (f" Pixels against our PNG render ({PIXEL_SIZE} px, 5 ticks a case): at most "
                     f"{100 * worst['lottie']:.2f} % (Lottie) and {100 * worst['svg']:.2f} % (SVG) differ by more "
                     f"than 60 levels; the bound of tests/test_lottie.py is {100 * BOUND:.0f} %.")
-    body = ("Before: `curves=False, reduce=False` (a polyline keyframe per tick, as before issue 24); after: the "
-            "defaults (Bezier curves within 0.1 % of the diagonal, keys kept only where easing misses a tick). "
+    before = (f"the Lottie and SVG writers of commit {BEFORE} (before issue 24), loaded from git" if OLD is not None
+              else "`curves=False, reduce=False` (a polyline keyframe per tick)")
+    body = (f"Before: {before}, on the same resampled sequence; after: the defaults (Bezier curves within 0.1 % "
+            "of the diagonal, keys kept only where easing misses a tick by 0.25 % of it). "
             f"{summary}\n\n" + _results.table(header, rows)
             + f"\n\nWall time: {time.perf_counter() - started:.0f} s.")
     print(summary)
