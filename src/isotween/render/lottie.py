@@ -18,7 +18,8 @@ from .curves import TOLERANCE, fit_curves
 from .frame import FILL, FILL_EDGE, WIRE, check_colour
 from .keys import TOLERANCE as KEY_TOLERANCE
 from .keys import X1, X2, reduce_keys
-from .paths import PathData, _Polyline, hex_colour, tolerance_digits
+from .outline import edge_chains, mesh_boundary
+from .paths import PathData, _Polyline, hex_colour, polylines, tolerance_digits
 from .svg_animation import _pieces
 from .web import pixel_frames
 
@@ -183,6 +184,20 @@ def _default_groups(shape, px, order, dpi_scale, options):
             return fit_curves(px, runs, tolerance=options["tol"])
         return [_Polyline(idx, closed) for idx, closed in runs]
 
+    lean = options["curves"] or options["reduce"]
+    loops = mesh_boundary(shape.faces) if lean and shape.n_faces else []
+    if loops:  # a mesh: its outline filled (curves), its edges once each as few long strokes, on top
+        outline = [(loop, True) for loop in loops]
+        rings = fit_curves(px, outline, tolerance=options["tol"]) if options["curves"] else polylines(outline)
+        items = [_path_item(f"outline {j}", c, ticks, tol, digits, reduce) for j, c in enumerate(rings)]
+        items += _colour_items([rgb(FILL)], [100.0], None, None, None, rule=1)
+        items.append(_transform())
+        edge_items = [_path_item(f"edges {j}", _Polyline(w, False), ticks, tol, digits, reduce)
+                      for j, w in enumerate(edge_chains(shape.edges))]
+        edge_items += _colour_items(None, None, [rgb(FILL_EDGE)], [100.0], [_EDGE_POINTS * dpi_scale])
+        edge_items.append(_transform())
+        groups += [{"ty": "gr", "nm": "fill", "it": items}, {"ty": "gr", "nm": "edges", "it": edge_items}]
+        fill_runs = []
     if fill_runs:
         items = []
         runs = fill_runs
@@ -193,7 +208,6 @@ def _default_groups(shape, px, order, dpi_scale, options):
             runs = [(idx[::-1] if flip else idx, True) for (idx, _), flip in zip(fill_runs, cw.tolist(), strict=True)]
         items += [_path_item(f"piece {j}", c, ticks, tol, digits, reduce) for j, c in enumerate(shapes(runs))]
         edge_colour = ([rgb(FILL_EDGE)], [100.0], [_EDGE_POINTS * dpi_scale])
-        lean = options["curves"] or options["reduce"]
         # lean: the pieces' own stroke (listed above their fill) draws the edges; else one path per edge
         extra = _loose_edges(shape) if lean else shape.edges
         edges = [_path_item(f"edge {j}", _Polyline(e, False), ticks, tol, digits, reduce) for j, e in enumerate(extra)]
