@@ -9,6 +9,7 @@ from click.testing import CliRunner
 from isotween import Shape, io
 from isotween.cli import main
 from isotween.correspondence.correspond import MIN_POINTS
+from isotween.render.defaults import DURATION, FPS
 
 
 def run(*args):
@@ -178,8 +179,8 @@ def test_gif_and_energy_plot(tmp_path, pair):
 
     result = run("interpolate", *pair, "-n", 5, "-o", tmp_path / "a.gif", "--plot", tmp_path / "e.png", "-q")
     assert result.exit_code == 0, result.output
-    with Image.open(tmp_path / "a.gif") as im:
-        assert im.n_frames == 5
+    with Image.open(tmp_path / "a.gif") as im:  # 1 s of motion at 24 fps by default: 25 frames from the 5
+        assert im.n_frames == round(DURATION * FPS) + 1
     with Image.open(tmp_path / "e.png") as im:
         assert im.format == "PNG"
 

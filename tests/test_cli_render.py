@@ -56,7 +56,7 @@ def test_help_short_option_and_method_choices():
 def test_render_applies_fps_size_hold_bounce_loop(tmp_path, saved):
     out = tmp_path / "a.gif"
     result = run("render", saved, "-o", out, "--fps", 10, "--size", "64x48", "--hold", 0.5, "--bounce",
-                 "--no-loop", "-q")
+                 "--no-loop", "--duration", 0, "-q")  # duration 0: the 5 frames, one per tick
     assert result.exit_code == 0, result.output
     size, durations, loop = gif_timing(out)
     assert size == (64, 48) and loop is None
@@ -65,7 +65,10 @@ def test_render_applies_fps_size_hold_bounce_loop(tmp_path, saved):
     assert durations[0] == 600 and durations[4] == 600
     result = run("render", saved, "-o", tmp_path / "b.gif", "-q")
     _, durations, loop = gif_timing(tmp_path / "b.gif")
-    assert loop == 0 and durations == [40] * 5  # 24 fps, the default of every output, in GIF centiseconds
+    # the defaults: 24 fps (4 centiseconds a tick), 1 s of motion (25 frames resampled from 5),
+    # held 0.25 s (6 ticks) on the first and the last frame, looping
+    # (Pillow merges the 7 equal ticks of 42 ms: 294 ms, stored in centiseconds)
+    assert loop == 0 and durations == [290] + [40] * 23 + [290]
 
 
 @pytest.mark.parametrize("name", ["a.webp", "a.apng", "a.svg", "a.html", "a.lottie.json", "a.png", "back.json"])
@@ -75,7 +78,9 @@ def test_render_writes_every_kind(tmp_path, saved, name):
     assert result.output.strip().endswith(str(tmp_path / name))
     if name.endswith(".lottie.json"):
         data = json.loads((tmp_path / name).read_text())
-        assert data["fr"] == 12 and data["op"] == 5 and data["nm"] == "q.npz"  # title: the input file
+        # 12 fps: 1 s of motion is 13 ticks, plus 3 ticks of hold at each end; title: the input file
+        assert data["fr"] == 12 and data["op"] == 13 + 2 * 3 and data["nm"] == "q.npz"
+        assert data["layers"][-1]["ty"] == 1 and data["layers"][-1]["sc"] == "#ffffff"  # the white background
     elif name == "back.json":
         np.testing.assert_allclose(io.load_sequence(tmp_path / name).frames, io.load_sequence(saved).frames)
     elif name.endswith(".html"):
@@ -95,7 +100,8 @@ def test_format_lottie_and_refusals(tmp_path, saved):
 
 
 def test_fill_option_blends_in_oklab(tmp_path, saved):
-    result = run("render", saved, "-o", tmp_path / "c.svg", "--fill", "red:blue", "--stroke", "black", "-q")
+    result = run("render", saved, "-o", tmp_path / "c.svg", "--fill", "red:blue", "--stroke", "black",
+                 "--duration", 0, "--hold", 0, "-q")  # the 5 frames, one per tick: frame 2 is the midpoint
     assert result.exit_code == 0, result.output
     text = (tmp_path / "c.svg").read_text()
     fills = re.search(r'attributeName="fill" values="([^"]*)"', text).group(1).split(";")
@@ -161,3 +167,14 @@ def test_info_reports_the_paint(tmp_path):
     io.save_sequence(interpolate(a, b, frames=3), tmp_path / "p.npz")
     result = run("info", tmp_path / "p.npz")
     assert result.exit_code == 0 and "paint: fills #ff0000 -> #0000ff (Oklab blend)" in result.output
+
+
+@pytest.mark.parametrize("name", ["s.svg", "s.css", "s.lottie.json"])
+def test_summary_gives_the_size_of_what_was_written(tmp_path, saved, name):
+    result = run("render", saved, "-o", tmp_path / name, "-q")
+    assert result.exit_code == 0, result.output
+    written = result.output.strip().split(" -> ")[1].split(", ")
+    total = sum((tmp_path / w).stat().st_size for w in written)
+    size = re.search(r"size=(\S+)", result.output).group(1)
+    value, unit = float(re.match(r"[\d.]+", size).group()), re.sub(r"[\d.]+", "", size)
+    assert value * {"B": 1, "kB": 1e3, "MB": 1e6}[unit] == pytest.approx(total, rel=0.06, abs=1)

@@ -11,6 +11,7 @@ import isotween
 from isotween import examples, io
 from isotween.cli import main
 from isotween.errors import ParameterError
+from isotween.render.defaults import DURATION, FPS
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -23,8 +24,8 @@ def test_every_example_runs_under_demo(tmp_path, name):
     result = CliRunner().invoke(main, ["demo", name, "-o", str(tmp_path), "-q"])
     assert result.exit_code == 0, result.output
     src, tgt, options = examples.load_example(name)
-    with Image.open(tmp_path / f"{name}.gif") as im:
-        assert im.n_frames == options["frames"]
+    with Image.open(tmp_path / f"{name}.gif") as im:  # 1 s of motion at 24 fps by default, resampled
+        assert im.n_frames == round(DURATION * FPS) + 1
     assert f"frames={options['frames']} vertices={src.n_vertices} edges={src.n_edges} " in result.stdout
     assert (tmp_path / f"{name}.html").stat().st_size > 0
 

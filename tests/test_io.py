@@ -10,6 +10,7 @@ import isotween
 from isotween import Sequence, Shape, io
 from isotween.errors import FileFormatError, IncompatibleShapesError, ParameterError
 from isotween.io._files import atomic_path
+from isotween.render.defaults import DURATION, FPS
 
 # awkward floats: shortest-repr decimals must survive every text format
 AWKWARD = np.array([[1 / 3, -2.5e8], [0.1 + 0.2, 1e-17], [-7.25, 3.0e-5], [2.0, 1 / 7]])
@@ -488,7 +489,10 @@ def test_write_output_rendered_kinds(tmp_path):
 
     seq = blend_sequence(path_shape(), frames=4)
     isotween.write_output(seq, tmp_path / "a.gif")
-    with Image.open(tmp_path / "a.gif") as im:
+    with Image.open(tmp_path / "a.gif") as im:  # 1 s of motion at 24 fps by default, resampled from 4 frames
+        assert im.n_frames == round(DURATION * FPS) + 1
+    isotween.write_output(seq, tmp_path / "b.gif", duration=0, hold=0)
+    with Image.open(tmp_path / "b.gif") as im:  # duration 0: the frames themselves
         assert im.n_frames == 4
     isotween.write_output(seq, tmp_path / "a.png")
     with Image.open(tmp_path / "a.png") as im:

@@ -12,9 +12,13 @@ import pytest
 
 from browser import screenshot
 from isotween import Sequence, Shape, interpolate, render
+from isotween.examples import load_example
+from isotween.outputs import with_paint
 from isotween.paint import Paint
 from isotween.render._frames import SequenceRenderer
 from isotween.render._view import bbox_of, fit_view
+from isotween.render.curves import TOLERANCE
+from isotween.render.keys import TOLERANCE as KEY_TOLERANCE
 from isotween.render.lottie import lottie_data
 from shapes import bend, grid_mesh
 
@@ -84,7 +88,8 @@ def keyframe_points(item):
 
 def test_keyframes_are_the_frames_and_the_paint(morph):
     fps, hold = 10, 0.2
-    data = lottie_data(morph, fps=fps, hold=hold, size=300)
+    # without curves and keyframe reduction, every tick is a keyframe holding exactly its frame
+    data = lottie_data(morph, fps=fps, hold=hold, size=300, curves=False, reduce=False)
     order = render.playback_order(len(morph), fps, hold)
     assert data["op"] == len(order) and data["fr"] == fps
     group = data["layers"][0]["shapes"][0]
@@ -109,6 +114,63 @@ def test_keyframes_are_the_frames_and_the_paint(morph):
 
     mid = lerp_paint(morph.shape.paint[0], Paint(fill=(0, 0, 1, 1)), [0.5])[0].fill
     np.testing.assert_allclose(colours[order.tolist().index(3)][:3], mid[:3], atol=1e-4)
+
+
+def sampled_ticks(item, ticks, per_segment=60):
+    """(P, m, 2) points of an ``sh`` item's Bezier path at every tick, the eased keyframes evaluated."""
+    ks = item["ks"]
+    if ks["a"] == 0:
+        values = [ks["k"]] * ticks
+    else:
+        keys = ks["k"]
+        times = [k["t"] for k in keys]
+        assert times[0] == 0 and times[-1] == ticks - 1
+        values = []
+        for t in range(ticks):
+            j = min(np.searchsorted(times, t, side="right") - 1, len(keys) - 2)
+            a, b = keys[j], keys[j + 1]
+            assert a["o"]["x"] == [1 / 3] and a["i"]["x"] == [2 / 3]  # x handles: the easing's x is the time
+            u = (t - a["t"]) / (b["t"] - a["t"])
+            y = 3 * (1 - u) ** 2 * u * a["o"]["y"][0] + 3 * (1 - u) * u ** 2 * a["i"]["y"][0] + u ** 3
+            sa, sb = a["s"][0], b["s"][0]
+            assert len(sa["v"]) == len(sb["v"])  # the same vertex count in every keyframe
+            blend = {k: (1 - y) * np.array(sa[k]) + y * np.array(sb[k]) for k in ("v", "i", "o")}
+            values.append({**blend, "c": sa["c"]})
+    u = np.linspace(0, 1, per_segment)[:, None]
+    out = []
+    for val in values:
+        v, i, o = (np.asarray(val[k], dtype=float) for k in ("v", "i", "o"))
+        nxt = np.arange(1, len(v) + 1) % len(v) if val["c"] else np.arange(1, len(v))
+        p0, p3 = v[:len(nxt)], v[nxt]
+        p1, p2 = p0 + o[:len(nxt)], p3 + i[nxt]
+        pts = ((1 - u) ** 3)[None] * p0[:, None] + (3 * (1 - u) ** 2 * u)[None] * p1[:, None] \
+            + (3 * (1 - u) * u ** 2)[None] * p2[:, None] + (u ** 3)[None] * p3[:, None]
+        out.append(pts.reshape(-1, 2))
+    return np.array(out)
+
+
+def test_lean_keyframes_reproduce_every_tick_within_the_tolerance(morph):
+    from isotween.render.web import pixel_frames
+    from test_curves import polyline_distance
+
+    source, target, options = load_example("holes")
+    seq = with_paint(interpolate(source, target, **options), fill=("red", "blue"))
+    for s in (morph, seq):
+        fps, hold, size = 24, 0.25, 400
+        lean, full = lottie_data(s, fps=fps, hold=hold, size=size), \
+            lottie_data(s, fps=fps, hold=hold, size=size, curves=False, reduce=False)
+        order = render.playback_order(len(s), fps, hold)
+        px = pixel_frames(s, size)[0][order]
+        tol = (TOLERANCE + KEY_TOLERANCE) * np.hypot(lean["w"], lean["h"])  # curve fit, then keyframe easing
+        items = [it for g in lean["layers"][0]["shapes"] for it in g["it"] if it["ty"] == "sh"]
+        rings = [px[:, np.append(idx, idx[0]) if closed else idx] for idx, closed in s.shape.paths]
+        for item in items:
+            assert item["ks"]["a"] == 1 and len(item["ks"]["k"]) < len(order) / 2
+            pts = sampled_ticks(item, len(order))
+            near = np.min([polyline_distance(pts, r) for r in rings], axis=0)
+            assert near.max() <= tol * (1 + 1 / 8), near.max()  # and rounding (`tolerance_digits`)
+        # curves pay off on the letters' outlines (hundreds of vertices), holds and slow ends on both
+        assert len(json.dumps(lean)) * (5 if s is seq else 1.5) < len(json.dumps(full))
 
 
 @pytest.fixture(scope="module")

@@ -13,15 +13,16 @@ import numpy as np
 from .errors import FileFormatError, ParameterError, require
 from .io import SHAPE_FORMATS, save_sequence, write_frames
 from .io.frames import DATA_FRAME_FORMATS, write_frame_files
-from .render.defaults import BACKGROUND, FPS, SIZE
+from .render.defaults import BACKGROUND, DURATION, FPS, HOLD, SIZE
 from .render.outline import mesh_boundary
 
-__all__ = ["write_output", "output_kind", "with_paint", "OUTPUT_KINDS", "FRAME_FORMATS", "FORMATS", "RENDER_OPTIONS",
-           "ANIMATIONS"]
+__all__ = ["write_output", "output_kind", "with_paint", "timed", "OUTPUT_KINDS", "FRAME_FORMATS", "FORMATS",
+           "RENDER_OPTIONS", "ANIMATIONS", "TIMED"]
 
 #: file name ending -> kind of output (longest ending first when names overlap)
 OUTPUT_KINDS = {
     ".lottie.json": "lottie",
+    ".waapi.json": "waapi",
     ".npz": "sequence",
     ".json": "sequence",
     ".gif": "gif",
@@ -30,10 +31,13 @@ OUTPUT_KINDS = {
     ".apng": "apng",
     ".html": "html",
     ".svg": "svg",
+    ".css": "css",
     ".png": "strip",
 }
 #: kinds that play the frames in time (take fps, hold, bounce, loop)
-ANIMATIONS = ("gif", "mp4", "webp", "apng", "html", "svg", "lottie")
+ANIMATIONS = ("gif", "mp4", "webp", "apng", "html", "svg", "lottie", "css", "waapi")
+#: animations that last ``duration`` seconds of motion with a ``hold`` at both ends (the page plays the frames)
+TIMED = ("gif", "mp4", "webp", "apng", "svg", "lottie", "css", "waapi")
 #: ``format`` values: one file per frame in a folder, or ``lottie`` for one Lottie file
 FRAME_FORMATS = DATA_FRAME_FORMATS + ("png",)
 FORMATS = FRAME_FORMATS + ("lottie",)
@@ -41,8 +45,9 @@ FORMATS = FRAME_FORMATS + ("lottie",)
 #: a strip's cells are 240 px, PNG frames 600 px, an SVG 480 px wide, a page has no size)
 RENDER_OPTIONS = {
     "fps": FPS,
+    "duration": DURATION,
     "size": SIZE,
-    "hold": 0.0,
+    "hold": HOLD,
     "bounce": False,
     "loop": True,
     "title": None,
@@ -56,6 +61,8 @@ _TAKES = {
     "mp4": ("fps", "size", "hold", "bounce", "background"),
     "svg": ("fps", "size", "hold", "bounce", "loop", "title", "background"),
     "lottie": ("fps", "size", "hold", "bounce", "title", "background"),
+    "css": ("fps", "size", "hold", "bounce", "loop", "title", "background"),
+    "waapi": ("fps", "size", "hold", "bounce", "loop", "title", "background"),
     "html": ("fps", "bounce", "title", "background"),
     "strip": ("size", "background"),
     "frames": ("size", "background"),
@@ -79,7 +86,7 @@ def output_kind(out, format=None):
 
     Returns
     -------
-    {'sequence', 'gif', 'mp4', 'webp', 'apng', 'html', 'svg', 'lottie', 'strip', 'frames'}
+    {'sequence', 'gif', 'mp4', 'webp', 'apng', 'html', 'svg', 'lottie', 'css', 'waapi', 'strip', 'frames'}
 
     Raises
     ------
@@ -135,12 +142,55 @@ def _check_options(options):
     return {k: v for k, v in options.items() if v is not None}
 
 
+def timed(seq, duration, fps=FPS):
+    """The sequence resampled so that its motion lasts ``duration`` seconds at ``fps`` ticks per second.
+
+    Frame ``k`` of ``F`` keeps its place in the clip (fraction ``k / (F - 1)``
+    of the duration), so an eased sequence (uneven ``times``) stays eased;
+    in between, the shapes come from `Sequence.at`.
+
+    Parameters
+    ----------
+    seq : Sequence
+    duration : float or None
+        Seconds from the first frame to the last; None or 0: the frames as
+        they are, one per tick.
+    fps : float
+
+    Returns
+    -------
+    Sequence
+        ``round(duration * fps) + 1`` frames (``seq`` itself when that is
+        its length, when it has fewer than two frames, or without a
+        duration).
+
+    Examples
+    --------
+    >>> import isotween
+    >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0]])
+    >>> seq = isotween.interpolate(bar, bar.rotate(1.0), frames=5)
+    >>> len(timed(seq, 1.0, fps=24)), len(timed(seq, None))
+    (25, 5)
+    """
+    if duration is None or duration == 0 or len(seq) < 2:
+        return seq
+    if not np.isfinite(duration) or duration < 0:
+        raise ParameterError(f"duration must be a number of seconds >= 0, got {duration!r}")
+    n = max(int(round(duration * fps)) + 1, 2)
+    if n == len(seq):
+        return seq
+    place = np.linspace(0.0, len(seq) - 1.0, n)
+    return seq.resample(times=np.interp(place, np.arange(len(seq)), seq.times))
+
+
 def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **options):
     """Write a sequence as the kind of output ``out`` names.
 
     ``.npz`` / ``.json``: sequence file (`save_sequence`); ``.gif``, ``.webp``,
-    ``.apng``, ``.mp4``, ``.html``, ``.svg`` (SMIL), ``.lottie.json``:
-    animation (`isotween.render`); ``.png``: a strip of frames; a folder
+    ``.apng``, ``.mp4``, ``.html``, ``.svg`` (SMIL), ``.lottie.json``,
+    ``.css`` (``@keyframes``, with an ``.html`` page beside it),
+    ``.waapi.json`` (Web Animations): animation (`isotween.render`);
+    ``.png``: a strip of frames; a folder
     (existing, without extension, or with ``format``): one file per frame
     (``format`` defaulting to ``obj``).
 
@@ -160,7 +210,9 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
     **options
         Rendering controls, see :data:`RENDER_OPTIONS` (``size`` is the
         longest side or ``(width, height)``; for a strip, the cell size).
-        Controls that do not apply to a kind are ignored.
+        Controls that do not apply to a kind are ignored. The kinds of
+        :data:`TIMED` play ``duration`` seconds of motion (`timed`; 0: one
+        frame per tick) with ``hold`` seconds on the first and last frame.
 
     Returns
     -------
@@ -180,6 +232,11 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
         return write_frames(seq, out, format=fmt, progress=not quiet)
     render = require("isotween.render", "cli")
     take = {k: opts[k] for k in _TAKES[kind] if k in opts}
+    if kind in TIMED:
+        seq = timed(seq, opts.get("duration", DURATION), take.get("fps", FPS))
+        take.setdefault("hold", HOLD)
+    if kind == "lottie":  # Lottie files are transparent unless a background layer is written
+        take.setdefault("background", BACKGROUND)
     if kind == "frames":  # png: one view (the whole sequence's) for every frame, so that the images line up
         from .render._frames import SequenceRenderer
         from .render.frame import save_png
@@ -191,7 +248,7 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
     writers = {
         "gif": render.write_gif, "mp4": render.write_mp4, "webp": render.write_webp, "apng": render.write_apng,
         "html": render.write_html, "svg": render.write_svg_animation, "lottie": render.write_lottie,
-        "strip": render.write_strip,
+        "strip": render.write_strip, "css": render.write_css, "waapi": render.write_waapi,
     }
     if kind == "strip" and "size" in take:
         take["cell"] = take.pop("size")
@@ -199,8 +256,8 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
         take["progress"] = not quiet
     if kind in ("gif", "mp4", "webp", "apng", "html", "strip"):
         take["texture"] = texture
-    writers[kind](seq, out, **take)
-    return [out]
+    written = writers[kind](seq, out, **take)
+    return list(written) if isinstance(written, list) else [out]
 
 
 def with_paint(seq, fill=None, stroke=None, stroke_width=None):

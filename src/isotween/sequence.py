@@ -21,6 +21,8 @@ __all__ = ["Sequence"]
 #: Sequence -> (shape, weights, FrameAssembler) of its last at() call (kept out of the
 #: instance, so that sequences still copy and pickle)
 _ASSEMBLERS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: Sequence -> (options, PathData) of its last path_data() call
+_PATH_DATA: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 @dataclass(eq=False, repr=False)
@@ -305,6 +307,86 @@ class Sequence:
         for at_frame, frame in ((s == 0.0, k), (s == 1.0, k + 1)):  # the frames themselves, bit for bit
             out[:, at_frame] = z[frame[at_frame]].T
         return pack(out)
+
+    # ------------------------------------------------------------------ path strings
+    def path_data(self, t: float, *, curves: bool = True, precision: int | None = None,
+                  tolerance: float | None = None) -> list[str]:
+        """The SVG ``d`` string of every drawn group at time ``t``.
+
+        A group is a region with its holes (filled by the even-odd rule) or
+        one open path (see :func:`isotween.render.paths.outline_groups`).
+        With ``curves`` the outlines are cubic Bezier curves within
+        ``tolerance`` of the polylines, with the same commands at every t
+        (the structure is chosen once for all frames), so the strings of two
+        times interpolate command by command, as flubber's or GSAP's
+        morphs expect. Coordinates are SVG user units, y down (a y-up
+        shape is mirrored), those of :meth:`to_svg`.
+
+        Parameters
+        ----------
+        t : float
+            In ``[times[0], times[-1]]``; between frames, :meth:`at`.
+        curves : bool
+            Bezier curves (``C`` and ``L`` commands) or polylines (``L``).
+        precision : int, optional
+            Decimal places (default: about 1e-4 of the drawing's size).
+        tolerance : float, optional
+            Largest distance between curves and polylines, in shape units
+            (default: 0.1 % of the diagonal of all frames).
+
+        Returns
+        -------
+        list of str
+
+        Examples
+        --------
+        >>> import isotween
+        >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+        >>> seq = isotween.interpolate(bar, bar.translate([0, 1]), frames=3)
+        >>> seq.path_data(0.5, precision=1), seq.path_data(0.5, precision=1, curves=False)
+        (['M0,-.5C.7,-.5 1.3,-.5 2,-.5'], ['M0,-.5L1,-.5L2,-.5'])
+        """
+        from .render.paths import PathData
+
+        key = (bool(curves), precision, tolerance)
+        cached = _PATH_DATA.get(self)
+        if cached is None or cached[0] != key or cached[1].seq.frames is not self.frames:
+            cached = _PATH_DATA[self] = (key, PathData(self, curves=curves, precision=precision,
+                                                       tolerance=tolerance))
+        return cached[1](t)
+
+    def to_svg(self, t: float, *, curves: bool = True, precision: int | None = None, size: int = 480,
+               background: Any = None) -> str:
+        """A standalone SVG document of the drawing at time ``t``, in its paint.
+
+        Parameters
+        ----------
+        t : float
+        curves, precision
+            As in :meth:`path_data`.
+        size : int or (2,) int
+            Longest side in px, or ``(width, height)``.
+        background : matplotlib colour, optional
+            A rectangle behind the drawing; transparent when None.
+
+        Returns
+        -------
+        str
+            The view box is that of all frames, so documents of two times
+            line up.
+
+        Examples
+        --------
+        >>> import isotween
+        >>> bar = isotween.Shape.from_polyline([[0, 0], [1, 0], [2, 0]])
+        >>> seq = isotween.interpolate(bar, bar.translate([0, 1]), frames=3)
+        >>> seq.to_svg(1.0).count("<path")
+        1
+        """
+        from .render.paths import svg_document
+
+        self.path_data(t, curves=curves, precision=precision)  # builds (or reuses) the interpolator
+        return svg_document(self, t, size=size, background=background, data=_PATH_DATA[self][1])
 
     # ------------------------------------------------------------------ output
     def save(self, path: str | os.PathLike, **options: Any) -> list:

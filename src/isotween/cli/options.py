@@ -27,7 +27,7 @@ import click
 from ..errors import FileFormatError, IncompatibleShapesError, require
 from ..io import atomic_path
 from ..outputs import FORMATS, output_kind, with_paint, write_output
-from ..render.defaults import BACKGROUND, FPS, SIZE
+from ..render.defaults import BACKGROUND, DURATION, FPS, HOLD, SIZE
 
 __all__ = [
     "frames_option",
@@ -50,7 +50,7 @@ __all__ = [
 
 SOLVER_KEYS = ("frames", "solver", "init", "scheme", "tol", "max_iter", "method", "times")
 #: parameters of `render_options`, passed on to `isotween.write_output`
-RENDER_KEYS = ("fps", "size", "hold", "bounce", "loop", "title", "background")
+RENDER_KEYS = ("fps", "duration", "size", "hold", "bounce", "loop", "title", "background")
 PAINT_KEYS = ("fill", "stroke", "stroke_width")
 
 
@@ -151,8 +151,11 @@ render_options = _compose(
                  help=f"Frames per second of animations [default: {FPS}]."),
     click.option("--size", type=SizeType(), default=None,
                  help=f"Picture size: longest side N or WxH in pixels [default: {SIZE}; strip cells 240]."),
+    click.option("--duration", type=click.FloatRange(0, 3600), default=None,
+                 help=f"Seconds of motion in animations other than the page; 0 plays one frame per tick "
+                      f"[default: {DURATION:g}]."),
     click.option("--hold", type=click.FloatRange(0, 3600), default=None,
-                 help="Seconds to stay on the first and the last frame [default: 0]."),
+                 help=f"Seconds to stay on the first and the last frame [default: {HOLD:g}; the page: 0]."),
     click.option("--bounce/--no-bounce", default=None, help="Play forward then backward [default: no]."),
     click.option("--loop/--no-loop", default=None, help="Repeat forever or play once [default: loop]."),
     click.option("--title", default=None, help="Title of the page, SVG or Lottie [default: the input files]."),
@@ -167,7 +170,8 @@ render_options = _compose(
 
 output_options = _compose(
     click.option("-o", "--output", "output", required=True,
-                 help="Output: .gif .webp .apng .mp4 .svg .html .lottie.json (animation), .png (strip), "
+                 help="Output: .gif .webp .apng .mp4 .svg .html .lottie.json .css .waapi.json (animation), "
+                      ".png (strip), "
                       ".npz .json (sequence) or a folder of frames."),
     click.option("--format", "fmt", type=click.Choice(FORMATS), default=None,
                  help="Write one file per frame in this format into the -o folder (lottie: one Lottie .json)."),
@@ -375,7 +379,7 @@ def progress(quiet=False, total=None, desc="iterations"):
 
 
 def summary(seq, seconds, written):
-    """One line: frames, vertices, iterations, the written sequence's own metrics, wall time, outputs.
+    """One line: frames, vertices, iterations, the written sequence's own metrics, wall time, size, outputs.
 
     The metrics (docs/how-it-works.md, "Metric definitions") are measured on ``seq`` itself, so a transferred
     or edited sequence reports its own numbers, never the solver's of
@@ -394,7 +398,31 @@ def summary(seq, seconds, written):
     if seq.shape.n_faces:
         parts.append(f"flipped={int(metrics.flipped_faces(seq))}")
     parts.append(f"seconds={seconds:.3f}")
+    if written:
+        parts.append(f"size={human_size(sum(_bytes(p) for p in written))}")
     return " ".join(parts) + f" -> {', '.join(str(p) for p in written)}"
+
+
+def _bytes(path):
+    """Size of a written file, or of all files in a written folder (0 when missing)."""
+    path = Path(path)
+    if path.is_dir():
+        return sum(p.stat().st_size for p in path.rglob("*") if p.is_file())
+    return path.stat().st_size if path.exists() else 0
+
+
+def human_size(n):
+    """Bytes as ``812B``, ``45.3kB``, ``12.1MB`` (powers of 1000).
+
+    Examples
+    --------
+    >>> human_size(812), human_size(45_300), human_size(12_100_000)
+    ('812B', '45.3kB', '12.1MB')
+    """
+    for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n >= scale:
+            return f"{n / scale:.1f}{unit}"
+    return f"{int(n)}B"
 
 
 def _input_names(ctx):

@@ -12,7 +12,7 @@ def render_command(sequence, output, fmt, texture, plot, quiet, **render):
     """Render SEQUENCE (.npz/.json, or a folder of frames) to -o without solving again.
 
     The output kind follows -o: .gif .webp .apng .mp4 .svg .html
-    .lottie.json (animations), .png (a strip of frames), .npz .json
+    .lottie.json .css .waapi.json (animations), .png (a strip of frames), .npz .json
     (sequence files) or a folder of frame files (with --format). Colours
     come from the sequence's paint or --fill/--stroke.
     """

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..errors import ParameterError, ShapeError
 
-__all__ = ["check_frames", "bbox_of", "decimals", "image_size", "fit_view"]
+__all__ = ["check_frames", "bbox_of", "decimals", "image_size", "fit_view", "to_pixels"]
 
 PAD = 0.05  # margin around the shape, as a fraction of the bounding box's longer side
 
@@ -110,3 +110,23 @@ def decimals(frames):
     """
     side = float(np.max(np.ptp(frames.reshape(-1, 2), axis=0))) or 1.0
     return int(np.clip(5 - math.floor(math.log10(side)), 0, 15))
+def to_pixels(frames, bbox, width, height, y_down):
+    """Map data coordinates to composition pixels (x right, y down).
+
+    Parameters
+    ----------
+    frames : (..., 2) float array
+    bbox : (4,) float
+        ``(x0, y0, x1, y1)`` shown, framed by `fit_view`.
+    width, height : int
+    y_down : bool
+
+    Returns
+    -------
+    (..., 2) float array
+    """
+    x0, x1, y0, y1 = fit_view(bbox, width, height)
+    out = np.empty_like(frames, dtype=np.float64)
+    out[..., 0] = (frames[..., 0] - x0) * (width / (x1 - x0))
+    out[..., 1] = ((frames[..., 1] - y0) if y_down else (y1 - frames[..., 1])) * (height / (y1 - y0))
+    return out

@@ -1,6 +1,6 @@
 """Defaults every animated output shares (light: importing it loads no plotting library)."""
 
-__all__ = ["FPS", "SIZE", "BACKGROUND"]
+__all__ = ["FPS", "SIZE", "BACKGROUND", "DURATION", "HOLD"]
 
 #: frames per second of every animated output (GIF, WebP, APNG, MP4, SVG, Lottie, the page)
 FPS = 24
@@ -8,3 +8,7 @@ FPS = 24
 SIZE = 480
 #: colour behind the shape in raster outputs
 BACKGROUND = "white"
+#: seconds the motion of a rendered animation lasts (`isotween.write_output` resamples the sequence to it)
+DURATION = 1.0
+#: seconds a rendered animation stays on its first and last frame
+HOLD = 0.25

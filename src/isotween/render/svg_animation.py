@@ -1,4 +1,4 @@
-"""An animated SVG of a sequence: every frame's outline as SMIL ``<animate>`` values.
+"""An animated SVG of a sequence: the outlines' Bezier curves as SMIL ``<animate>`` values, at the keys that matter.
 
 The file is vector art that plays in any browser and stays editable in a
 drawing program (which shows the first frame). Coordinates keep the shape's
@@ -11,11 +11,25 @@ from xml.sax.saxutils import escape
 import numpy as np
 
 from ..io import write_text
-from ..paint import paint_groups, sequence_paint, svg_paint_attributes
-from ._frames import sequence_frames
-from ._view import PAD, bbox_of, decimals
+from ..paint import sequence_paint, svg_paint_attributes
+from ._view import decimals
 from .animation import FPS, playback_order
-from .frame import FILL, FILL_EDGE, WIRE, check_colour
+from .curves import TOLERANCE, fit_curves
+from .frame import FILL, FILL_EDGE, WIRE
+from .keys import LINEAR, X1, X2, reduce_keys
+from .keys import TOLERANCE as KEY_TOLERANCE
+from .outline import edge_chains, mesh_boundary
+from .paths import (
+    PathData,
+    RunStrings,
+    compact,
+    hex_colour,
+    pixel_size,
+    polylines,
+    svg_frames,
+    tolerance_digits,
+    view_box,
+)
 
 __all__ = ["write_svg_animation", "svg_animation_text", "path_data"]
 
@@ -64,29 +78,52 @@ def path_data(runs, frames, digits):
     return [template.format(*xy) for xy in frames[:, order].reshape(len(frames), -1).tolist()]
 
 
-def _values(attr, seq_values):
+def _timing(times, keys, eases, duration, reduce):
+    """``keyTimes`` (and ``keySplines``) of one element's animations."""
+    key_times = ";".join(compact(f"{t:.5f}") for t in times[keys] / duration)
+    if not reduce or np.allclose(eases, LINEAR, atol=1e-4):
+        return f'calcMode="linear" keyTimes="{key_times}"'
+    splines = ";".join("0 0 1 1" if np.allclose(e, LINEAR, atol=1e-4) else
+                       compact(f"{X1:.4f} {e[0]:.4f} {X2:.4f} {e[1]:.4f}") for e in eases)
+    return f'calcMode="spline" keyTimes="{key_times}" keySplines="{splines}"'
+
+
+def _values(attr, seq_values, timing):
     """One SMIL ``<animate>`` of ``attr`` when its values change, else nothing."""
     if len(set(seq_values)) <= 1:
         return ""
-    return f'\n    <animate attributeName="{attr}" values="{";".join(seq_values)}" @@TIMING@@/>'
+    return f'\n    <animate attributeName="{attr}" values="{";".join(seq_values)}" {timing} @@TIMING@@/>'
+
+
+def _paint_numbers(track):
+    """(P, D) colours and opacities, (P, 1) stroke widths of a list of Paint, for `reduce_keys`."""
+    rows = []
+    for p in track:
+        row = []
+        for c in (p.fill, p.stroke):
+            row += [0.0, 0.0, 0.0, 0.0] if c is None else list(c)
+        rows.append(row + [p.opacity])
+    return np.array(rows), np.array([p.stroke_width for p in track])[:, None]
 
 
 def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=480, title=None,
-                        background=None):
+                        background=None, curves=True, reduce=True, tolerance=None, key_tolerance=None):
     """Write a sequence as one animated SVG file (the text of `svg_animation_text`).
 
     Parameters
     ----------
     seq : Sequence
     path : str or os.PathLike
-    fps, bounce, hold, loop, size, title, background
+    fps, bounce, hold, loop, size, title, background, curves, reduce, tolerance, key_tolerance
         As in `svg_animation_text`.
     """
     write_text(path, svg_animation_text(seq, fps, bounce, hold=hold, loop=loop, size=size, title=title,
-                                        background=background))
+                                        background=background, curves=curves, reduce=reduce, tolerance=tolerance,
+                                        key_tolerance=key_tolerance))
 
 
-def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=480, title=None, background=None):
+def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=480, title=None, background=None,
+                       curves=True, reduce=True, tolerance=None, key_tolerance=None):
     """A sequence as the text of one animated SVG document.
 
     Parameters
@@ -106,6 +143,19 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
         Document title (default: frames, vertices and method).
     background : matplotlib colour, optional
         Fills the view box; transparent when None.
+    curves : bool
+        Outlines as cubic Bezier curves (`fit_curves`; triangles stay
+        triangles), else the polylines.
+    reduce : bool
+        Keep a tick as a key only where easing between its neighbours does
+        not reproduce it (`reduce_keys`, eases as ``keySplines``), else
+        every tick, linear.
+    tolerance : float, optional
+        Of the curves, in shape units (default 0.1 % of the diagonal of
+        all frames).
+    key_tolerance : float, optional
+        Of the keys, in shape units (default `keys.TOLERANCE`, 0.25 %, of
+        the diagonal).
 
     Returns
     -------
@@ -117,57 +167,79 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
     A sequence with paint (`isotween.paint.sequence_paint`) draws one path
     per region in its colours, animating fill, stroke, opacity and stroke
     width with the shape; without paint it keeps isotween's default look.
+    Tick ``k`` of `playback_order` shows at ``k / fps`` seconds; one pass
+    lasts one tick more than the ticks (the last frame shows for a tick).
     """
     order = playback_order(len(seq), fps, hold, bounce)
-    frames = sequence_frames(seq).copy()
+    frames = svg_frames(seq)
     shape = seq.shape
-    if not shape.y_down:
-        frames[..., 1] *= -1.0
     regions, paints = sequence_paint(seq)
-    x0, y0, x1, y1 = bbox_of(frames)
-    pad = PAD * max(x1 - x0, y1 - y0, 1e-12)
-    box = (x0 - pad, y0 - pad, x1 - x0 + 2 * pad, y1 - y0 + 2 * pad)
-    digits = max(decimals(frames) - 1, 0)  # 1e-4 of the size: below a pixel at any display size
-    frames = frames[order]
-    seconds = len(order) / fps
-    timing = (f'dur="{seconds:.6g}s" repeatCount="indefinite"' if loop else f'dur="{seconds:.6g}s" fill="freeze"')
-    timing += ' calcMode="linear"'
+    box = view_box(frames)
+    diagonal = float(np.hypot(*np.ptp(frames.reshape(-1, 2), axis=0)))
+    tolerance = TOLERANCE * diagonal if tolerance is None else tolerance
+    key_tolerance = KEY_TOLERANCE * diagonal if key_tolerance is None else key_tolerance
+    # before: 1e-4 of the size; lean: rounding within an eighth of the curve tolerance
+    digits = tolerance_digits(tolerance) if curves or reduce else max(decimals(frames) - 1, 0)
+    ticks_order = np.append(order, order[-1])  # one more tick: the last frame shows for 1 / fps
+    ticks = frames[ticks_order]
+    times = np.arange(len(ticks)) / float(fps)
+    duration = times[-1]
+    timing = (f'dur="{duration:.6g}s" repeatCount="indefinite"' if loop else f'dur="{duration:.6g}s" fill="freeze"')
     body = []
+
+    def keyed(runs, extra=()):
+        """Keys, eases and d strings of one element drawing ``runs`` (curves or polylines)."""
+        strings = RunStrings(runs, digits, relative=curves or reduce)
+        tracks = [(np.concatenate([c.controls(ticks).reshape(len(ticks), -1) for c in runs], axis=1), key_tolerance,
+                   True), *extra]
+        keys, eases = reduce_keys(times, tracks, unit=True, reduce=reduce)
+        return keys, eases, strings.strings(ticks[keys])
+
     if paints is None:
         fill, line = _pieces(shape)
-        styles = (
-            (fill, f'fill="{FILL}" fill-rule="evenodd" stroke="{FILL_EDGE}" stroke-width="0.5" stroke-linejoin="round" '
-                   'vector-effect="non-scaling-stroke"'),
+        edge_style = (f'stroke="{FILL_EDGE}" stroke-width="0.5" stroke-linejoin="round" '
+                      'vector-effect="non-scaling-stroke"')
+        styles = [
+            (fill, f'fill="{FILL}" fill-rule="evenodd" {edge_style}'),
             (line, f'fill="none" stroke="{WIRE}" stroke-width="1.5" stroke-linecap="round" stroke-linejoin="round" '
                    'vector-effect="non-scaling-stroke"'),
-        )
-        for runs, style in styles:
-            d = path_data(runs, frames, digits)
-            if d:
-                body.append(f'  <path d="{d[0]}" {style}>' + _values("d", d) + "\n  </path>")
+        ]
+        lean = curves or reduce
+        loops = mesh_boundary(shape.faces) if lean and shape.n_faces else []
+        if loops:  # a mesh: its outline filled, its edges as few long strokes (not every triangle)
+            styles = [([(loop, True) for loop in loops], f'fill="{FILL}" fill-rule="nonzero"'),
+                      ([(w, False) for w in edge_chains(shape.edges)], f'fill="none" {edge_style}')]
+        elif lean and line and all(len(idx) == 2 for idx, _ in line):  # an edge soup: chained
+            styles[1] = ([(w, False) for w in edge_chains([idx for idx, _ in line])], styles[1][1])
+        for k, (runs, style) in enumerate(styles):
+            if not runs:
+                continue
+            smooth = curves and (not shape.n_faces or (bool(loops) and k == 0))  # outlines, not triangles or edges
+            fitted = fit_curves(frames, runs, tolerance=tolerance) if smooth else polylines(runs)
+            keys, eases, d = keyed(fitted)
+            body.append(f'  <path d="{d[0]}" {style}>' + _values("d", d, _timing(times, keys, eases, duration, reduce))
+                        + "\n  </path>")
     else:
-        painted = shape.with_vertices(shape.vertices)
-        painted.regions, painted.paint = regions, paints[0]
-        for group, _ in paint_groups(painted):
-            runs = [shape.paths[i] for i in group]
-            d = path_data(runs, frames, digits)
-            attrs = [svg_paint_attributes(paints[int(k)][group[0]]) for k in order]
-            first = " ".join(f'{key}="{value}"' for key, value in attrs[0].items())
-            anim = _values("d", d) + "".join(_values(key, [a[key] for a in attrs]) for key in attrs[0])
+        data = PathData(seq, curves=curves, precision=digits, tolerance=tolerance, frames=frames,
+                        relative=curves or reduce)
+        for runs, first in zip(data.runs, data.first_path, strict=True):
+            track = [paints[int(k)][first] for k in ticks_order]
+            attrs = [svg_paint_attributes(p) for p in track]
+            colours, widths = _paint_numbers(track)
+            keys, eases, d = keyed(runs, [(colours, 0.5 / 255, False), (widths, 0.01 * tolerance, False)])
+            kept = [attrs[k] for k in keys]
+            when = _timing(times, keys, eases, duration, reduce)
+            first_attrs = " ".join(f'{key}="{value}"' for key, value in kept[0].items())
+            anim = _values("d", d, when) + "".join(_values(key, [a[key] for a in kept], when) for key in kept[0])
             body.append(f'  <path d="{d[0]}" fill-rule="evenodd" stroke-linejoin="round" stroke-linecap="round" '
-                        f'{first}>{anim}\n  </path>')
+                        f'{first_attrs}>{anim}\n  </path>')
     view = " ".join(f"{v:.{digits}f}" for v in box)
-    if np.ndim(size) == 0:
-        width, height = (size, size * box[3] / box[2]) if box[2] >= box[3] else (size * box[2] / box[3], size)
-    else:
-        width, height = (float(v) for v in np.ravel(size))
+    width, height = pixel_size(box, size)
     title = title or f"isotween: {len(seq)} frames, {shape.n_vertices} vertices, method {seq.method}"
     back = ""
     if background is not None:
-        r, g, b, a = check_colour(background)
         back = (f'  <rect x="{box[0]:.{digits}f}" y="{box[1]:.{digits}f}" width="{box[2]:.{digits}f}" '
-                f'height="{box[3]:.{digits}f}" '
-                f'fill="#{round(255 * r):02x}{round(255 * g):02x}{round(255 * b):02x}"/>\n')
+                f'height="{box[3]:.{digits}f}" fill="{hex_colour(background)}"/>\n')
     return (
         '<?xml version="1.0" encoding="UTF-8"?>\n'
         f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{view}" width="{width:.0f}" height="{height:.0f}">\n'
