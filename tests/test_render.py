@@ -327,18 +327,20 @@ def _svg_animation(path):
 def _numbers(d):
     import re
 
-    return np.array([float(x) for x in re.findall(r"-?\d+\.?\d*(?:e-?\d+)?", d)]).reshape(-1, 2)
+    # SVG numbers may drop the leading zero (".5", "-.25")
+    return np.array([float(x) for x in re.findall(r"-?(?:\d+\.?\d*|\.\d+)(?:e-?\d+)?", d)]).reshape(-1, 2)
 
 
 def test_svg_animation_holds_every_frame(tmp_path, bent_bar):
-    from isotween import write_output
-
-    write_output(bent_bar, tmp_path / "bar.svg")
+    # the frame-by-frame writer (no curves, no key reduction): every triangle in every frame
+    render.write_svg_animation(bent_bar, tmp_path / "bar.svg", curves=False, reduce=False)
     anim = _svg_animation(tmp_path / "bar.svg")
     d0, values, dur = anim["fill"]
-    assert set(anim) == {"fill"} and len(values) == 7 and d0 == values[0] and dur == f"{7 / render.FPS:.6g}s"
+    # 7 ticks and the last frame again: it shows for one tick before the loop starts over
+    assert set(anim) == {"fill"} and len(values) == 8 and d0 == values[0] and dur == f"{7 / render.FPS:.6g}s"
+    assert values[7] == values[6]
     faces = bent_bar.shape.faces
-    for k, d in enumerate(values):
+    for k, d in enumerate(values[:7]):
         assert d.count("M") == len(faces) and d.count("Z") == len(faces)
         # every triangle's corners, y mirrored: the bar is y-up
         expected = bent_bar.frames[k][faces.ravel()] * [1, -1]
@@ -351,19 +353,20 @@ def test_svg_animation_of_outlines_and_soups(tmp_path):
     outline = Shape.from_polygon([ring, hole])
     square = Shape(outline.vertices, outline.edges, paths=outline.paths, y_down=True)
     seq = Sequence(square.vertices[None] + np.arange(3)[:, None, None], square)
-    render.write_svg_animation(seq, tmp_path / "ring.svg", fps=6, bounce=True)
+    render.write_svg_animation(seq, tmp_path / "ring.svg", fps=6, bounce=True, curves=False, reduce=False)
     anim = _svg_animation(tmp_path / "ring.svg")
     _, values, dur = anim["fill"]
-    # the hole is a second subpath of one even-odd path; bounce plays 0 1 2 1; y-down kept as is
-    assert set(anim) == {"fill"} and len(values) == 4 and dur == f"{4 / 6:.6g}s"
-    for k, d in zip([0, 1, 2, 1], values, strict=False):
+    # the hole is a second subpath of one even-odd path; bounce plays 0 1 2 1 (and 1 again for its tick)
+    assert set(anim) == {"fill"} and len(values) == 5 and dur == f"{4 / 6:.6g}s"
+    for k, d in zip([0, 1, 2, 1, 1], values, strict=True):
         assert d.count("M") == 2
         np.testing.assert_allclose(_numbers(d), seq.frames[k], atol=1e-4)
     soup = Shape(ring, [[0, 1], [2, 3]])
-    render.write_svg_animation(Sequence(np.stack([ring, ring * 2]), soup), tmp_path / "soup.svg")
+    render.write_svg_animation(Sequence(np.stack([ring, ring * 2]), soup), tmp_path / "soup.svg", curves=False,
+                               reduce=False)
     anim = _svg_animation(tmp_path / "soup.svg")
     _, values, _ = anim["line"]
-    assert set(anim) == {"line"} and [d.count("M") for d in values] == [2, 2]
+    assert set(anim) == {"line"} and [d.count("M") for d in values] == [2, 2, 2]
     np.testing.assert_allclose(_numbers(values[1]), (ring * 2 * [1, -1])[[0, 1, 2, 3]], atol=1e-4)
 
 
