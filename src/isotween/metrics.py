@@ -81,7 +81,10 @@ def edge_length_deviation(seq: Sequence, reduce: str | None = "max") -> float | 
     (0.75, [0.0, 0.75, 0.0])
     """
     L = np.abs(seq.edge_vectors())
-    dev = np.abs(L / _blend(L[0], L[-1], seq.times) - 1.0)
+    blend = _blend(L[0], L[-1], seq.times)
+    # an edge of zero blended length (an item collapsed at an end frame) deviates by nothing there
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dev = np.where(blend > 0, np.abs(L / np.where(blend > 0, blend, 1.0) - 1.0), 0.0)
     return _reduce(dev, np.max, reduce)
 
 

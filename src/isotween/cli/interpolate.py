@@ -43,13 +43,17 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, **par
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
     options = correspondence_kwargs(params)
+    from ..pipeline import collapse_vanishing
+
     a = load(source)
-    src, tgt = make_compatible(a, load(target), source, target, quiet=quiet, **options)
+    prepared = make_compatible(a, load(target), source, target, quiet=quiet, prepared=True, **options)
+    src, tgt = prepared.source, prepared.target
     kwargs = solver_kwargs(params)
-    if not a.n_faces and src.n_faces:  # meshes built here: a folding result falls back to 'convex'
+    if not a.n_faces and src.n_faces:  # meshes built here: a folding result falls back to the fold-free morph
         kwargs.setdefault("fold", "fallback")
     with progress(quiet) as callback:
         seq = interpolate(src, tgt, callback=callback, **kwargs)
+    collapse_vanishing(seq, prepared.report)  # items that vanish are points at their ends, not specks
     if "fallback" in seq.info and not quiet:
         click.echo(f"fold check: {seq.info['fallback']}")
     emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())

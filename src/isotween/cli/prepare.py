@@ -84,7 +84,8 @@ def _drawing_paths(*paths):
 
 def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None, segment=None,
                     rotation=False, outline=False, mesh_size=None, unmatched="grow",
-                    resample_points=None, mesh_area=None, correspondence="auto", landmarks=None):
+                    resample_points=None, mesh_area=None, correspondence="auto", landmarks=None,
+                    prepared=False):
     """Make a loaded pair compatible as the options ask, then check it.
 
     Without ``--resample``/``--mesh``: a compatible pair is used as it is,
@@ -95,9 +96,12 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
 
     Returns
     -------
-    (Shape, Shape)
+    (Shape, Shape), or with ``prepared`` an `isotween.pipeline.Prepared`
     """
     from ..correspondence import mesh_pair, resample
+    from ..pipeline import Prepared
+
+    want = prepared
 
     if resample_points is None and mesh_area is None:
         from ..pipeline import prepare_pair
@@ -107,12 +111,12 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
                    if v not in (None, False)}
         if unmatched != "grow":
             options["unmatched"] = unmatched
-        prepared = prepare_pair(src, tgt, correspondence=correspondence, **options,
-                                names=(source_path, target_path), _drawing=_drawing_paths(source_path, target_path))
-        if prepared.report is not None and not quiet:
-            click.echo(prepared.summary())
-        ensure_compatible(prepared.source, prepared.target, source_path, target_path)
-        return prepared.source, prepared.target
+        result = prepare_pair(src, tgt, correspondence=correspondence, **options,
+                              names=(source_path, target_path), _drawing=_drawing_paths(source_path, target_path))
+        if result.report is not None and not quiet:
+            click.echo(result.summary())
+        ensure_compatible(result.source, result.target, source_path, target_path)
+        return result if want else (result.source, result.target)
     if resample_points is not None:
         src, tgt = resample(src, tgt, points=resample_points, rotation=rotation)
     if mesh_area is not None:
@@ -131,7 +135,7 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
             click.echo(f"warning: the target mesh has {flipped.size} flipped triangle(s) of "
                        f"{src.n_faces} (first: triangle {flipped[0]})", err=True)
     ensure_compatible(src, tgt, source_path, target_path)
-    return src, tgt
+    return Prepared(src, tgt, built_meshes=mesh_area is not None) if want else (src, tgt)
 
 
 def make_keys_compatible(shapes, paths, quiet=False, points=None, segment=None, rotation=False,
