@@ -54,7 +54,7 @@ __all__ = ["solve", "max_step", "SCAFFOLD", "MAX_ITER", "TOL", "WORK"]
 
 SCAFFOLD = 1e-2  # weight of the completing (exterior and hole) faces against the region's
 MAX_ITER = 20  # Newton iterations per frame at most
-WORK = 2_000_000  # Newton iterations x disc vertices per component, shared out over its frames
+WORK = 500_000  # Newton iterations x disc vertices per component, shared out over its frames
 
 
 def solve(problem):
