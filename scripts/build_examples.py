@@ -176,6 +176,31 @@ def ex_regions():
     return Shape.from_polygon(glyph("j")), Shape.from_polygon(glyph("B"))
 
 
+def ex_turn():
+    """'G' and the same glyph turned by 120 degrees, written with other point counts and ring starts."""
+    rings = glyph("G")
+    out = []
+    for k, r in enumerate(rings):
+        z = (r[:, 0] + 1j * r[:, 1]) * np.exp(2j * np.pi / 3) + (9 - 2j)
+        knots = np.append(z, z[0])
+        cum = np.r_[0, np.cumsum(np.abs(np.diff(knots)))]
+        s = np.unique(np.round(np.r_[cum[:-1], np.linspace(0, cum[-1], 2 * len(r) + 7, endpoint=False)], 12))
+        w = np.roll(np.interp(s, cum, knots.real) + 1j * np.interp(s, cum, knots.imag), 11 + 5 * k)
+        out.append(np.c_[w.real, w.imag])
+    return Shape.from_polygon(rings), Shape.from_polygon(out)
+
+
+def ex_strokes():
+    """Line icons: a check mark into a cross, strokes with round caps (the cross's second stroke grows out)."""
+    from isotween.paint import Paint
+
+    ink = Paint(fill=None, stroke=(0.11, 0.11, 0.11, 1.0), stroke_width=0.9)
+    check = Shape.from_paths([[[1, 6], [4, 3], [10, 9]]], closed=False, regions=[], paint=[ink])
+    cross = Shape.from_paths([[[1.5, 10.5], [10.5, 1.5]], [[1.5, 1.5], [10.5, 10.5]]], closed=False, regions=[],
+                             paint=[ink, ink])
+    return check, cross
+
+
 def ex_curls():
     a, b = curl(60, 1.6, 0.12), curl(60, 1.1, 0.12, sign=-1.0)
     straight_a = np.c_[np.arange(60) * 0.12, np.zeros(60)]
@@ -231,6 +256,10 @@ EXAMPLES = [
      ex_holes, 200, {"frames": 13}),
     ("regions", "'j' into 'B' with no options: the stem becomes the B, the dot shrinks away, two holes open",
      ex_regions, "correspond", {"frames": 13}),
+    ("turn", "'G' turned by 120 degrees, written with other point counts and starts: with no options every "
+             "in-between is the turned glyph", ex_turn, "correspond", {"frames": 13}),
+    ("strokes", "line icons with no options: a check mark becomes a cross, its second stroke growing out of the first",
+     ex_strokes, "correspond", {"frames": 13}),
     ("curls", "two open polylines curling into spirals, one by 1.6 turns, one by 1.1 the other way",
      ex_curls, None, {"frames": 17}),
     ("hopper", "a textured mesh: Grace Hopper's photograph bends and waves",
