@@ -3,7 +3,6 @@
 import base64
 import html
 import io
-import json
 import math
 import re
 import tempfile
@@ -13,7 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .._text import document_text
 from ..io import atomic_path
+from ..io._json import dumps_finite
 from ..paint import paint_groups, sequence_paint
 from ._frames import sequence_frames
 from ._framestats import frame_stats
@@ -24,6 +25,10 @@ from .outline import mesh_boundary
 from .texture import load_texture, texture_uv
 
 __all__ = ["write_html", "page_html"]
+
+#: JSON text made safe inside an HTML <script> element (the same values, as JSON escapes)
+_SCRIPT_SAFE = str.maketrans({"<": "\\u003c", ">": "\\u003e", "&": "\\u0026", "\u2028": "\\u2028",
+                              "\u2029": "\\u2029"})
 
 
 def _decimals(frames):
@@ -155,7 +160,7 @@ def page_data(seq, texture=None, title=None, fps=FPS, bounce=False, background="
     info = getattr(seq, "info", None) or {}
     keyframes = sorted({0, len(frames) - 1, *[int(k) for k in info.get("keyframe_indices", [])]})
     data = {
-        "title": title or "isotween sequence",
+        "title": document_text(title) if title else "isotween sequence",
         "method": str(getattr(seq, "method", "")),
         "iterations": int(getattr(seq, "iterations", 0)),
         "converged": bool(getattr(seq, "converged", True)),
@@ -207,8 +212,8 @@ def _embedded_animations(seq, fps, bounce, title, background):
     # a cheap size estimate first: both hold every vertex of every frame as text, ~12 bytes a number
     if seq.frames.size * 12 * (1 + (seq.shape.n_faces > 0)) > EMBED_LIMIT:
         return out
-    out["lottie"] = json.dumps(lottie_data(seq, fps=fps, bounce=bounce, title=title, background=None),
-                               separators=(",", ":"), allow_nan=False)
+    out["lottie"] = dumps_finite(lottie_data(seq, fps=fps, bounce=bounce, title=title, background=None),
+                                 "the page's Lottie download", separators=(",", ":"))
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "a.svg"
         write_svg_animation(seq, path, fps=fps, bounce=bounce, title=title)
@@ -264,7 +269,8 @@ def page_html(seq, texture=None, title=None, fps=FPS, bounce=False, background="
     embedded = _embedded_animations(seq, fps, bounce, title, background) if downloads else {}
     data = page_data(seq, texture=texture, title=title, fps=fps, bounce=bounce, background=background,
                      downloads=embedded)
-    payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
+    # inside <script>, '<!--', '<script' and '</script' change how the page is parsed: no '<' is left raw
+    payload = dumps_finite(data, "the viewer page", separators=(",", ":")).translate(_SCRIPT_SAFE)
     template = resources.files(__package__).joinpath("page.html").read_text(encoding="utf-8")
     values = {"TITLE": html.escape(data["title"]), "DATA": payload}
     return re.sub(r"@@(TITLE|DATA)@@", lambda m: values[m.group(1)], template)

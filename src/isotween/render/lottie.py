@@ -6,11 +6,12 @@ the ``lottie-specs`` package). Coordinates are pixels of a ``w x h``
 composition framed exactly like isotween's raster outputs (`fit_view`), y down.
 """
 
-import json
 
 import numpy as np
 
+from .._text import document_text
 from ..io import write_text
+from ..io._json import dumps_finite
 from ..paint import paint_groups, sequence_paint
 from ._frames import sequence_frames
 from ._view import bbox_of, fit_view, image_size
@@ -175,9 +176,12 @@ def lottie_data(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, title=None, bac
         frame ``t`` of the composition is exactly the sequence frame shown at
         that tick.
     """
+    from ..resources import check_output_memory
+
     order = playback_order(len(seq), fps, hold, bounce)
     frames = sequence_frames(seq)
     shape = seq.shape
+    check_output_memory("lottie", 0, 0, len(order), "a Lottie animation", vertices=shape.n_vertices)
     box = bbox_of(frames)
     w, h = image_size(box, size)
     x0, x1, _, _ = fit_view(box, w, h)
@@ -203,8 +207,9 @@ def lottie_data(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, title=None, bac
                 _transform()]
         layers.append({**layer, "ind": 2, "nm": "background",
                        "shapes": [{"ty": "gr", "nm": "background", "it": rect}]})
+    name = document_text(title) if title else f"isotween: {len(seq)} frames, {shape.n_vertices} vertices"
     return {
-        "v": "5.7.0", "nm": title or f"isotween: {len(seq)} frames, {shape.n_vertices} vertices",
+        "v": "5.7.0", "nm": name,
         "fr": float(fps), "ip": 0, "op": n, "w": int(w), "h": int(h), "ddd": 0, "assets": [], "layers": layers,
     }
 
@@ -216,4 +221,4 @@ def write_lottie(seq, path, fps=FPS, size=SIZE, bounce=False, hold=0.0, title=No
     player's choice (Lottie files do not say).
     """
     data = lottie_data(seq, fps=fps, size=size, bounce=bounce, hold=hold, title=title, background=background)
-    write_text(path, json.dumps(data, separators=(",", ":"), allow_nan=False))
+    write_text(path, dumps_finite(data, path, separators=(",", ":")))

@@ -10,6 +10,7 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 
+from .._text import document_text
 from ..io import write_text
 from ..paint import paint_groups, sequence_paint, svg_paint_attributes
 from ._frames import sequence_frames
@@ -101,9 +102,12 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
     per region in its colours, animating fill, stroke, opacity and stroke
     width with the shape; without paint it keeps isotween's default look.
     """
+    from ..resources import check_output_memory
+
     order = playback_order(len(seq), fps, hold, bounce)
     frames = sequence_frames(seq).copy()
     shape = seq.shape
+    check_output_memory("svg", 0, 0, len(order), "an animated SVG", vertices=shape.n_vertices)
     if not shape.y_down:
         frames[..., 1] *= -1.0
     regions, paints = sequence_paint(seq)
@@ -144,7 +148,8 @@ def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True
         width, height = (size, size * box[3] / box[2]) if box[2] >= box[3] else (size * box[2] / box[3], size)
     else:
         width, height = (float(v) for v in np.ravel(size))
-    title = title or f"isotween: {len(seq)} frames, {shape.n_vertices} vertices, method {seq.method}"
+    title = (document_text(title) if title
+             else f"isotween: {len(seq)} frames, {shape.n_vertices} vertices, method {seq.method}")
     back = ""
     if background is not None:
         r, g, b, a = check_colour(background)
