@@ -393,7 +393,7 @@ def _worker_start():
     raises `SystemExit`, so a job's temporary file is removed. A daemon
     thread checks every half second that the parent still lives: when it
     has died (even by SIGKILL), the worker sends itself SIGTERM, and exits
-    outright 10 s later if a long kernel keeps it busy.
+    outright 3 s later if a long kernel keeps it busy.
     """
     import signal
     import threading
@@ -407,7 +407,7 @@ def _worker_start():
         while os.getppid() == parent:
             time.sleep(0.5)
         os.kill(os.getpid(), signal.SIGTERM)
-        time.sleep(10.0)
+        time.sleep(3.0)
         os._exit(1)
 
     threading.Thread(target=watch, name="isotween-parent-watch", daemon=True).start()
@@ -443,8 +443,10 @@ class _Local:
         for proc in processes:
             if proc.is_alive():
                 proc.terminate()
+        deadline = time.monotonic() + 3.0  # a long numba kernel runs no Python signal handler: then SIGKILL
         for proc in processes:
-            proc.join(timeout=15)
+            proc.join(timeout=max(deadline - time.monotonic(), 0.0))
+        for proc in processes:
             if proc.is_alive():
                 proc.kill()
                 proc.join(timeout=5)
@@ -800,9 +802,10 @@ def _prepare(job, outdir, seen=None):
                 raise FileFormatError(f"{where}: output {out} is its own {field}; it would be overwritten")
         prepared["key"] = job_key(prepared)
     except IsotweenError as exc:
-        return {**failed, "error": f"{type(exc).__name__}: {exc}"}
+        text = str(exc) if str(exc).startswith(where) or where in str(exc) else f"{where}: {exc}"
+        return {**failed, "error": f"{type(exc).__name__}: {text}"}
     except OSError as exc:
-        return {**failed, "error": f"FileFormatError: {exc.filename}: {exc.strerror or exc}"}
+        return {**failed, "error": f"FileFormatError: {where}: {exc.filename}: {exc.strerror or exc}"}
     try:
         _make_parents(outdir, out)
     except FileFormatError as exc:
