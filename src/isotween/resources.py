@@ -188,5 +188,6 @@ def check_output_memory(kind, width, height, frames, what, vertices=0):
         advice = "use fewer frames or vertices, a lower fps or a shorter hold"
     else:
         step = f"rendering {frames} frames of {width} x {height} pixels into {what}"
-        advice = "use fewer frames or a smaller size, or write .mp4, .html or a sequence file"
+        advice = "use fewer frames or a smaller size" + (
+            ", or write .mp4, .html or a sequence file" if kind in ("gif", "webp", "apng", "strip") else "")
     check_memory(nbytes, step, advice=advice)

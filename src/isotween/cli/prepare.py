@@ -70,7 +70,11 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
     (Shape, Shape)
     """
     from ..correspondence import correspond, mesh_pair, resample
+    from ..correspondence.resample import check_points
 
+    for value in (points, resample_points):  # refused before any geometry library allocates them
+        if isinstance(value, int) and value > 0:
+            check_points(value, 2, "putting in correspondence")
     if resample_points is None and mesh_area is None:
         try:
             src, tgt, report = correspond(src, tgt, points=points, segment=segment, rotation=rotation,

@@ -99,7 +99,7 @@ def check_timing(kind, durations, order=None, rgb=None):
     limit = FRAME_MS_LIMIT[kind]
     if not np.isfinite(longest) or longest > limit:
         raise ParameterError(
-            f"a {kind.upper()} image can stay at most {limit / 1000:g} s on screen, but one would stay "
+            f"in a {kind.upper()} file an image can stay at most {limit / 1000:g} s on screen, but one would stay "
             f"{longest / 1000:.4g} s; raise the frame rate (fps) or shorten the hold")
 
 

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from .._text import document_text
+from ..errors import FileFormatError
 from ..io import atomic_path
 from ..io._json import dumps_finite
 from ..paint import paint_groups, sequence_paint
@@ -212,8 +213,11 @@ def _embedded_animations(seq, fps, bounce, title, background):
     # a cheap size estimate first: both hold every vertex of every frame as text, ~12 bytes a number
     if seq.frames.size * 12 * (1 + (seq.shape.n_faces > 0)) > EMBED_LIMIT:
         return out
-    out["lottie"] = dumps_finite(lottie_data(seq, fps=fps, bounce=bounce, title=title, background=None),
-                                 "the page's Lottie download", separators=(",", ":"))
+    try:
+        out["lottie"] = dumps_finite(lottie_data(seq, fps=fps, bounce=bounce, title=title, background=None),
+                                     "the page's Lottie download", separators=(",", ":"))
+    except FileFormatError:  # a width or coordinate beyond what Lottie's numbers hold: no Lottie download
+        pass
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "a.svg"
         write_svg_animation(seq, path, fps=fps, bounce=bounce, title=title)
@@ -250,16 +254,17 @@ def write_html(seq, path, texture=None, title=None, fps=FPS, bounce=False, backg
         only up to `EMBED_LIMIT` bytes; larger ones: ``isotween render``).
     """
     page = page_html(seq, texture=texture, title=title, fps=fps, bounce=bounce, background=background,
-                     downloads=downloads)
+                     downloads=downloads, name=path)
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as fh:
             fh.write(page)
 
 
-def page_html(seq, texture=None, title=None, fps=FPS, bounce=False, background="white", downloads=True):
+def page_html(seq, texture=None, title=None, fps=FPS, bounce=False, background="white", downloads=True, name=None):
     """The viewer page of `write_html` as a string (also shown inline by ``Sequence._repr_html_``).
 
-    Parameters are those of `write_html` but ``path``.
+    Parameters are those of `write_html` but ``path``; ``name`` is the file
+    that errors name (a value JSON cannot hold: `FileFormatError`).
 
     Returns
     -------
@@ -270,7 +275,7 @@ def page_html(seq, texture=None, title=None, fps=FPS, bounce=False, background="
     data = page_data(seq, texture=texture, title=title, fps=fps, bounce=bounce, background=background,
                      downloads=embedded)
     # inside <script>, '<!--', '<script' and '</script' change how the page is parsed: no '<' is left raw
-    payload = dumps_finite(data, "the viewer page", separators=(",", ":")).translate(_SCRIPT_SAFE)
+    payload = dumps_finite(data, name or "the viewer page", separators=(",", ":")).translate(_SCRIPT_SAFE)
     template = resources.files(__package__).joinpath("page.html").read_text(encoding="utf-8")
     values = {"TITLE": html.escape(data["title"]), "DATA": payload}
     return re.sub(r"@@(TITLE|DATA)@@", lambda m: values[m.group(1)], template)
