@@ -908,3 +908,190 @@ def test_full_disk_keeps_the_old_output(files, tmp_path, ext, kind):
     (line,) = err.splitlines()
     assert line.startswith(f"error: cannot write {out}") and kind in line
     assert out.read_bytes() == b"old output" and _listing(tmp_path) == before
+
+
+# ------------------------------------------------------------------ batch, round 3
+@pytest.fixture
+def pair(tmp_path):
+    d = tmp_path / "jobs"
+    d.mkdir()
+    io.save(square(), d / "a.json")
+    io.save(wide(), d / "b.json")
+    return d
+
+
+def _batch(manifest, outdir, *more):
+    return CliRunner().invoke(main, ["batch", str(manifest), "-o", str(outdir), "-j", "1", "-q", *more])
+
+
+def _failed(report):
+    import json
+
+    return {r["line"]: r["error"] for r in map(json.loads, open(report, encoding="utf-8")) if r["status"] == "failed"}
+
+
+def test_batch_outputs_stay_inside_the_output_folder(pair, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    victim = tmp_path / "victim.txt"
+    victim.write_text("keep me")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (out / "link.npz").symlink_to(victim)
+    (out / "dirlink").symlink_to(elsewhere)
+    manifest = pair / "m.csv"
+    manifest.write_text("source,target,output\n"
+                        "a.json,b.json,../../../x.npz\n"
+                        f"a.json,b.json,{tmp_path / 'abs.npz'}\n"
+                        "a.json,b.json,dirlink/y.npz\n"
+                        "a.json,b.json,link.npz\n"
+                        "a.json,b.json,sub/ok.npz\n")
+    before = _listing(tmp_path)
+    result = _batch(manifest, out)
+    assert result.exit_code == 1 and "jobs=5 done=1 skipped=0 failed=4" in result.stdout
+    failed = _failed(out / "batch-report.jsonl")
+    assert sorted(failed) == [2, 3, 4, 5]
+    assert "'..' would leave the output folder" in failed[2] and "absolute path" in failed[3]
+    assert "goes through the symbolic link" in failed[4] and "is the symbolic link" in failed[5]
+    assert all(f"line {k}" in failed[k] for k in failed)
+    assert victim.read_text() == "keep me" and list(elsewhere.iterdir()) == []
+    assert sorted(set(_listing(tmp_path)) - set(before)) == ["out/batch-report.jsonl", "out/sub", "out/sub/ok.npz"]
+    assert len(result.stderr.splitlines()) == 4
+
+
+@pytest.mark.parametrize("rows, needle", [
+    ("a.json,b.json,same.npz\na.json,b.json,same.npz\n", "line 3 and line 2 both write"),
+    ("a.json,b.json,./same.npz\na.json,b.json,same.npz\n", "both write"),
+    ("a.json,b.json,../jobs/b.json\n", None),  # outside the folder: that job fails alone
+    ("a.json,b.json,b.json\n", "is an input of line 2"),
+    ("a.json,b.json,x.npz\nx.npz,b.json,y.npz\n", "is an input of line 3"),
+])
+def test_batch_colliding_outputs_are_refused_before_anything_runs(pair, tmp_path, rows, needle):
+    manifest = pair / "m.csv"
+    manifest.write_text("source,target,output\n" + rows)
+    if needle is None:  # the output folder is the inputs' folder here
+        result = _batch(manifest, pair)
+        assert result.exit_code == 1 and io.load(pair / "b.json").equals(wide())
+        return
+    before = _listing(tmp_path)
+    result = _batch(manifest, pair)
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1 and needle in result.stderr, result.stderr
+    assert _listing(tmp_path) == before and io.load(pair / "b.json").equals(wide())
+
+
+def test_library_batch_refuses_colliding_jobs_and_records_malformed_ones(pair, tmp_path):
+    jobs = [{"source": pair / "a.json", "target": pair / "b.json", "output": "o.npz"}] * 2
+    with pytest.raises(FileFormatError, match="both write"):
+        isotween.batch(jobs, outdir=tmp_path / "o1", workers=1)
+    assert not (tmp_path / "o1").exists()
+    bad = [{"source": 5, "target": pair / "b.json", "output": "a.npz"},
+           {"source": pair / "a.json", "target": pair / "b.json", "output": 7},
+           {"source": pair / "a.json", "target": pair / "b.json", "output": "c.npz", "options": ["frames", 3]},
+           {"source": pair / "a.json", "target": pair / "b.json", "output": "d.npz", "options": {"frames": "many"}},
+           {"source": pair / "a.json", "target": pair / "b.json", "output": "e\0.npz"},
+           {"source": pair / "a.json", "target": pair / "b.json", "output": "ok.npz"}]
+    res = isotween.batch(iter(bad), outdir=tmp_path / "o2", workers=1)
+    assert (res["done"], res["failed"]) == (1, 5)
+    errors = [r["error"] for r in res["failures"]]
+    assert [e.split(":")[0] for e in errors] == ["ParameterError"] * 4 + ["FileFormatError"]
+    assert "source must be a path" in errors[0] and "output must be a path" in errors[1]
+    assert "options must be a dict" in errors[2] and "option frames has the wrong type" in errors[3]
+    assert "NUL" in errors[4]
+
+
+MANIFESTS = [
+    ("nul-in-path", "m.csv", "source,target,output\na\0.json,b.json,x.npz\na.json,b.json,ok.npz\n", 1,
+     "NUL byte"),
+    ("jsonl-options-list", "m.jsonl", '{"source": "a.json", "target": "b.json", "output": "x.npz", "options": [1]}\n'
+     '{"source": "a.json", "target": "b.json", "output": "ok.npz"}\n', 1, "options must be a JSON object"),
+    ("jsonl-options-string", "m.jsonl", '{"source": "a.json", "target": "b.json", "output": "x.npz", '
+     '"options": "fast"}\n{"source": "a.json", "target": "b.json", "output": "ok.npz"}\n', 1,
+     "options must be a JSON object"),
+    ("jsonl-not-json", "m.jsonl", '{"source": \n{"source": "a.json", "target": "b.json", "output": "ok.npz"}\n', 1,
+     "not JSON"),
+    ("jsonl-huge-int", "m.jsonl", '{"source": "a.json", "target": "b.json", "output": "x.npz", "frames": 1e999}\n'
+     '{"source": "a.json", "target": "b.json", "output": "ok.npz"}\n', 1, "wrong type"),
+    ("csv-extra-cells", "m.csv", "source,target,output\na.json,b.json,x.npz,9\na.json,b.json,ok.npz\n", 1,
+     "more cells"),
+    ("fifo-source", "m.csv", "source,target,output\nfifo.json,b.json,x.npz\na.json,b.json,ok.npz\n", 1, "pipe"),
+    ("bom-csv", "m.csv", "\ufeffsource,target,output\na.json,b.json,ok.npz\n", 0, None),
+]
+
+
+@pytest.mark.parametrize("name, text, code, needle", [c[1:] for c in MANIFESTS], ids=[c[0] for c in MANIFESTS])
+def test_batch_malformed_rows_fail_alone(pair, tmp_path, name, text, code, needle):
+    os.mkfifo(pair / "fifo.json")
+    (pair / name).write_text(text, encoding="utf-8")
+    out = tmp_path / "out"
+    result = _batch(pair / name, out)
+    assert result.exit_code == code, result.output
+    assert (out / "ok.npz").is_file() and "Traceback" not in result.output
+    if needle:
+        (line,) = result.stderr.splitlines()
+        assert line.startswith("failed: ") and needle in line
+        assert "done=1" in result.stdout and "failed=1" in result.stdout
+    assert sorted(p.name for p in out.iterdir()) == ["batch-report.jsonl", "ok.npz"]
+
+
+@pytest.mark.parametrize("content, needle", [(b"source,target,output\n\xff\xfe,b,c\n", "UTF-8"),
+                                             (b"\xef\xbb\xbfsource,target\n", "missing column(s) output")])
+def test_batch_unreadable_manifest_is_one_line_and_leaves_nothing(pair, tmp_path, content, needle):
+    (pair / "m.csv").write_bytes(content)
+    result = _batch(pair / "m.csv", tmp_path / "out")
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1 and needle in result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def _long_batch(tmp_path):
+    """A manifest of eight jobs that each run for minutes (a tolerance never met), and the command to run it."""
+    d = tmp_path / "long"
+    d.mkdir()
+    io.save(Shape.from_polygon(ellipse_points(300, 1, 1)), d / "e1.json")
+    io.save(Shape.from_polygon(ellipse_points(300, 2, 1)), d / "e2.json")
+    (d / "m.csv").write_text("source,target,output,frames,tol,max_iter\n" + "".join(
+        f"e1.json,e2.json,o{i}.npz,300,1e-14,100000\n" for i in range(8)))
+    src = str(Path(isotween.__file__).parents[1])
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (src, os.environ.get("PYTHONPATH")) if p))
+    cmd = [sys.executable, "-m", "isotween", "batch", str(d / "m.csv"), "-o", str(tmp_path / "out"), "-j", "2", "-q"]
+    return cmd, env
+
+
+def _children(pid):
+    out = subprocess.run(["ps", "-o", "pid=", "--ppid", str(pid)], capture_output=True, text=True).stdout
+    return [int(p) for p in out.split()]
+
+
+def _alive(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+@pytest.mark.parametrize("how", ["ctrl-c", "kill-9"])
+def test_batch_workers_end_with_the_run(tmp_path, how):
+    """Ctrl-C (to the whole process group) ends the run with one line; after kill -9 of the parent the workers end."""
+    cmd, env = _long_batch(tmp_path)
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env,
+                            preexec_fn=lambda: (signal.signal(signal.SIGINT, signal.SIG_DFL), os.setpgrp()))
+    try:
+        assert _wait_for(lambda: len(_children(proc.pid)) >= 2 or proc.poll() is not None, 120)
+        workers = _children(proc.pid)
+        time.sleep(1.0)  # the workers have started their jobs
+        if how == "ctrl-c":
+            os.killpg(proc.pid, signal.SIGINT)
+        else:
+            os.kill(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=60)
+        assert _wait_for(lambda: not any(_alive(w) for w in workers), 60), "workers outlived the run"
+        err = proc.stderr.read().decode()
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    if how == "ctrl-c":
+        assert proc.returncode == 130
+        assert err.splitlines() == ["error: interrupted; finished jobs are in the report, the others did not run"]
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["batch-report.jsonl"]
