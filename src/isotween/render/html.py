@@ -159,7 +159,7 @@ def page_data(seq, texture=None, title=None, fps=FPS, bounce=False, background="
     stats = frame_stats(seq)
     flipped = stats["flipped"] if shape.n_faces else np.zeros((len(frames), 0), bool)
     info = getattr(seq, "info", None) or {}
-    keyframes = sorted({0, len(frames) - 1, *[int(k) for k in info.get("keyframe_indices", [])]})
+    keyframes = sorted({0, len(frames) - 1, *[int(k) for k in info.get("keyframe_indices") or []]})
     data = {
         "title": document_text(title) if title else "isotween sequence",
         "method": str(getattr(seq, "method", "")),
