@@ -783,10 +783,20 @@ def _use_bomb(levels=8, copies=10):
     return SVG.format(body + f'</defs><use href="#l{levels}"/>')
 
 
-def test_svg_use_bomb_is_refused_by_its_estimate(tmp_path):
+def test_svg_use_bomb_is_refused_before_expanding(tmp_path):
+    """8 levels of 10 copies: 10^8 rects counted (not expanded) and refused; 10^4 refused by the memory estimate."""
+    def expanded(levels, copies=10):  # <svg>, <defs>, each level once in <defs>, the <use> of the top level
+        counts = [1]
+        for _ in range(levels):
+            counts.append(1 + copies * (1 + counts[-1]))
+        return 2 + sum(counts) + 1 + counts[-1]
+
     path = tmp_path / "bomb.svg"
     path.write_text(_use_bomb())
-    with pytest.raises(ResourceError, match="elements after <use> expansion"):
+    with pytest.raises(FileFormatError, match=f"{expanded(8)} elements after <use> expansion; at most 250000"):
+        io.load(path)
+    path.write_text(_use_bomb(levels=4))
+    with memory_limit(50 << 20), pytest.raises(ResourceError, match=f"{expanded(4)} elements after <use> expansion"):
         io.load(path)
 
 
