@@ -507,6 +507,15 @@ GUARDED = [
     (["interpolate", "{e1}", "{e2}", "--resample", "40", "--mesh", "1e-9", "-o", "{out}/o.gif"],
      "grew to 24 GB and was killed by the kernel"),
     (["interpolate", "{lie}", "{a}", "-o", "{out}/o.gif"], "MemoryError traceback"),
+    (["info", "{squares}"], "15,000 small squares (230 KB): over 5 GB in 12 s (a dense winding-number matrix)"),
+    (["info", "{bomb}"], "`<use>` bomb (8 levels x 10 copies): SystemError after 160 s at 3.7 GB"),
+    (["interpolate", "{e1}", "{e2}", "--points", "10000000", "--max-memory", "4G", "-o", "{out}/o.npz"],
+     "a segfault in shapely under a memory cap"),
+    (["interpolate", "{a}", "{b}", "--frames", "300", "--size", "4000", "-o", "{out}/o.gif"], "over 5 GB"),
+    (["interpolate", "{a}", "{b}", "--frames", "300", "--size", "2000", "-o", "{out}/o.mp4"],
+     "every frame drawn in memory first (3000 frames: over 5 GB)"),
+    (["interpolate", "{a}", "{b}", "--fps", "1e-300", "-o", "{out}/o.gif"], "OverflowError traceback (Pillow)"),
+    (["info", "{fifo}"], "hangs (reads a FIFO)"),
 ]
 
 
@@ -530,8 +539,16 @@ def guards():
         np.save(buf, np.zeros((1, 2)))
         with zipfile.ZipFile(tmp / "lie.npz", "w") as z:
             z.writestr("vertices.npy", buf.getvalue().replace(b"(1, 2)", b"(1000000000000, 2)"))
+        squares = " ".join(f"M{2 * (i % 125)} {2 * (i // 125)}h1v1h-1z" for i in range(15000))
+        (tmp / "squares.svg").write_text(f'<svg xmlns="http://www.w3.org/2000/svg"><path d="{squares}"/></svg>')
+        bomb = '<defs><rect id="l0" width="1" height="1"/>' + "".join(
+            f'<g id="l{k}">' + "".join(f'<use href="#l{k - 1}" x="{i}"/>' for i in range(10)) + "</g>"
+            for k in range(1, 9))
+        (tmp / "bomb.svg").write_text(f'<svg xmlns="http://www.w3.org/2000/svg">{bomb}</defs><use href="#l8"/></svg>')
+        os.mkfifo(tmp / "fifo.svg")
         names = {k: tmp / f for k, f in (("a", "a.json"), ("b", "b.json"), ("e1", "e1.svg"), ("e2", "e2.svg"),
-                                          ("lie", "lie.npz"))}
+                                          ("lie", "lie.npz"), ("squares", "squares.svg"), ("bomb", "bomb.svg"),
+                                          ("fifo", "fifo.svg"))}
         env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
         for args, before in GUARDED:
             argv = [a.format(out=tmp, **names) for a in args]
@@ -539,7 +556,8 @@ def guards():
                                   capture_output=True, text=True, env=env)
             lines = proc.stderr.strip().splitlines()
             rss, seconds = lines[-1].split()
-            message = next((ln for ln in lines if ln.startswith("error:")), "(no error line)")
+            message = next((ln for ln in lines if ln.startswith("error:")),
+                           "(no error line)" if proc.returncode else "written" if "-o" in argv else "printed")
             message = message.replace(f"{tmp}/", "")
             shown = " ".join(Path(a).name for a in argv)
             rows.append([f"`isotween {shown}`", before, f"exit {proc.returncode}: `{message}`",

@@ -849,7 +849,7 @@ CLI_3 = [
                               "-o", "{out}/o.mp4"], "2000 x 2000"),
     ("webp-frames-small-limit", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--frames", "3000",
                                  "--max-memory", "1G", "-o", "{out}/o.webp"], "3000 frames"),
-    ("lottie-frames-small-limit", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--frames", "100000",
+    ("lottie-frames-small-limit", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--frames", "100000", "-q",
                                    "--max-memory", "100M", "-o", "{out}/o.lottie.json"], "ticks"),
     ("lottie-stroke-1e308", ["interpolate", "{in}/stroke.svg", "{in}/stroke.svg", "-o", "{out}/o.lottie.json"],
      "is inf"),

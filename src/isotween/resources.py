@@ -139,14 +139,15 @@ def solve_bytes(frames, n_vertices, n_edges):
 
 
 #: peak bytes of writing each kind of output, as (per pixel of every frame kept in memory, per pixel once,
-#: per vertex of every tick). Measured peaks (800 px, 40-60 frames, Pillow 11, matplotlib 3.9) per pixel and
-#: frame: GIF 4.4, WebP 4.6, APNG 5.8 (against 8 here); Lottie 2,290 and SVG 226 bytes per vertex and tick.
+#: per vertex of every tick). Measured peaks over the interpreter's (800 x 420 px, 40-60 frames, Pillow 11,
+#: matplotlib 3.9) per pixel and frame: GIF 8.2, WebP 8.7, APNG 11.0; MP4 (2000 x 1040 px, frames streamed to
+#: ffmpeg, x264's look-ahead included) 220 per pixel; Lottie 2,290 and SVG 226 bytes per vertex and tick.
 #: The once-only part is the drawing canvas (RGBA, with matplotlib's buffers) and the encoder's.
 OUTPUT_BYTES = {
-    "gif": (8, 64, 0),
-    "webp": (8, 64, 0),
-    "apng": (10, 64, 0),
-    "mp4": (0, 96, 0),  # frames stream to ffmpeg, one at a time
+    "gif": (10, 64, 0),
+    "webp": (10, 64, 0),
+    "apng": (12, 64, 0),
+    "mp4": (0, 240, 0),  # frames stream to ffmpeg, one at a time
     "strip": (8, 48, 0),  # the sheet of the picked cells
     "frames": (0, 48, 0),  # one PNG per frame, one at a time
     "image": (0, 48, 0),
