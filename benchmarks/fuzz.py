@@ -593,7 +593,7 @@ def main():
                f"space per worker); "
                f"slowest input {slowest[0]:.2f} s ({slowest[1] / 1e6:.2f} MB); "
                f"{n_bugs} inputs with an outcome other than a shape, "
-               "a sequence or an IsotweenError.")
+               "a sequence, a list of jobs or an IsotweenError.")
     print(summary)
     if args.keep and bugs:
         keep = Path(args.keep)
@@ -610,12 +610,28 @@ def main():
         body = (f"### Hostile inputs\n\n`tests/test_hostile.py` tries {cases} hostile inputs (library values, "
                 "every loader, every command and option, SIGINT and SIGTERM during the solve and the rendering); "
                 "each must give its exact error class, or exit code 2 and one `error:` line with no traceback, "
-                "and leave no file behind.\n\n"
+                "and leave no file behind. Round 3 (issue 25) added: batch outputs outside the output folder "
+                "(`..`, absolute, through a symbolic link, a link to a file), two jobs with one output, an output "
+                "that is an input, malformed manifest rows (NUL bytes, options of the wrong type, extra cells, "
+                "bad JSON, FIFOs) failing alone, non-UTF-8 and byte-order-marked manifests; Ctrl-C and kill -9 "
+                "of a batch (its workers end within 3 s); a full disk under MP4 (ffmpeg's status) and GIF; "
+                "`-o x.svg --plot x.svg`, `-o -`, 250- and 300-byte names; titles with `<!--<script>`, control "
+                "characters and undecodable bytes; newlines and escape sequences in file names and SVG ids "
+                "(escaped in the one `error:` line), warnings before an error; GIF and APNG delays beyond "
+                "their 16 bits; non-finite values in Lottie and the page; sequence files whose info, energy or "
+                "times disagree with their frames (refused at load, and by `save_sequence` and every writer); "
+                "FIFOs, `/dev/zero` and folders as inputs; `<use>` bombs and cycles; 15,000 rings in the "
+                "winding test; pixels x frames of every raster and video output, Lottie and SVG ticks, points "
+                "per shape, `Sequence.at(10**400)`, `resample(frames=10**8)`, `metrics.report` of no frame.\n\n"
                 f"### Resource guards\n\nMemory is estimated before allocating and compared with MemAvailable "
-                f"(or `--max-memory`):\n\n{guarded}\n\n"
+                f"(or `--max-memory`); peak RSS by `/usr/bin/time` (the interpreter with isotween imported is "
+                f"about 90 MB):\n\n{guarded}\n\n"
                 f"### Loader fuzzing\n\nMutated valid files (byte flips, splices, truncation, numbers swapped "
                 f"for huge, NaN, negative or malformed ones, repeated lines, deep nesting) read by every "
-                f"loader (shapes; .npz and .json sequences). {summary} Times are from a 2-core machine "
+                f"loader (shapes; .npz and .json sequences, whose info, energy and times are also rewritten and "
+                f"which must then become the viewer page's data; .csv and .jsonl batch manifests with hostile "
+                f"cells, read and checked as `batch` does before running; SVG files of random `<use>` graphs, "
+                f"one in five a bomb). {summary} Times are from a 2-core machine "
                 f"shared with other jobs (under load).\n\n{text}\n")
         write_section("Reliability", body, f"python3 benchmarks/fuzz.py --inputs {args.inputs} "
                                            f"--workers {args.workers} --write")
