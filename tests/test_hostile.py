@@ -1105,3 +1105,19 @@ def test_batch_workers_end_with_the_run(tmp_path, how):
         assert proc.returncode == 130
         assert err.splitlines() == ["error: interrupted; finished jobs are in the report, the others did not run"]
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["batch-report.jsonl"]
+
+
+@pytest.mark.parametrize("ext", [".svg", ".html", ".lottie.json"])
+def test_input_names_that_are_not_utf8_make_valid_titles(files, tmp_path, ext):
+    """The default title holds the input names; bytes that are not UTF-8 become U+FFFD."""
+    odd = files / os.fsdecode(b"sq\xff\x1b.json")
+    odd.write_bytes((files / "sq.json").read_bytes())
+    out = tmp_path / f"o{ext}"
+    result = CliRunner().invoke(main, ["interpolate", str(odd), str(files / "wide.json"), "-q", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    text = out.read_text(encoding="utf-8")
+    if ext == ".lottie.json":
+        import json
+
+        text = json.loads(text)["nm"]
+    assert "sq\ufffd.json \u2192 wide.json" in text and "\x1b" not in text
