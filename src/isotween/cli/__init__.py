@@ -44,6 +44,8 @@ def _guarded(callback):
         inputs = []
         for key in _INPUTS:
             value = params.get(key)
+            if key == "manifest" and value is not None and Path(value).is_dir():
+                continue  # a folder of pairs may also receive the outputs: `batch` checks each job's
             inputs += list(value) if isinstance(value, (list, tuple)) else [value]
         outputs = [(opt, params.get(key)) for key, opt in _OUTPUTS.items() if params.get(key) is not None]
         check_paths(inputs, outputs)
