@@ -354,9 +354,10 @@ def check_paths(inputs, outputs):
         path = check_path_text(out)
         if str(out) == "-":
             raise FileFormatError(f"{option} -: writing to standard output is not supported; name a file or folder")
-        if len(os.fsencode(path.name)) > NAME_MAX:
-            raise FileFormatError(f"{option} {out}: the name is {len(os.fsencode(path.name))} bytes long; "
-                                  f"file systems take at most {NAME_MAX}")
+        size = len(path.name.encode("utf-8", "surrogatepass"))
+        if size > NAME_MAX:
+            raise FileFormatError(f"{option} {out}: the name is {size} bytes long; file systems take at most "
+                                  f"{NAME_MAX}")
         for p in existing:
             if Path(out).exists() and same(out, p):
                 raise FileFormatError(

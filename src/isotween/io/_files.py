@@ -113,8 +113,8 @@ def atomic_path(path):
         raise FileFormatError(f"cannot write {path}: is a folder")
     # the temporary name (dot, stem, 8 random characters, suffix) stays within NAME_MAX: a long
     # legal name must not fail only because of the temporary one
-    stem = path.stem[: max(0, NAME_MAX - len(path.suffix.encode("utf-8", "surrogateescape")) - 16)]
-    while len(stem.encode("utf-8", "surrogateescape")) + len(path.suffix) + 16 > NAME_MAX and stem:
+    stem = path.stem[: max(0, NAME_MAX - len(path.suffix.encode("utf-8", "surrogatepass")) - 16)]
+    while len(stem.encode("utf-8", "surrogatepass")) + len(path.suffix) + 16 > NAME_MAX and stem:
         stem = stem[:-1]
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{stem}.", suffix=path.suffix, dir=path.parent)
