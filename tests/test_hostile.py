@@ -1121,3 +1121,14 @@ def test_input_names_that_are_not_utf8_make_valid_titles(files, tmp_path, ext):
 
         text = json.loads(text)["nm"]
     assert "sq\ufffd.json \u2192 wide.json" in text and "\x1b" not in text
+
+
+def test_output_that_is_a_symbolic_link_replaces_the_link_not_its_target(files, tmp_path):
+    victim = tmp_path / "victim.npz"
+    victim.write_bytes(b"keep me")
+    link = tmp_path / "o.npz"
+    link.symlink_to(victim)
+    result = CliRunner().invoke(main, ["interpolate", str(files / "sq.json"), str(files / "wide.json"), "-q",
+                                       "-o", str(link)])
+    assert result.exit_code == 0, result.output
+    assert victim.read_bytes() == b"keep me" and not link.is_symlink() and len(io.load_sequence(link)) == 9
