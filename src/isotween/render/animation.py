@@ -272,7 +272,14 @@ def _encode(exe, renderer, order, fps, tmp, path, progress):
         log.seek(0)
         lines = [line.strip() for line in log.read().decode("utf-8", "replace").splitlines() if line.strip()]
     if code != 0 or lines:
-        why = lines[-1] if lines else f"exit status {code}"
+        import signal
+
+        if lines:
+            why = lines[-1]
+        elif code < 0 and -code in signal.valid_signals():
+            why = f"killed by {signal.Signals(-code).name}" + (" (file size limit)" if -code == signal.SIGXFSZ else "")
+        else:
+            why = f"exit status {code}"
         raise FileFormatError(f"cannot write {path}: ffmpeg failed ({why[:200]})")
 
 
