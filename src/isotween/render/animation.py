@@ -277,7 +277,8 @@ def _encode(exe, renderer, order, fps, tmp, path, progress):
         if lines:
             why = lines[-1]
         elif code < 0 and -code in signal.valid_signals():
-            why = f"killed by {signal.Signals(-code).name}" + (" (file size limit)" if -code == signal.SIGXFSZ else "")
+            why = f"killed by {signal.Signals(-code).name}"
+            why += ", the file size limit" if -code == signal.SIGXFSZ else ""
         else:
             why = f"exit status {code}"
         raise FileFormatError(f"cannot write {path}: ffmpeg failed ({why[:200]})")
