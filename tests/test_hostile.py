@@ -1132,3 +1132,26 @@ def test_output_that_is_a_symbolic_link_replaces_the_link_not_its_target(files, 
                                        "-o", str(link)])
     assert result.exit_code == 0, result.output
     assert victim.read_bytes() == b"keep me" and not link.is_symlink() and len(io.load_sequence(link)) == 9
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 1 << 20])
+def test_winding_numbers_match_the_dense_crossing_count(monkeypatch, chunk):
+    """The sweep gives the dense test's numbers (points on vertices and edges included), whatever the chunk."""
+    from isotween.correspondence import regions
+
+    def dense(points, rings):
+        a = np.vstack(rings)
+        b = np.vstack([np.roll(r, -1, axis=0) for r in rings])
+        owner = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
+        px, py = points[:, 0:1], points[:, 1:2]
+        cross = (b[:, 0] - a[:, 0]) * (py - a[:, 1]) - (px - a[:, 0]) * (b[:, 1] - a[:, 1])
+        w = ((a[:, 1] <= py) & (b[:, 1] > py) & (cross > 0)).astype(int) \
+            - ((a[:, 1] > py) & (b[:, 1] <= py) & (cross < 0)).astype(int)
+        return np.array([w[:, owner == r].sum(axis=1) for r in range(len(rings))]).T
+
+    monkeypatch.setattr(regions, "WINDING_CHUNK", chunk)
+    rng = np.random.default_rng(3)
+    for _ in range(60):
+        rings = [np.round(rng.normal(size=(rng.integers(3, 9), 2)) * 3) / 2 for _ in range(rng.integers(1, 6))]
+        points = np.vstack([np.round(rng.normal(size=(20, 2)) * 3) / 2, np.vstack(rings)[:4]])
+        np.testing.assert_array_equal(regions.winding_numbers(points, rings), dense(points, rings))
