@@ -398,9 +398,11 @@ def _worker_start():
     import signal
     import threading
 
-    single_threaded()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, _exit_on_sigterm)
+    if hasattr(signal, "pthread_sigmask"):  # blocked by `_Local.submit` while the workers were forked
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, _BLOCKED)
+    single_threaded()
     parent = os.getppid()
 
     def watch():
@@ -413,7 +415,16 @@ def _worker_start():
     threading.Thread(target=watch, name="isotween-parent-watch", daemon=True).start()
 
 
+#: signals held while local workers are forked (see `_Local.submit`)
+_BLOCKED = {2, 15}  # SIGINT, SIGTERM
+
+
 def _exit_on_sigterm(signum, frame):
+    """SIGTERM in a worker: end quietly (the parent ended it on purpose), removing a temporary file on the way."""
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), 2)  # no traceback from wherever the exception lands
+    except OSError:
+        pass
     raise SystemExit(128 + signum)
 
 
@@ -424,9 +435,26 @@ class _Local:
         from concurrent.futures import ProcessPoolExecutor
 
         self.pool = ProcessPoolExecutor(workers, mp_context=_start_method(), initializer=_worker_start)
+        self.started = False
 
     def submit(self, jobs):
-        return self.pool.submit(run_jobs, jobs)
+        """Submit a task; the first call forks the workers with Ctrl-C and SIGTERM blocked.
+
+        A worker inherits the block and unblocks once it ignores Ctrl-C
+        (`_worker_start`), so a Ctrl-C while it starts cannot print a
+        traceback from it; the parent receives a signal held meanwhile when
+        the block ends.
+        """
+        import signal
+
+        if self.started or not hasattr(signal, "pthread_sigmask"):
+            return self.pool.submit(run_jobs, jobs)
+        self.started = True
+        previous = signal.pthread_sigmask(signal.SIG_BLOCK, _BLOCKED)
+        try:
+            return self.pool.submit(run_jobs, jobs)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
     def wait(self, futures):
         from concurrent.futures import FIRST_COMPLETED, wait
