@@ -1,10 +1,15 @@
-"""Fuzzing the shape and sequence loaders with mutated valid files.
+"""Fuzzing the shape, sequence and manifest loaders with mutated valid files.
 
-Every loader (OBJ, OFF, JSON, SVG, NPZ shapes; NPZ and JSON sequences) reads
-files made from valid seeds by byte flips, splices, truncation, swaps of
-numbers for huge, NaN, negative or malformed ones, repeated or dropped lines
-and deep nesting. The only allowed outcomes are a Shape (or Sequence) or an
-`IsotweenError`, within a time bound (a watchdog alarm per input) and a memory
+Every loader (OBJ, OFF, JSON, SVG, NPZ shapes; NPZ and JSON sequences; CSV
+and JSON Lines batch manifests) reads files made from valid seeds by byte
+flips, splices, truncation, swaps of numbers for huge, NaN, negative or
+malformed ones, repeated or dropped lines and deep nesting; sequence files
+also get hostile ``info`` (keyframe indices, paint, energy, times), manifests
+hostile cells (NUL bytes, ``..``, absolute paths, options of the wrong type),
+and SVG files random ``<use>`` graphs (copies of copies, cycles, missing
+targets). A sequence that loads is also turned into the viewer page's data
+(every JSON writer's check). The only allowed outcomes are a Shape (or
+Sequence, or a list of jobs) or an `IsotweenError`, within a time bound (a watchdog alarm per input) and a memory
 bound (``RLIMIT_AS`` in each worker). Any other outcome is a bug; the first
 input of each kind is kept under ``--keep`` for reproduction.
 
@@ -84,8 +89,101 @@ SVG_SEEDS = [
 ]
 
 
+MANIFEST_SEEDS = [
+    (".csv", b"source,target,output,frames,tol\na.json,b.json,out/a.npz,5,\nsub/c.svg,d.obj,b.gif,,1e-4\n"),
+    (".jsonl", b'{"source": "a.json", "target": "b.json", "output": "a.npz", "options": {"frames": 5}}\n'
+               b'{"source": "c.svg", "target": "d.obj", "output": "f/b.npz", "resample": 40, "mesh": "auto"}\n'),
+]
+#: hostile manifest cells
+CELLS = ["", "\0", "a\0.json", "../../x.npz", "/etc/passwd", "-", ".", "a.json", "b.json", "x" * 300,
+         "\ufeffsource", "\x1b[2J", "out/../../y.npz", "nan", "1e999", "[1]", '"fast"', "{}", "null", "true"]
+
+
+def _manifest_cells(rng, data):
+    """Replace a cell (CSV) or a value (JSON Lines) of a manifest with a hostile one."""
+    import json
+
+    text = data.decode("utf-8", "surrogateescape")
+    if text.lstrip().startswith("{"):
+        lines = text.splitlines()
+        k = rng.randrange(len(lines)) if lines else 0
+        try:
+            row = json.loads(lines[k])
+            key = rng.choice(sorted(row) + ["options", "frames", "output"])
+            value = rng.choice(CELLS)
+            row[key] = json.loads(value) if value in ("[1]", '"fast"', "{}", "null", "true", "1e999") else value
+            lines[k] = json.dumps(row)
+        except (ValueError, IndexError, TypeError, AttributeError, RecursionError):
+            return _flip(rng, data)
+        return "\n".join(lines).encode("utf-8", "surrogateescape") + b"\n"
+    rows = [line.split(",") for line in text.splitlines()]
+    if len(rows) > 1:
+        r = rng.randrange(1, len(rows))
+        rows[r][rng.randrange(len(rows[r]))] = rng.choice(CELLS)
+    return "\n".join(",".join(r) for r in rows).encode("utf-8", "surrogateescape") + b"\n"
+
+
+def _use_graph(rng):
+    """An SVG of random ``<use>`` links: copies of copies, links to themselves or ancestors, missing targets.
+
+    Most graphs expand to a few thousand elements at most (read within the time limit); one in five
+    is a bomb (ten copies over every level), which the reader must refuse before expanding it.
+    """
+    bomb = rng.random() < 0.2
+    n = rng.randint(7, 12) if bomb else rng.randint(2, 12)  # a bomb: at least 10^6 elements
+    count = [1]  # elements each id expands to
+    parts = ['<svg xmlns="http://www.w3.org/2000/svg"><defs><rect id="e0" width="1" height="1"/>']
+    for k in range(1, n):
+        refs, total = [], 1
+        for i in range(10 if bomb else rng.choice([1, 2, 3])):
+            t = k - 1 if bomb else rng.randrange(k + (2 if rng.random() < 0.1 else 0))  # k, k+1: a cycle, ahead
+            if not bomb and t < k and total + count[t] > 600:
+                continue
+            refs.append(f'<use href="#e{t}" x="{i}"/>')
+            total += 1 + (count[t] if t < k else 0)
+        count.append(total)
+        parts.append(f'<g id="e{k}">{"".join(refs)}</g>' if rng.random() < 0.8
+                     else f'<g id="e{k}"><g>{"".join(refs)}</g></g>')
+    parts.append(f'</defs><use href="#e{n - 1 if bomb else rng.randrange(n)}"/><use href="#missing"/></svg>')
+    return "".join(parts).encode()
+
+
+def _sequence_info(rng, data, ext):
+    """Rewrite a sequence file's info, energy or times with values that disagree with its frames."""
+    import json
+
+    values = [["x"], [99], [-1], [True], "abc", {"a": 1}, [0.5], None, [[0]], 1e400]
+    info = rng.choice([
+        {"keyframe_indices": rng.choice(values)},
+        {"paint": rng.choice([{"times": [0, 1], "keys": [[{}], [{}]], "regions": rng.choice(values)},
+                              {"times": rng.choice(values), "keys": rng.choice(values)}, "red", [1, 2]])},
+        rng.choice(values),
+    ])
+    try:
+        if ext == ".npz":
+            with np.load(_io.BytesIO(data), allow_pickle=False) as z:
+                arrays = {k: z[k] for k in z.files}
+            field = rng.choice(["info", "energy", "times"])
+            if field == "info":
+                arrays["info"] = np.array(json.dumps(info, allow_nan=True))
+            else:
+                a = np.array(arrays.get(field, np.zeros(3)), dtype=float)
+                if a.size:
+                    a.flat[rng.randrange(a.size)] = rng.choice([np.nan, np.inf, -5.0, 1e308])
+                arrays[field] = a
+            buf = _io.BytesIO()
+            np.savez(buf, **arrays)
+            return buf.getvalue()
+        doc = json.loads(data)
+        field = rng.choice(["info", "energy", "times"])
+        doc[field] = info if field == "info" else [rng.choice([float("nan"), 1e308, -1.0, "x"])] * 4
+        return json.dumps(doc, allow_nan=True).encode()
+    except Exception:  # noqa: BLE001 - an earlier mutation broke the file: mutate it otherwise
+        return _flip(rng, data)
+
+
 def seeds():
-    """(extension, kind, bytes) of every valid seed file; kind is 'shape' or 'sequence'."""
+    """(extension, kind, bytes) of every valid seed file; kind is 'shape', 'sequence' or 'manifest'."""
     out = []
     shapes = _seed_shapes()
     with tempfile.TemporaryDirectory() as tmp:
@@ -104,6 +202,7 @@ def seeds():
             io.save_sequence(seq, path)
             out.append((ext, "sequence", path.read_bytes()))
     out += [(".svg", "shape", s) for s in SVG_SEEDS]
+    out += [(ext, "manifest", s) for ext, s in MANIFEST_SEEDS]
     return out
 
 
@@ -225,11 +324,17 @@ def _npz_rewrite(rng, data):
     return buf.getvalue()
 
 
-def mutate(rng, ext, data, pool):
-    """One hostile variant of ``data`` (a valid ``ext`` file)."""
+def mutate(rng, ext, data, pool, kind="shape"):
+    """One hostile variant of ``data`` (a valid ``ext`` file of ``kind``)."""
     ops = ["flip", "bit", "truncate", "splice", "number", "number", "lines", "nest"]
     if ext == ".npz":
         ops += ["npz", "npz", "npz"]
+    if kind == "sequence":
+        ops += ["info"] * 6
+    if kind == "manifest":
+        ops += ["cells"] * 8
+    if ext == ".svg" and rng.random() < 0.2:
+        return _use_graph(rng)
     out = data
     for _ in range(rng.choice([1, 1, 1, 2, 3])):
         op = rng.choice(ops)
@@ -247,6 +352,10 @@ def mutate(rng, ext, data, pool):
             out = _lines(rng, out)
         elif op == "nest":
             out = _nest(rng, out, ext)
+        elif op == "info":
+            out = _sequence_info(rng, out, ext)
+        elif op == "cells":
+            out = _manifest_cells(rng, out)
         else:
             out = _npz_arrays(rng, out)
     return out
@@ -278,17 +387,17 @@ def _one(index, base_seed):
     rng = random.Random(base_seed * 1_000_003 + index)
     ext, kind, data = rng.choice(_STATE["seeds"])
     pool = [s for e, _, s in _STATE["seeds"] if e == ext]
-    data = mutate(rng, ext, data, pool)
+    data = mutate(rng, ext, data, pool, kind)
     path = Path(_STATE["dir"]) / f"input{ext}"
     path.write_bytes(data)
-    loader = io.load_sequence if kind == "sequence" else io.load
+    loader = {"sequence": _load_and_page, "manifest": _load_manifest}.get(kind, io.load)
     t0 = time.perf_counter()
     signal.setitimer(signal.ITIMER_REAL, TIME_LIMIT + TIME_PER_MB * len(data) / 1e6)
     try:
         result = loader(path)
         signal.setitimer(signal.ITIMER_REAL, 0)
-        ok = isinstance(result, Sequence if kind == "sequence" else Shape)
-        outcome = ("sequence" if kind == "sequence" else "shape") if ok else f"BUG wrong type {type(result).__name__}"
+        ok = isinstance(result, {"sequence": Sequence, "manifest": list}.get(kind, Shape))
+        outcome = kind if ok else f"BUG wrong type {type(result).__name__}"
     except _Timeout:
         outcome = "BUG timeout"
     except IsotweenError as exc:
@@ -302,6 +411,25 @@ def _one(index, base_seed):
         outcome = f"BUG {type(exc).__name__}: {str(exc)[:80]}"
     seconds = time.perf_counter() - t0
     return outcome, seconds, ext, len(data), (data if outcome.startswith("BUG") else None)
+
+
+def _load_and_page(path):
+    """`load_sequence`, then the viewer page's data as JSON: what loads must also be writable."""
+    from isotween.io._json import dumps_finite
+    from isotween.render.html import page_data
+
+    seq = io.load_sequence(path)
+    dumps_finite(page_data(seq, downloads={}), path)
+    return seq
+
+
+def _load_manifest(path):
+    """Every job of a manifest, and the check of their outputs (`batch`'s first steps; nothing runs)."""
+    from isotween.batch import check_jobs, read_manifest
+
+    jobs = list(read_manifest(path))
+    check_jobs(jobs, path.parent / "out")
+    return jobs
 
 
 def _batch(args):
@@ -379,6 +507,15 @@ GUARDED = [
     (["interpolate", "{e1}", "{e2}", "--resample", "40", "--mesh", "1e-9", "-o", "{out}/o.gif"],
      "grew to 24 GB and was killed by the kernel"),
     (["interpolate", "{lie}", "{a}", "-o", "{out}/o.gif"], "MemoryError traceback"),
+    (["info", "{squares}"], "15,000 small squares (230 KB): over 5 GB in 12 s (a dense winding-number matrix)"),
+    (["info", "{bomb}"], "`<use>` bomb (8 levels x 10 copies): SystemError after 160 s at 3.7 GB"),
+    (["interpolate", "{e1}", "{e2}", "--points", "10000000", "--max-memory", "4G", "-o", "{out}/o.npz"],
+     "a segfault in shapely under a memory cap"),
+    (["interpolate", "{a}", "{b}", "--frames", "300", "--size", "4000", "-o", "{out}/o.gif"], "over 5 GB"),
+    (["interpolate", "{a}", "{b}", "--frames", "300", "--size", "2000", "-o", "{out}/o.mp4"],
+     "every frame drawn in memory first (3000 frames: over 5 GB)"),
+    (["interpolate", "{a}", "{b}", "--fps", "1e-300", "-o", "{out}/o.gif"], "OverflowError traceback (Pillow)"),
+    (["info", "{fifo}"], "hangs (reads a FIFO)"),
 ]
 
 
@@ -402,8 +539,16 @@ def guards():
         np.save(buf, np.zeros((1, 2)))
         with zipfile.ZipFile(tmp / "lie.npz", "w") as z:
             z.writestr("vertices.npy", buf.getvalue().replace(b"(1, 2)", b"(1000000000000, 2)"))
+        squares = " ".join(f"M{2 * (i % 125)} {2 * (i // 125)}h1v1h-1z" for i in range(15000))
+        (tmp / "squares.svg").write_text(f'<svg xmlns="http://www.w3.org/2000/svg"><path d="{squares}"/></svg>')
+        bomb = '<defs><rect id="l0" width="1" height="1"/>' + "".join(
+            f'<g id="l{k}">' + "".join(f'<use href="#l{k - 1}" x="{i}"/>' for i in range(10)) + "</g>"
+            for k in range(1, 9))
+        (tmp / "bomb.svg").write_text(f'<svg xmlns="http://www.w3.org/2000/svg">{bomb}</defs><use href="#l8"/></svg>')
+        os.mkfifo(tmp / "fifo.svg")
         names = {k: tmp / f for k, f in (("a", "a.json"), ("b", "b.json"), ("e1", "e1.svg"), ("e2", "e2.svg"),
-                                          ("lie", "lie.npz"))}
+                                          ("lie", "lie.npz"), ("squares", "squares.svg"), ("bomb", "bomb.svg"),
+                                          ("fifo", "fifo.svg"))}
         env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
         for args, before in GUARDED:
             argv = [a.format(out=tmp, **names) for a in args]
@@ -411,7 +556,8 @@ def guards():
                                   capture_output=True, text=True, env=env)
             lines = proc.stderr.strip().splitlines()
             rss, seconds = lines[-1].split()
-            message = next((ln for ln in lines if ln.startswith("error:")), "(no error line)")
+            message = next((ln for ln in lines if ln.startswith("error:")),
+                           "(no error line)" if proc.returncode else "written" if "-o" in argv else "printed")
             message = message.replace(f"{tmp}/", "")
             shown = " ".join(Path(a).name for a in argv)
             rows.append([f"`isotween {shown}`", before, f"exit {proc.returncode}: `{message}`",
@@ -447,7 +593,7 @@ def main():
                f"space per worker); "
                f"slowest input {slowest[0]:.2f} s ({slowest[1] / 1e6:.2f} MB); "
                f"{n_bugs} inputs with an outcome other than a shape, "
-               "a sequence or an IsotweenError.")
+               "a sequence, a list of jobs or an IsotweenError.")
     print(summary)
     if args.keep and bugs:
         keep = Path(args.keep)
@@ -464,12 +610,28 @@ def main():
         body = (f"### Hostile inputs\n\n`tests/test_hostile.py` tries {cases} hostile inputs (library values, "
                 "every loader, every command and option, SIGINT and SIGTERM during the solve and the rendering); "
                 "each must give its exact error class, or exit code 2 and one `error:` line with no traceback, "
-                "and leave no file behind.\n\n"
+                "and leave no file behind. Round 3 (issue 25) added: batch outputs outside the output folder "
+                "(`..`, absolute, through a symbolic link, a link to a file), two jobs with one output, an output "
+                "that is an input, malformed manifest rows (NUL bytes, options of the wrong type, extra cells, "
+                "bad JSON, FIFOs) failing alone, non-UTF-8 and byte-order-marked manifests; Ctrl-C and kill -9 "
+                "of a batch (its workers end within 3 s); a full disk under MP4 (ffmpeg's status) and GIF; "
+                "`-o x.svg --plot x.svg`, `-o -`, 250- and 300-byte names; titles with `<!--<script>`, control "
+                "characters and undecodable bytes; newlines and escape sequences in file names and SVG ids "
+                "(escaped in the one `error:` line), warnings before an error; GIF and APNG delays beyond "
+                "their 16 bits; non-finite values in Lottie and the page; sequence files whose info, energy or "
+                "times disagree with their frames (refused at load, and by `save_sequence` and every writer); "
+                "FIFOs, `/dev/zero` and folders as inputs; `<use>` bombs and cycles; 15,000 rings in the "
+                "winding test; pixels x frames of every raster and video output, Lottie and SVG ticks, points "
+                "per shape, `Sequence.at(10**400)`, `resample(frames=10**8)`, `metrics.report` of no frame.\n\n"
                 f"### Resource guards\n\nMemory is estimated before allocating and compared with MemAvailable "
-                f"(or `--max-memory`):\n\n{guarded}\n\n"
+                f"(or `--max-memory`); peak RSS by `/usr/bin/time` (the interpreter with isotween imported is "
+                f"about 90 MB):\n\n{guarded}\n\n"
                 f"### Loader fuzzing\n\nMutated valid files (byte flips, splices, truncation, numbers swapped "
                 f"for huge, NaN, negative or malformed ones, repeated lines, deep nesting) read by every "
-                f"loader (shapes; .npz and .json sequences). {summary} Times are from a 2-core machine "
+                f"loader (shapes; .npz and .json sequences, whose info, energy and times are also rewritten and "
+                f"which must then become the viewer page's data; .csv and .jsonl batch manifests with hostile "
+                f"cells, read and checked as `batch` does before running; SVG files of random `<use>` graphs, "
+                f"one in five a bomb). {summary} Times are from a 2-core machine "
                 f"shared with other jobs (under load).\n\n{text}\n")
         write_section("Reliability", body, f"python3 benchmarks/fuzz.py --inputs {args.inputs} "
                                            f"--workers {args.workers} --write")

@@ -118,7 +118,6 @@ def test_manifests_csv_jsonl_and_folder_give_the_same_jobs(pairs, tmp_path):
 @pytest.mark.parametrize("text, needle", [
     ("source,target\na.json,b.json\n", "line 1: missing column(s) output"),
     ("source,target,output,speed\na,b,c,1\n", "unknown column(s) speed"),
-    ("source,target,output,frames\na,b,c,many\n", "line 2: bad value 'many' for option frames"),
 ])
 def test_bad_manifest_is_one_line_error_naming_the_line(tmp_path, text, needle):
     manifest = tmp_path / "jobs.csv"
@@ -130,6 +129,21 @@ def test_bad_manifest_is_one_line_error_naming_the_line(tmp_path, text, needle):
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and needle in lines[0] and str(manifest) in lines[0]
     assert not (tmp_path / "out").exists()
+
+
+def test_bad_manifest_row_fails_alone(pairs, tmp_path):
+    """A row with a bad option value is recorded as failed, naming its line; the other rows run."""
+    folder, names = pairs
+    manifest = folder / "jobs.csv"
+    manifest.write_text("source,target,output,frames\n"
+                        f"{names[0]}.source.json,{names[0]}.target.json,a.npz,many\n"
+                        f"{names[1]}.source.json,{names[1]}.target.json,b.npz,5\n")
+    result = CliRunner().invoke(main, ["batch", str(manifest), "-o", str(tmp_path / "out"), "-j", "1", "-q"])
+    assert result.exit_code == 1
+    assert "jobs=2 done=1 skipped=0 failed=1" in result.stdout
+    (line,) = result.stderr.strip().splitlines()
+    assert line.startswith("failed: ") and "line 2: bad value 'many' for option frames" in line
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["b.npz", "batch-report.jsonl"]
 
 
 def test_cli_batch_summary_and_exit_status(pairs, tmp_path):

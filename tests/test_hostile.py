@@ -407,7 +407,7 @@ def test_fuzzing_a_few_hundred_mutated_files():
     counts, _, bugs, _ = fuzz.run(300, workers=1, seed=12)
     assert sum(counts.values()) == 300
     assert not bugs, sorted(bugs)
-    assert {o.split()[0] for _, o in counts} <= {"shape", "sequence", "error"}
+    assert {o.split()[0] for _, o in counts} <= {"shape", "sequence", "manifest", "error"}
 
 
 # ------------------------------------------------------------------ command line
@@ -605,3 +605,558 @@ def test_signal_keeps_the_old_output(files, tmp_path, stage, sig):
     assert text.replace("\r", "\n").strip().splitlines()[-1].startswith("error: ") and "Traceback" not in text
     assert out.read_bytes() == b"old output"
     assert _listing(tmp_path) == before
+
+
+# ------------------------------------------------------------------ round 3 (issue 25)
+def painted_square(width=1.0):
+    from isotween.outputs import with_paint
+
+    return with_paint(sequence(), stroke="red", stroke_width=width)
+
+
+def _replace(seq, **fields):
+    from dataclasses import replace
+
+    return replace(seq, **fields)
+
+
+API_3 = [
+    ("at-10e400", lambda: sequence().at(10**400), ParameterError),
+    ("report-empty-sequence", lambda: isotween.metrics.report(sequence()[3:3]), ParameterError),
+    ("resample-frames-1e8", lambda: sequence().resample(frames=10**8), ResourceError),
+    ("resample-points-1e12", lambda: isotween.resample(square(), wide(), points=10**12), ResourceError),
+    ("load-nul-path", lambda: io.load("a\0b.json"), FileFormatError),
+    ("save-nul-path", lambda: sequence().save("a\0b.gif"), FileFormatError),
+    ("save-dash", lambda: sequence().save("-"), FileFormatError),
+    ("save-sequence-nan-frames", lambda: io.save_sequence(nan_sequence(), "/nonexistent/x.npz"), FileFormatError),
+    ("save-sequence-wrong-vertex-count", lambda: io.save_sequence(_replace(sequence(), frames=sequence().frames[:, :3]),
+                                                                  "/nonexistent/x.npz"), FileFormatError),
+    ("save-sequence-nan-energy", lambda: io.save_sequence(_replace(sequence(), energy=[np.nan]), "/nonexistent/x.json"),
+     FileFormatError),
+    ("write-output-not-a-sequence", lambda: isotween.write_output(square(), "/nonexistent/x.gif"), FileFormatError),
+]
+
+
+@pytest.mark.parametrize("make, error", [c[1:] for c in API_3], ids=[c[0] for c in API_3])
+def test_library_refuses_round_3(make, error):
+    with pytest.raises(error) as info:
+        make()
+    assert type(info.value) is error
+    assert str(info.value) and "\n" not in str(info.value)
+
+
+#: (id, output name, sequence, options, error, text in the message); nothing may be written
+WRITES = [
+    ("html-nan-energy", "x.html", lambda: _replace(sequence(), energy=[np.nan]), {}, FileFormatError, "energy[0]"),
+    ("html-keyframes-strings", "x.html", lambda: _replace(sequence(), info={"keyframe_indices": ["x"]}), {},
+     FileFormatError, "keyframe_indices"),
+    ("html-paint-regions-out-of-range", "x.html",
+     lambda: _replace(painted_square(), info={**painted_square().info,
+                                              "paint": {**painted_square().info["paint"], "regions": [[7]]}}),
+     {}, FileFormatError, "paint.regions"),
+    ("lottie-stroke-1e308", "x.lottie.json", lambda: painted_square(1e308), {}, FileFormatError, "is inf"),
+    ("gif-size-60000", "x.gif", sequence, {"size": 60000}, ResourceError, "60000 x"),
+    ("mp4-size-8192-small-limit", "x.mp4", sequence, {"size": 8192, "max_memory": True}, ResourceError, "8192 x"),
+    ("gif-hold-1e300", "x.gif", sequence, {"hold": 1e300}, ParameterError, "hold"),
+    ("gif-fps-1e-300", "x.gif", sequence, {"fps": 1e-300}, ParameterError, "655.35 s"),
+    ("gif-hold-700-fps-1", "x.gif", sequence, {"hold": 700, "fps": 1}, ParameterError, "655.35 s"),
+    ("apng-hold-100-fps-1", "x.apng", sequence, {"hold": 100, "fps": 1}, ParameterError, "65.535 s"),
+    ("lottie-many-ticks-small-limit", "x.lottie.json", sequence, {"hold": 3600, "fps": 100, "max_memory": True},
+     ResourceError, "ticks"),
+]
+
+
+@pytest.mark.parametrize("name, make, options, error, needle", [c[1:] for c in WRITES], ids=[c[0] for c in WRITES])
+def test_writers_refuse(tmp_path, name, make, options, error, needle):
+    options = dict(options)
+    limited = options.pop("max_memory", False)
+    with memory_limit(50 << 20 if limited else None), pytest.raises(error) as info:
+        isotween.write_output(make(), tmp_path / name, quiet=True, **options)
+    assert type(info.value) is error and needle in str(info.value) and "\n" not in str(info.value)
+    assert _listing(tmp_path) == []
+
+
+def test_html_title_cannot_end_the_data_block(tmp_path):
+    import json
+    import re
+
+    title = '<!--<script></script><b>\u2028x'
+    out = tmp_path / "x.html"
+    sequence().save(out, title=title)
+    page = out.read_text(encoding="utf-8")
+    block = re.search(r'<script type="application/json" id="isotween-data">(.*?)</script>', page, re.S).group(1)
+    assert "<" not in block and ">" not in block and "\u2028" not in block
+    assert json.loads(block)["title"] == "<!--<script></script><b> x"  # U+2028 is a line break: a space
+    assert "<title>&lt;!--&lt;script&gt;" in page
+
+
+@pytest.mark.parametrize("ext", [".svg", ".html", ".lottie.json"])
+def test_titles_with_control_characters_and_undecodable_bytes(tmp_path, ext):
+    import xml.etree.ElementTree as ET
+
+    out = tmp_path / f"x{ext}"
+    sequence().save(out, title="a\x01b\x1bc\udcffd\ne")
+    text = out.read_text(encoding="utf-8")  # valid UTF-8
+    if ext == ".svg":
+        title = ET.parse(out).getroot().find("{http://www.w3.org/2000/svg}title").text  # valid XML
+        assert title == "abc\ufffdd e"
+    assert "\x01" not in text and "\x1b" not in text
+
+
+def test_long_legal_output_name_is_written(tmp_path):
+    out = tmp_path / ("n" * 246 + ".npz")  # 250 bytes: legal, though the temporary name would not be
+    io.save_sequence(sequence(), out)
+    assert _listing(tmp_path) == [out.name]
+
+
+# sequence files whose info disagrees with their frames: refused at load, naming the field
+def _sequence_npz(**changes):
+    import json
+
+    seq = sequence()
+    arrays = {"frames": seq.frames, "edges": seq.shape.edges, "times": seq.times,
+              "energy": np.asarray(seq.energy, dtype=float), "info": np.array(json.dumps({}))}
+    arrays.update(changes)
+    return _npz_bytes(**arrays)
+
+
+SEQUENCE_INFO = [
+    ("keyframes-strings", lambda: _sequence_npz(info=np.array('{"keyframe_indices": ["x"]}')), "keyframe_indices"),
+    ("keyframes-out-of-range", lambda: _sequence_npz(info=np.array('{"keyframe_indices": [99]}')),
+     "keyframe_indices"),
+    ("nan-energy", lambda: _sequence_npz(energy=np.array([np.nan])), "energy[0]"),
+    ("nan-times", lambda: _sequence_npz(times=np.array([0, np.nan, 0.5, 0.7, 1.0])), "times"),
+    ("decreasing-times", lambda: _sequence_npz(times=np.array([0, 0.5, 0.2, 0.7, 1.0])), "times"),
+    ("info-a-list", lambda: _sequence_npz(info=np.array("[1, 2]")), "info"),
+    ("paint-regions-out-of-range", lambda: _sequence_npz(info=np.array(
+        '{"paint": {"times": [0, 1], "keys": [[{}], [{}]], "regions": [[5]]}}')), "paint"),
+    ("paint-keys-a-number", lambda: _sequence_npz(info=np.array('{"paint": {"times": [0, 1], "keys": 3}}')),
+     "paint"),
+]
+
+
+@pytest.mark.parametrize("make, needle", [c[1:] for c in SEQUENCE_INFO], ids=[c[0] for c in SEQUENCE_INFO])
+def test_sequence_info_refused_at_load(tmp_path, make, needle):
+    path = tmp_path / "s.npz"
+    path.write_bytes(make())
+    with pytest.raises(FileFormatError) as info:
+        io.load_sequence(path)
+    assert type(info.value) is FileFormatError and str(info.value).startswith(str(path)) and needle in str(info.value)
+    result = CliRunner().invoke(main, ["render", str(path), "-o", str(tmp_path / "o.html")])
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1 and needle in result.stderr
+    assert _listing(tmp_path) == ["s.npz"]
+
+
+# inputs that are not regular files: one clear error, no hang
+@pytest.fixture
+def odd_inputs(tmp_path):
+    d = tmp_path / "odd"
+    d.mkdir()
+    os.mkfifo(d / "fifo.svg")
+    os.mkfifo(d / "fifo.png")
+    os.mkfifo(d / "fifo.csv")
+    (d / "zero.obj").symlink_to("/dev/zero")
+    (d / "folder.json").mkdir()
+    return d
+
+
+@pytest.mark.parametrize("name, needle", [("fifo.svg", "pipe"), ("zero.obj", "device"), ("folder.json", "folder")])
+def test_inputs_must_be_regular_files(odd_inputs, name, needle):
+    with pytest.raises(FileFormatError, match=needle):
+        io.load(odd_inputs / name)
+    result = CliRunner().invoke(main, ["info", str(odd_inputs / name)])
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1 and needle in result.stderr
+
+
+def test_texture_and_manifest_fifos_are_refused(odd_inputs, files, tmp_path):
+    result = CliRunner().invoke(main, ["interpolate", str(files / "sq.json"), str(files / "wide.json"), "-o",
+                                       str(tmp_path / "o.gif"), "--texture", str(odd_inputs / "fifo.png")])
+    assert result.exit_code == 2 and "pipe" in result.stderr and result.stderr.count("\n") == 1
+    result = CliRunner().invoke(main, ["batch", str(odd_inputs / "fifo.csv"), "-o", str(tmp_path / "b")])
+    assert result.exit_code == 2 and "pipe" in result.stderr and not (tmp_path / "b").exists()
+
+
+# SVG drawings that would expand beyond memory
+def _use_bomb(levels=8, copies=10):
+    body = '<defs><rect id="l0" width="1" height="1"/>'
+    for k in range(1, levels + 1):
+        body += f'<g id="l{k}">' + "".join(f'<use href="#l{k - 1}" x="{i}"/>' for i in range(copies)) + "</g>"
+    return SVG.format(body + f'</defs><use href="#l{levels}"/>')
+
+
+def test_svg_use_bomb_is_refused_before_expanding(tmp_path):
+    """8 levels of 10 copies: 10^8 rects counted (not expanded) and refused; 10^4 refused by the memory estimate."""
+    def expanded(levels, copies=10):  # <svg>, <defs>, each level once in <defs>, the <use> of the top level
+        counts = [1]
+        for _ in range(levels):
+            counts.append(1 + copies * (1 + counts[-1]))
+        return 2 + sum(counts) + 1 + counts[-1]
+
+    path = tmp_path / "bomb.svg"
+    path.write_text(_use_bomb())
+    with pytest.raises(FileFormatError, match=f"{expanded(8)} elements after <use> expansion; at most 250000"):
+        io.load(path)
+    path.write_text(_use_bomb(levels=4))
+    with memory_limit(50 << 20), pytest.raises(ResourceError, match=f"{expanded(4)} elements after <use> expansion"):
+        io.load(path)
+
+
+def test_svg_use_cycle_is_refused(tmp_path):
+    path = tmp_path / "cycle.svg"
+    path.write_text(SVG.format('<g id="a"><rect width="1" height="1"/><use href="#a" x="2"/></g>'))
+    with pytest.raises(FileFormatError, match="endless copy"):
+        io.load(path)
+
+
+def test_svg_small_use_graph_still_reads(tmp_path):
+    path = tmp_path / "uses.svg"
+    path.write_text(_use_bomb(levels=2, copies=3))
+    assert io.load(path).n_vertices == 4 * 9
+
+
+def test_winding_numbers_need_no_dense_matrix():
+    """15,000 small squares: the sweep tests a few pairs per edge, never 15,000 x 60,000 of them."""
+    import tracemalloc
+
+    from isotween.correspondence.regions import fill_regions, winding_numbers
+
+    rings = [np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float) + [2 * (i % 125), 2 * (i // 125)]
+             for i in range(15000)]
+    tracemalloc.start()
+    regions, outline = fill_regions(rings, "nonzero")
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert len(regions) == 15000 and not outline
+    assert peak < 200 << 20  # the dense test needed 7 GB
+    probes = np.array([[0.5, 0.5], [1.5, 0.5], [-1.0, 0.5]])
+    w = winding_numbers(probes, rings[:2])
+    assert w.tolist() == [[1, 0], [0, 0], [0, 0]]
+
+
+# command line, round 3
+CLI_3 = [
+    ("output-is-plot", ["interpolate", "{in}/sq.json", "{in}/wide.json", "-o", "{out}/x.svg", "--plot", "{out}/x.svg"],
+     "name the same file"),
+    ("output-dash", ["interpolate", "{in}/sq.json", "{in}/wide.json", "-o", "-"], "standard output"),
+    ("output-name-too-long", ["interpolate", "{in}/sq.json", "{in}/wide.json", "-o", "{out}/" + "n" * 300 + ".npz"],
+     "at most 255"),
+    ("gif-fps-1e-300", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--fps", "1e-300", "-o", "{out}/o.gif"],
+     "655.35 s"),
+    ("gif-hold-700", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--hold", "700", "--fps", "1",
+                      "-o", "{out}/o.gif"], "655.35 s"),
+    ("gif-300-frames-4000-px", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--frames", "300", "--size", "4000",
+                                "-o", "{out}/o.gif"], "4000 x 4000"),
+    ("mp4-size-small-limit", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--size", "2000", "--max-memory", "100M",
+                              "-o", "{out}/o.mp4"], "2000 x 2000"),
+    ("webp-frames-small-limit", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--frames", "3000",
+                                 "--max-memory", "1G", "-o", "{out}/o.webp"], "3000 frames"),
+    ("lottie-frames-small-limit", ["interpolate", "{in}/sq.json", "{in}/wide.json", "--frames", "100000", "-q",
+                                   "--max-memory", "100M", "-o", "{out}/o.lottie.json"], "ticks"),
+    ("lottie-stroke-1e308", ["interpolate", "{in}/stroke.svg", "{in}/stroke.svg", "-o", "{out}/o.lottie.json"],
+     "is inf"),
+    ("points-1e7", ["interpolate", "{in}/e1.svg", "{in}/e2.svg", "--points", "10000000", "--max-memory", "1G",
+                    "-o", "{out}/o.npz"], "10000000 points"),
+    ("use-bomb", ["info", "{in}/bomb.svg"], "elements after <use> expansion"),
+    ("newline-in-name", ["info", "{in}/no\nerror: forged.json"], "no\\nerror: forged.json"),
+    ("ansi-in-name", ["info", "{in}/\x1b[2J.json"], "\\x1b[2J.json"),
+    ("newline-in-svg-id", ["info", "{in}/id.svg"], 'id="a\\nerror: b"'),
+    ("warning-then-error", ["interpolate", "{in}/degenerate.svg", "{in}/none.json", "-o", "{out}/o.npz"],
+     "none.json"),
+]
+
+
+@pytest.fixture
+def files_3(files):
+    (files / "stroke.svg").write_text(SVG.format(
+        '<path d="M0 0 L10 0 L10 10 Z" fill="none" stroke="red" stroke-width="1e308"/>'))
+    (files / "bomb.svg").write_text(_use_bomb())
+    (files / "id.svg").write_text(SVG.format('<path id="a&#10;error: b" d="M 0 0 L x y"/>'))
+    (files / "degenerate.svg").write_text(SVG.format('<polygon points="0,0 1,1"/><polygon points="0,0 1,0 1,1"/>'))
+    return files
+
+
+@pytest.mark.parametrize("args, needle", [c[1:] for c in CLI_3], ids=[c[0] for c in CLI_3])
+def test_command_line_refuses_round_3(files_3, tmp_path, args, needle):
+    out = tmp_path / "out"
+    out.mkdir()
+    before = _listing(tmp_path)
+    result = CliRunner().invoke(main, [a.format(**{"in": files_3, "out": out}) for a in args])
+    assert result.exit_code == 2, result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and needle in lines[0], result.stderr
+    assert "\x1b" not in result.stderr and "Traceback" not in result.output
+    assert _listing(tmp_path) == before
+
+
+def test_warnings_are_one_line_each_after_a_successful_command(files_3, tmp_path):
+    result = CliRunner().invoke(main, ["info", str(files_3 / "degenerate.svg")])
+    assert result.exit_code == 0
+    (line,) = result.stderr.splitlines()
+    assert line.startswith("warning: ") and "dropped 1 degenerate subpath" in line and ".py" not in line
+
+
+@pytest.mark.parametrize("ext, kind", [(".mp4", "ffmpeg"), (".gif", "File too large")])
+def test_full_disk_keeps_the_old_output(files, tmp_path, ext, kind):
+    """A writer that runs out of room (here: a file size limit) fails the run in one line; the old file stays."""
+    import resource
+
+    pytest.importorskip("imageio_ffmpeg")
+    out = tmp_path / f"o{ext}"
+    out.write_bytes(b"old output")
+    before = _listing(tmp_path)
+    src = str(Path(isotween.__file__).parents[1])
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (src, os.environ.get("PYTHONPATH")) if p))
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (2000, 2000))
+
+    proc = subprocess.run([sys.executable, "-m", "isotween", "interpolate", str(files / "e1.svg"),
+                           str(files / "e2.svg"), "--resample", "40", "-q", "-o", str(out)],
+                          capture_output=True, env=env, preexec_fn=limit, timeout=300)
+    err = proc.stderr.decode()
+    assert proc.returncode == 2, err
+    (line,) = err.splitlines()
+    assert line.startswith(f"error: cannot write {out}") and kind in line
+    assert out.read_bytes() == b"old output" and _listing(tmp_path) == before
+
+
+# ------------------------------------------------------------------ batch, round 3
+@pytest.fixture
+def pair(tmp_path):
+    d = tmp_path / "jobs"
+    d.mkdir()
+    io.save(square(), d / "a.json")
+    io.save(wide(), d / "b.json")
+    return d
+
+
+def _batch(manifest, outdir, *more):
+    return CliRunner().invoke(main, ["batch", str(manifest), "-o", str(outdir), "-j", "1", "-q", *more])
+
+
+def _failed(report):
+    import json
+
+    return {r["line"]: r["error"] for r in map(json.loads, open(report, encoding="utf-8")) if r["status"] == "failed"}
+
+
+def test_batch_outputs_stay_inside_the_output_folder(pair, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    victim = tmp_path / "victim.txt"
+    victim.write_text("keep me")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (out / "link.npz").symlink_to(victim)
+    (out / "dirlink").symlink_to(elsewhere)
+    manifest = pair / "m.csv"
+    manifest.write_text("source,target,output\n"
+                        "a.json,b.json,../../../x.npz\n"
+                        f"a.json,b.json,{tmp_path / 'abs.npz'}\n"
+                        "a.json,b.json,dirlink/y.npz\n"
+                        "a.json,b.json,link.npz\n"
+                        "a.json,b.json,sub/ok.npz\n")
+    before = _listing(tmp_path)
+    result = _batch(manifest, out)
+    assert result.exit_code == 1 and "jobs=5 done=1 skipped=0 failed=4" in result.stdout
+    failed = _failed(out / "batch-report.jsonl")
+    assert sorted(failed) == [2, 3, 4, 5]
+    assert "'..' would leave the output folder" in failed[2] and "absolute path" in failed[3]
+    assert "goes through the symbolic link" in failed[4] and "is the symbolic link" in failed[5]
+    assert all(f"line {k}" in failed[k] for k in failed)
+    assert victim.read_text() == "keep me" and list(elsewhere.iterdir()) == []
+    assert sorted(set(_listing(tmp_path)) - set(before)) == ["out/batch-report.jsonl", "out/sub", "out/sub/ok.npz"]
+    assert len(result.stderr.splitlines()) == 4
+
+
+@pytest.mark.parametrize("rows, needle", [
+    ("a.json,b.json,same.npz\na.json,b.json,same.npz\n", "line 3 and line 2 both write"),
+    ("a.json,b.json,./same.npz\na.json,b.json,same.npz\n", "both write"),
+    ("a.json,b.json,../jobs/b.json\n", None),  # outside the folder: that job fails alone
+    ("a.json,b.json,b.json\n", "is an input of line 2"),
+    ("a.json,b.json,x.npz\nx.npz,b.json,y.npz\n", "is an input of line 3"),
+])
+def test_batch_colliding_outputs_are_refused_before_anything_runs(pair, tmp_path, rows, needle):
+    manifest = pair / "m.csv"
+    manifest.write_text("source,target,output\n" + rows)
+    if needle is None:  # the output folder is the inputs' folder here
+        result = _batch(manifest, pair)
+        assert result.exit_code == 1 and io.load(pair / "b.json").equals(wide())
+        return
+    before = _listing(tmp_path)
+    result = _batch(manifest, pair)
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1 and needle in result.stderr, result.stderr
+    assert _listing(tmp_path) == before and io.load(pair / "b.json").equals(wide())
+
+
+def test_library_batch_refuses_colliding_jobs_and_records_malformed_ones(pair, tmp_path):
+    jobs = [{"source": pair / "a.json", "target": pair / "b.json", "output": "o.npz"}] * 2
+    with pytest.raises(FileFormatError, match="both write"):
+        isotween.batch(jobs, outdir=tmp_path / "o1", workers=1)
+    assert not (tmp_path / "o1").exists()
+    bad = [{"source": 5, "target": pair / "b.json", "output": "a.npz"},
+           {"source": pair / "a.json", "target": pair / "b.json", "output": 7},
+           {"source": pair / "a.json", "target": pair / "b.json", "output": "c.npz", "options": ["frames", 3]},
+           {"source": pair / "a.json", "target": pair / "b.json", "output": "d.npz", "options": {"frames": "many"}},
+           {"source": pair / "a.json", "target": pair / "b.json", "output": "e\0.npz"},
+           {"source": pair / "a.json", "target": pair / "b.json", "output": "ok.npz"}]
+    res = isotween.batch(iter(bad), outdir=tmp_path / "o2", workers=1)
+    assert (res["done"], res["failed"]) == (1, 5)
+    errors = [r["error"] for r in res["failures"]]
+    assert [e.split(":")[0] for e in errors] == ["ParameterError"] * 4 + ["FileFormatError"]
+    assert "source must be a path" in errors[0] and "output must be a path" in errors[1]
+    assert "options must be a dict" in errors[2] and "option frames has the wrong type" in errors[3]
+    assert "NUL" in errors[4]
+
+
+MANIFESTS = [
+    ("nul-in-path", "m.csv", "source,target,output\na\0.json,b.json,x.npz\na.json,b.json,ok.npz\n", 1,
+     "NUL byte"),
+    ("jsonl-options-list", "m.jsonl", '{"source": "a.json", "target": "b.json", "output": "x.npz", "options": [1]}\n'
+     '{"source": "a.json", "target": "b.json", "output": "ok.npz"}\n', 1, "options must be a JSON object"),
+    ("jsonl-options-string", "m.jsonl", '{"source": "a.json", "target": "b.json", "output": "x.npz", '
+     '"options": "fast"}\n{"source": "a.json", "target": "b.json", "output": "ok.npz"}\n', 1,
+     "options must be a JSON object"),
+    ("jsonl-not-json", "m.jsonl", '{"source": \n{"source": "a.json", "target": "b.json", "output": "ok.npz"}\n', 1,
+     "not JSON"),
+    ("jsonl-huge-int", "m.jsonl", '{"source": "a.json", "target": "b.json", "output": "x.npz", "frames": 1e999}\n'
+     '{"source": "a.json", "target": "b.json", "output": "ok.npz"}\n', 1, "wrong type"),
+    ("csv-extra-cells", "m.csv", "source,target,output\na.json,b.json,x.npz,9\na.json,b.json,ok.npz\n", 1,
+     "more cells"),
+    ("fifo-source", "m.csv", "source,target,output\nfifo.json,b.json,x.npz\na.json,b.json,ok.npz\n", 1, "pipe"),
+    ("bom-csv", "m.csv", "\ufeffsource,target,output\na.json,b.json,ok.npz\n", 0, None),
+]
+
+
+@pytest.mark.parametrize("name, text, code, needle", [c[1:] for c in MANIFESTS], ids=[c[0] for c in MANIFESTS])
+def test_batch_malformed_rows_fail_alone(pair, tmp_path, name, text, code, needle):
+    os.mkfifo(pair / "fifo.json")
+    (pair / name).write_text(text, encoding="utf-8")
+    out = tmp_path / "out"
+    result = _batch(pair / name, out)
+    assert result.exit_code == code, result.output
+    assert (out / "ok.npz").is_file() and "Traceback" not in result.output
+    if needle:
+        (line,) = result.stderr.splitlines()
+        assert line.startswith("failed: ") and needle in line
+        assert "done=1" in result.stdout and "failed=1" in result.stdout
+    assert sorted(p.name for p in out.iterdir()) == ["batch-report.jsonl", "ok.npz"]
+
+
+@pytest.mark.parametrize("content, needle", [(b"source,target,output\n\xff\xfe,b,c\n", "UTF-8"),
+                                             (b"\xef\xbb\xbfsource,target\n", "missing column(s) output")])
+def test_batch_unreadable_manifest_is_one_line_and_leaves_nothing(pair, tmp_path, content, needle):
+    (pair / "m.csv").write_bytes(content)
+    result = _batch(pair / "m.csv", tmp_path / "out")
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1 and needle in result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def _long_batch(tmp_path):
+    """A manifest of eight jobs that each run for minutes (a tolerance never met), and the command to run it."""
+    d = tmp_path / "long"
+    d.mkdir()
+    io.save(Shape.from_polygon(ellipse_points(300, 1, 1)), d / "e1.json")
+    io.save(Shape.from_polygon(ellipse_points(300, 2, 1)), d / "e2.json")
+    (d / "m.csv").write_text("source,target,output,frames,tol,max_iter\n" + "".join(
+        f"e1.json,e2.json,o{i}.npz,300,1e-14,100000\n" for i in range(8)))
+    src = str(Path(isotween.__file__).parents[1])
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (src, os.environ.get("PYTHONPATH")) if p))
+    cmd = [sys.executable, "-m", "isotween", "batch", str(d / "m.csv"), "-o", str(tmp_path / "out"), "-j", "2", "-q"]
+    return cmd, env
+
+
+def _children(pid):
+    out = subprocess.run(["ps", "-o", "pid=", "--ppid", str(pid)], capture_output=True, text=True).stdout
+    return [int(p) for p in out.split()]
+
+
+def _alive(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+@pytest.mark.parametrize("how", ["ctrl-c", "ctrl-c-while-workers-start", "kill-9"])
+def test_batch_workers_end_with_the_run(tmp_path, how):
+    """Ctrl-C (to the whole process group) ends the run with one line; after kill -9 of the parent the workers end.
+
+    Ctrl-C may come while the workers still import their kernels: they hold it until they ignore it.
+    """
+    cmd, env = _long_batch(tmp_path)
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env,
+                            preexec_fn=lambda: (signal.signal(signal.SIGINT, signal.SIG_DFL), os.setpgrp()))
+    try:
+        assert _wait_for(lambda: len(_children(proc.pid)) >= 2 or proc.poll() is not None, 120)
+        workers = _children(proc.pid)
+        if how != "ctrl-c-while-workers-start":
+            time.sleep(1.0)  # the workers have started their jobs
+        if how.startswith("ctrl-c"):
+            os.killpg(proc.pid, signal.SIGINT)
+        else:
+            os.kill(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=60)
+        assert _wait_for(lambda: not any(_alive(w) for w in workers), 60), "workers outlived the run"
+        err = proc.stderr.read().decode()
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    if how.startswith("ctrl-c"):
+        assert proc.returncode == 130
+        assert err.splitlines() == ["error: interrupted; finished jobs are in the report, the others did not run"]
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["batch-report.jsonl"]
+
+
+@pytest.mark.parametrize("ext", [".svg", ".html", ".lottie.json"])
+def test_input_names_that_are_not_utf8_make_valid_titles(files, tmp_path, ext):
+    """The default title holds the input names; bytes that are not UTF-8 become U+FFFD."""
+    odd = files / os.fsdecode(b"sq\xff\x1b.json")
+    odd.write_bytes((files / "sq.json").read_bytes())
+    out = tmp_path / f"o{ext}"
+    result = CliRunner().invoke(main, ["interpolate", str(odd), str(files / "wide.json"), "-q", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    text = out.read_text(encoding="utf-8")
+    if ext == ".lottie.json":
+        import json
+
+        text = json.loads(text)["nm"]
+    assert "sq\ufffd.json \u2192 wide.json" in text and "\x1b" not in text
+
+
+def test_output_that_is_a_symbolic_link_replaces_the_link_not_its_target(files, tmp_path):
+    victim = tmp_path / "victim.npz"
+    victim.write_bytes(b"keep me")
+    link = tmp_path / "o.npz"
+    link.symlink_to(victim)
+    result = CliRunner().invoke(main, ["interpolate", str(files / "sq.json"), str(files / "wide.json"), "-q",
+                                       "-o", str(link)])
+    assert result.exit_code == 0, result.output
+    assert victim.read_bytes() == b"keep me" and not link.is_symlink() and len(io.load_sequence(link)) == 9
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 1 << 20])
+def test_winding_numbers_match_the_dense_crossing_count(monkeypatch, chunk):
+    """The sweep gives the dense test's numbers (points on vertices and edges included), whatever the chunk."""
+    from isotween.correspondence import regions
+
+    def dense(points, rings):
+        a = np.vstack(rings)
+        b = np.vstack([np.roll(r, -1, axis=0) for r in rings])
+        owner = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
+        px, py = points[:, 0:1], points[:, 1:2]
+        cross = (b[:, 0] - a[:, 0]) * (py - a[:, 1]) - (px - a[:, 0]) * (b[:, 1] - a[:, 1])
+        w = ((a[:, 1] <= py) & (b[:, 1] > py) & (cross > 0)).astype(int) \
+            - ((a[:, 1] > py) & (b[:, 1] <= py) & (cross < 0)).astype(int)
+        return np.array([w[:, owner == r].sum(axis=1) for r in range(len(rings))]).T
+
+    monkeypatch.setattr(regions, "WINDING_CHUNK", chunk)
+    rng = np.random.default_rng(3)
+    for _ in range(60):
+        rings = [np.round(rng.normal(size=(rng.integers(3, 9), 2)) * 3) / 2 for _ in range(rng.integers(1, 6))]
+        points = np.vstack([np.round(rng.normal(size=(20, 2)) * 3) / 2, np.vstack(rings)[:4]])
+        np.testing.assert_array_equal(regions.winding_numbers(points, rings), dense(points, rings))

@@ -22,10 +22,10 @@ import time
 from pathlib import Path
 
 from ._callable import make_callable
-from .errors import FileFormatError, ParameterError
+from .errors import FileFormatError, IsotweenError, ParameterError
 
-__all__ = ["batch", "read_manifest", "run_job", "run_jobs", "run_jobs_one_thread", "single_threaded",
-           "threads_in_use", "JOB_OPTIONS"]
+__all__ = ["batch", "read_manifest", "check_jobs", "output_path", "run_job", "run_jobs", "run_jobs_one_thread",
+           "single_threaded", "threads_in_use", "JOB_OPTIONS"]
 
 #: per-job options and how a text value (a CSV cell) becomes one
 JOB_OPTIONS = {
@@ -74,53 +74,93 @@ def read_manifest(path, defaults=None):
         Unreadable manifest, missing column, bad JSON or bad option value
         (naming the file and line).
     """
+    from .io._files import check_readable
+
     path = Path(path)
     defaults = dict(defaults or {})
     _check_options(defaults, f"{path}")
     if path.is_dir():
         yield from _folder_jobs(path, defaults)
         return
-    if not path.is_file():
-        raise FileFormatError(f"{path}: no such manifest")
+    try:
+        check_readable(path)
+    except FileFormatError as exc:
+        raise FileFormatError(f"{exc} (the manifest)") from None
     ext = path.suffix.lower()
     if ext not in (".csv", ".jsonl", ".ndjson"):
         raise FileFormatError(f"{path}: a manifest is a .csv or .jsonl file or a folder of pairs")
     base = path.parent
-    with open(path, newline="", encoding="utf-8") as f:
-        if ext == ".csv":
-            rows = csv.DictReader(f)
-            missing = [c for c in _FIELDS if c not in (rows.fieldnames or [])]
-            if missing:
-                raise FileFormatError(f"{path}: line 1: missing column(s) {', '.join(missing)}")
-            unknown = [c for c in rows.fieldnames if c not in _FIELDS and c not in JOB_OPTIONS]
-            if unknown:
-                raise FileFormatError(f"{path}: line 1: unknown column(s) {', '.join(unknown)}; "
-                                      f"options are {', '.join(JOB_OPTIONS)}")
-            for row in rows:
-                line = rows.line_num
-                options = {k: _convert(k, v, path, line) for k, v in row.items()
-                           if k in JOB_OPTIONS and v not in (None, "")}
-                yield _job(row, options, defaults, base, path, line)
-        else:
-            for line, text in enumerate(f, 1):
-                if not text.strip():
-                    continue
-                try:
-                    row = json.loads(text)
-                except json.JSONDecodeError as exc:
-                    raise FileFormatError(f"{path}: line {line}: not JSON ({exc.msg})") from None
-                if not isinstance(row, dict):
-                    raise FileFormatError(f"{path}: line {line}: expected a JSON object")
-                options = dict(row.get("options") or {})
-                options.update({k: v for k, v in row.items() if k not in _FIELDS and k != "options"})
-                _check_options(options, f"{path}: line {line}")
-                yield _job(row, options, defaults, base, path, line)
+    # utf-8-sig: spreadsheet programs start their CSV files with a byte-order mark
+    with open(path, newline="", encoding="utf-8-sig") as f:
+        try:
+            if ext == ".csv":
+                yield from _csv_jobs(f, defaults, base, path)
+            else:
+                yield from _jsonl_jobs(f, defaults, base, path)
+        except UnicodeDecodeError as exc:
+            raise FileFormatError(f"{path}: not a UTF-8 text file (byte {exc.start} of a block)") from None
+        except csv.Error as exc:
+            raise FileFormatError(f"{path}: malformed CSV ({exc})") from None
+
+
+def _csv_jobs(f, defaults, base, path):
+    rows = csv.DictReader(f)
+    missing = [c for c in _FIELDS if c not in (rows.fieldnames or [])]
+    if missing:
+        raise FileFormatError(f"{path}: line 1: missing column(s) {', '.join(missing)}")
+    unknown = [c for c in rows.fieldnames or [] if c not in _FIELDS and c not in JOB_OPTIONS]
+    if unknown:
+        raise FileFormatError(f"{path}: line 1: unknown column(s) {', '.join(map(str, unknown))}; "
+                              f"options are {', '.join(JOB_OPTIONS)}")
+    for row in rows:
+        line = rows.line_num
+        try:
+            if None in row:  # more cells than columns
+                raise FileFormatError(f"{path}: line {line}: more cells than the header's columns")
+            options = {k: _convert(k, v, path, line) for k, v in row.items()
+                       if k in JOB_OPTIONS and v not in (None, "")}
+            yield _job(row, options, defaults, base, path, line)
+        except FileFormatError as exc:  # this row fails alone; the others run
+            yield _bad_row(row, line, exc)
+
+
+def _jsonl_jobs(f, defaults, base, path):
+    for line, text in enumerate(f, 1):
+        if not text.strip():
+            continue
+        row = None
+        try:
+            try:
+                row = json.loads(text)
+            except json.JSONDecodeError as exc:
+                raise FileFormatError(f"{path}: line {line}: not JSON ({exc.msg})") from None
+            except (RecursionError, ValueError):
+                raise FileFormatError(f"{path}: line {line}: not JSON (nested too deeply or too large)") from None
+            if not isinstance(row, dict):
+                raise FileFormatError(f"{path}: line {line}: expected a JSON object")
+            given = row.get("options")
+            if given is not None and not isinstance(given, dict):
+                raise FileFormatError(f"{path}: line {line}: options must be a JSON object, "
+                                      f"got {type(given).__name__}")
+            options = dict(given or {})
+            options.update({k: v for k, v in row.items() if k not in _FIELDS and k != "options"})
+            _check_options(options, f"{path}: line {line}")
+            yield _job(row, options, defaults, base, path, line)
+        except FileFormatError as exc:  # this line fails alone; the others run
+            yield _bad_row(row, line, exc)
+
+
+def _bad_row(row, line, exc):
+    """A job that fails before it runs, with the manifest's message (`batch` records it)."""
+    output = row.get("output") if isinstance(row, dict) else None
+    return {"source": None, "target": None, "output": output if isinstance(output, str) else f"line {line}",
+            "options": {}, "line": line, "error": f"FileFormatError: {exc}"}
 
 
 def _convert(key, value, path, line):
     try:
         return JOB_OPTIONS[key](value)
-    except ValueError:
+    except (ValueError, OverflowError):
         raise FileFormatError(f"{path}: line {line}: bad value {value!r} for option {key}") from None
 
 
@@ -135,6 +175,8 @@ def _job(row, options, defaults, base, path, line):
     for key in _FIELDS:
         if not isinstance(row.get(key), str) or not row[key].strip():
             raise FileFormatError(f"{path}: line {line}: missing {key}")
+        if "\0" in row[key]:
+            raise FileFormatError(f"{path}: line {line}: {key} holds a NUL byte")
     return {"source": str(base / row["source"]), "target": str(base / row["target"]),
             "output": row["output"], "options": {**defaults, **options}, "line": line}
 
@@ -344,24 +386,99 @@ def _finished(report):
     return done
 
 
+def _worker_start():
+    """Initializer of local workers: one thread, Ctrl-C left to the parent, and an end when the parent ends.
+
+    Ctrl-C reaches every process of the terminal's group; workers ignore it
+    and the parent ends them (no "Exception ignored" from each). SIGTERM
+    raises `SystemExit`, so a job's temporary file is removed. A daemon
+    thread checks every half second that the parent still lives: when it
+    has died (even by SIGKILL), the worker sends itself SIGTERM, and exits
+    outright 3 s later if a long kernel keeps it busy.
+    """
+    import signal
+    import threading
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, _exit_on_sigterm)
+    if hasattr(signal, "pthread_sigmask"):  # blocked by `_Local.submit` while the workers were forked
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, _BLOCKED)
+    single_threaded()
+    parent = os.getppid()
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(3.0)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="isotween-parent-watch", daemon=True).start()
+
+
+#: signals held while local workers are forked (see `_Local.submit`)
+_BLOCKED = {2, 15}  # SIGINT, SIGTERM
+
+
+def _exit_on_sigterm(signum, frame):
+    """SIGTERM in a worker: end quietly (the parent ended it on purpose), removing a temporary file on the way."""
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), 2)  # no traceback from wherever the exception lands
+    except OSError:
+        pass
+    raise SystemExit(128 + signum)
+
+
 class _Local:
     """A ProcessPoolExecutor behind the submit / wait interface `batch` uses."""
 
     def __init__(self, workers):
         from concurrent.futures import ProcessPoolExecutor
 
-        self.pool = ProcessPoolExecutor(workers, mp_context=_start_method(), initializer=single_threaded)
+        self.pool = ProcessPoolExecutor(workers, mp_context=_start_method(), initializer=_worker_start)
+        self.started = False
 
     def submit(self, jobs):
-        return self.pool.submit(run_jobs, jobs)
+        """Submit a task; the first call forks the workers with Ctrl-C and SIGTERM blocked.
+
+        A worker inherits the block and unblocks once it ignores Ctrl-C
+        (`_worker_start`), so a Ctrl-C while it starts cannot print a
+        traceback from it; the parent receives a signal held meanwhile when
+        the block ends.
+        """
+        import signal
+
+        if self.started or not hasattr(signal, "pthread_sigmask"):
+            return self.pool.submit(run_jobs, jobs)
+        self.started = True
+        previous = signal.pthread_sigmask(signal.SIG_BLOCK, _BLOCKED)
+        try:
+            return self.pool.submit(run_jobs, jobs)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
     def wait(self, futures):
         from concurrent.futures import FIRST_COMPLETED, wait
 
         return wait(futures, return_when=FIRST_COMPLETED)[0]
 
-    def close(self):
-        self.pool.shutdown()
+    def close(self, cancel=False):
+        """Shut the pool down; with ``cancel``, drop queued jobs and end the running ones (SIGTERM)."""
+        if not cancel:
+            self.pool.shutdown()
+            return
+        processes = list((getattr(self.pool, "_processes", None) or {}).values())
+        self.pool.shutdown(wait=False, cancel_futures=True)
+        for proc in processes:
+            if proc.is_alive():
+                proc.terminate()
+        deadline = time.monotonic() + 3.0  # a long numba kernel runs no Python signal handler: then SIGKILL
+        for proc in processes:
+            proc.join(timeout=max(deadline - time.monotonic(), 0.0))
+        for proc in processes:
+            if proc.is_alive():
+                proc.kill()
+                proc.join(timeout=5)
 
 
 class _Dask:
@@ -378,7 +495,7 @@ class _Dask:
     def wait(self, futures):
         return self._wait(list(futures), return_when="FIRST_COMPLETED").done
 
-    def close(self):
+    def close(self, cancel=False):
         pass
 
 
@@ -434,9 +551,13 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
     start = time.perf_counter()
     outdir = Path(outdir)
     if isinstance(jobs, (str, os.PathLike)):
+        check_jobs(read_manifest(jobs), outdir)  # reads the whole manifest first: colliding outputs refused
         if total is None and Path(jobs).suffix.lower() in (".csv", ".jsonl", ".ndjson"):
             total = sum(1 for _ in read_manifest(jobs))
         jobs = read_manifest(jobs)
+    elif isinstance(jobs, list | tuple):
+        check_jobs(jobs, outdir)
+        total = len(jobs) if total is None else total
     elif total is None and hasattr(jobs, "__len__"):
         total = len(jobs)
     if client is not None and scheduler is not None:
@@ -447,6 +568,8 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
         outdir.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise FileFormatError(f"cannot create folder {outdir}: {exc.strerror or exc}") from exc
+    outdir = outdir.resolve()
+    seen = {}  # outputs taken in this run -> their job
     report = Path(report) if report is not None else outdir / REPORT
     finished = _finished(report) if resume else {}
     own_client = None
@@ -502,7 +625,7 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
                             record(rec)
 
             for job in jobs:
-                prepared = _prepare(job, outdir)
+                prepared = _prepare(job, outdir, seen)
                 if "status" in prepared:  # unreadable input: failed before it ran
                     record(prepared)
                     continue
@@ -524,6 +647,11 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
             collect(0)
     except OSError as exc:
         raise FileFormatError(f"cannot write the report {report}: {exc.strerror or exc}") from exc
+    except BaseException:  # Ctrl-C, SIGTERM, an error here: queued jobs are dropped, running ones ended
+        if runner is not None:
+            runner.close(cancel=True)
+            runner = None
+        raise
     finally:
         if bar is not None:
             bar.close()
@@ -534,26 +662,183 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
     return {**counts, "seconds": time.perf_counter() - start, "failures": failures, "report": str(report)}
 
 
-def _prepare(job, outdir):
-    """The job with an absolute output path and its key, or a failed record."""
+def _option_types(options, where):
+    """Raise `ParameterError` for an option whose value has the wrong type (before its job runs)."""
+    for key, value in options.items():
+        kind = JOB_OPTIONS.get(key)
+        if kind is int:
+            ok = isinstance(value, int) and not isinstance(value, bool)
+        elif kind is float:
+            ok = isinstance(value, int | float) and not isinstance(value, bool)
+        elif kind is str:
+            ok = isinstance(value, str)
+        else:  # mesh: 'auto' or a number
+            ok = value == "auto" or isinstance(value, int | float) and not isinstance(value, bool)
+        if not ok:
+            raise ParameterError(f"{where}: option {key} has the wrong type ({type(value).__name__}: "
+                                 f"{str(value)[:40]!r})")
+
+
+def output_path(outdir, output):
+    """Where a job's output goes: inside ``outdir``, through no symbolic link.
+
+    Parameters
+    ----------
+    outdir : Path
+        The batch's output folder, resolved (``Path.resolve``).
+    output : str or path-like
+        The job's output, relative to ``outdir``.
+
+    Returns
+    -------
+    Path
+        Absolute path below ``outdir``. Nothing is created.
+
+    Raises
+    ------
+    FileFormatError
+        An absolute path, a ``..`` component, a NUL byte, a folder of the
+        path (or the output itself) that is a symbolic link, or a folder
+        of the path that is a file.
+    """
+    from .io._files import check_path_text
+
+    rel = check_path_text(output)
+    if not str(rel).strip() or str(rel) in (".", "-"):
+        raise FileFormatError(f"output {str(output)!r}: not a file name")
+    if rel.is_absolute():
+        raise FileFormatError(f"output {rel}: an absolute path; outputs are relative to the output folder")
+    if ".." in rel.parts:
+        raise FileFormatError(f"output {rel}: '..' would leave the output folder")
+    path = outdir
+    for i, part in enumerate(rel.parts):
+        path = path / part
+        if os.path.islink(path):
+            what = "is" if i == len(rel.parts) - 1 else "goes through"
+            raise FileFormatError(f"output {rel} {what} the symbolic link {path}; links are not followed "
+                                  "for writing")
+        if i < len(rel.parts) - 1 and os.path.exists(path) and not os.path.isdir(path):
+            raise FileFormatError(f"output {rel}: {path} is a file, not a folder")
+    return path
+
+
+def _make_parents(outdir, path):
+    """Create the folders between ``outdir`` and ``path`` one by one, refusing any that is a link."""
+    folder = outdir
+    for part in path.relative_to(outdir).parts[:-1]:
+        folder = folder / part
+        try:
+            os.mkdir(folder)
+        except FileExistsError:
+            pass
+        if os.path.islink(folder) or not os.path.isdir(folder):
+            raise FileFormatError(f"cannot create {folder}: a link or a file is in the way")
+
+
+def check_jobs(jobs, outdir="."):
+    """Refuse, before anything runs, jobs whose outputs collide or overwrite an input.
+
+    Parameters
+    ----------
+    jobs : iterable of dict
+        As `batch` takes them (or `read_manifest` yields them).
+    outdir : path-like
+
+    Raises
+    ------
+    FileFormatError
+        Naming both jobs (manifest line or output) of the first output that
+        two jobs write, or of the first output that is any job's input.
+        Jobs that cannot be placed at all (bad fields, outputs outside the
+        folder) are left to `batch`, which records them as failed.
+    """
+    outdir = Path(outdir).resolve()
+    outputs, inputs = {}, {}
+
+    def name(job):
+        return f"line {job['line']}" if job.get("line") is not None else f"job {str(job.get('output'))!r}"
+
+    def key(path):
+        try:
+            st = os.stat(path)
+        except (OSError, ValueError):
+            return ("path", os.path.abspath(path))
+        return ("inode", st.st_dev, st.st_ino)
+
+    for job in jobs:
+        if not isinstance(job, dict) or "error" in job:
+            continue
+        try:
+            out = output_path(outdir, job.get("output"))
+        except IsotweenError:
+            continue
+        for field in ("source", "target"):
+            value = job.get(field)
+            if isinstance(value, str | os.PathLike):
+                inputs.setdefault(key(os.path.abspath(value)), job)
+                inputs.setdefault(("path", os.path.abspath(value)), job)
+        mine = key(out)
+        other = outputs.get(mine) or outputs.get(("path", str(out)))
+        if other is not None:
+            raise FileFormatError(f"{name(job)} and {name(other)} both write {out}; one would replace the other "
+                                  "(give each job its own output)")
+        outputs[mine] = outputs[("path", str(out))] = job
+    for mine, job in outputs.items():
+        source = inputs.get(mine)
+        if source is not None:
+            raise FileFormatError(f"{name(job)}: output {job['output']} is an input of {name(source)}; it "
+                                  "would be overwritten (choose another output)")
+
+
+def _prepare(job, outdir, seen=None):
+    """The job with an absolute output path and its key, or a failed record.
+
+    ``seen`` maps outputs already taken in this run to their job's line
+    (jobs from an iterator are checked as they come).
+    """
+    from .io._files import check_readable
+
     if not isinstance(job, dict) or any(k not in job for k in _FIELDS):
-        raise ParameterError(f"a job is a dict with {', '.join(_FIELDS)}; got {job!r}")
-    options = dict(job.get("options") or {})
-    out = Path(job["output"])
-    out = out if out.is_absolute() else outdir / out
-    prepared = {"source": str(job["source"]), "target": str(job["target"]),
-                "output": str(out.resolve()), "options": options, "line": job.get("line")}
-    failed = {"output": prepared["output"], "key": None, "line": job.get("line"), "status": "failed",
+        raise ParameterError(f"a job is a dict with {', '.join(_FIELDS)}; got {str(job)[:200]}")
+    failed = {"output": str(job.get("output")), "key": None, "line": job.get("line"), "status": "failed",
               "seconds": 0.0}
+    if "error" in job:  # a manifest row that could not be read
+        return {**failed, "error": job["error"]}
+    where = f"line {job['line']}" if job.get("line") is not None else f"job {str(job['output'])[:80]!r}"
     try:
-        _check_options(options, f"job {job['output']}")
+        options = job.get("options") or {}
+        if not isinstance(options, dict):
+            raise ParameterError(f"{where}: options must be a dict, got {type(options).__name__}")
+        options = dict(options)
+        _check_options(options, where)
+        _option_types(options, where)
+        for field in ("source", "target"):
+            if not isinstance(job[field], str | os.PathLike):
+                raise ParameterError(f"{where}: {field} must be a path, got {type(job[field]).__name__}")
+            check_readable(job[field])
+        if not isinstance(job["output"], str | os.PathLike):
+            raise ParameterError(f"{where}: output must be a path, got {type(job['output']).__name__}")
+        out = output_path(outdir, job["output"])
+        failed["output"] = str(out)
+        if seen is not None:
+            if str(out) in seen:
+                raise FileFormatError(f"{where}: output {out} is also the output of {seen[str(out)]}")
+            seen[str(out)] = where
+        prepared = {"source": str(job["source"]), "target": str(job["target"]), "output": str(out),
+                    "options": options, "line": job.get("line")}
+        for field in ("source", "target"):
+            if os.path.exists(out) and os.path.samefile(out, prepared[field]):
+                raise FileFormatError(f"{where}: output {out} is its own {field}; it would be overwritten")
         prepared["key"] = job_key(prepared)
-    except FileFormatError as exc:
-        return {**failed, "error": f"FileFormatError: {exc}"}
+    except IsotweenError as exc:
+        text = str(exc) if str(exc).startswith(where) or where in str(exc) else f"{where}: {exc}"
+        return {**failed, "error": f"{type(exc).__name__}: {text}"}
     except OSError as exc:
-        return {**failed, "error": f"FileFormatError: {exc.filename}: {exc.strerror or exc}"}
+        return {**failed, "error": f"FileFormatError: {where}: {exc.filename}: {exc.strerror or exc}"}
     try:
-        out.parent.mkdir(parents=True, exist_ok=True)
+        _make_parents(outdir, out)
+    except FileFormatError as exc:
+        return {**failed, "key": prepared["key"], "error": f"FileFormatError: {exc}"}
     except OSError as exc:
         return {**failed, "key": prepared["key"],
                 "error": f"FileFormatError: cannot create {out.parent}: {exc.strerror or exc}"}

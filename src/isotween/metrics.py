@@ -305,6 +305,8 @@ def report(seq: Sequence, symmetry: bool = False) -> dict:
     >>> r["flipped_faces"], r["edge_length_deviation"] < 1e-9
     (0, True)
     """
+    if len(getattr(seq, "frames", ())) < 1:
+        raise ParameterError("metrics.report needs a sequence of at least one frame, got an empty one")
     out = {
         "isometric_energy": isometric_energy(seq),
         "edge_length_deviation": edge_length_deviation(seq, "max"),

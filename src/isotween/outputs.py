@@ -12,6 +12,7 @@ import numpy as np
 
 from .errors import FileFormatError, ParameterError, require
 from .io import SHAPE_FORMATS, save_sequence, write_frames
+from .io._files import check_path_text
 from .io.frames import DATA_FRAME_FORMATS, write_frame_files
 from .render.defaults import BACKGROUND, DURATION, FPS, HOLD, SIZE
 from .render.outline import mesh_boundary
@@ -96,7 +97,9 @@ def output_kind(out, format=None):
     ParameterError
         Unknown ``format``, or a frame ``format`` with a file name.
     """
-    out = Path(out)
+    out = check_path_text(out)
+    if str(out) == "-":
+        raise FileFormatError("-: writing to standard output is not supported; name a file or folder")
     ext = _ending(out)
     if format is not None:
         fmt = str(format).lower()
@@ -219,9 +222,15 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
     list of Path
         Files written.
     """
+    from .io.sequence_file import check_sequence
+    from .sequence import Sequence
+
     kind = kind or output_kind(out, format)
     out = Path(out)
     opts = _check_options(options)
+    if not isinstance(seq, Sequence):
+        raise ParameterError(f"write_output expects an isotween.Sequence, got {type(seq).__name__}")
+    check_sequence(seq, f"cannot write {out}")
     if texture is not None and not Path(texture).is_file():
         raise FileFormatError(f"{texture}: no such texture image")
     if kind == "sequence":
@@ -242,7 +251,7 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
         from .render.frame import save_png
 
         renderer = SequenceRenderer(seq, take.get("size", 600), texture=texture,
-                                    background=take.get("background", BACKGROUND))
+                                    background=take.get("background", BACKGROUND), kind="frames", kept=1)
         return write_frame_files(len(seq), out, "png", lambda k, path: save_png(renderer.image(k), path),
                                  progress=not quiet)
     writers = {

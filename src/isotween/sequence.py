@@ -224,7 +224,12 @@ class Sequence:
         """
         if not isinstance(t, numbers.Real):
             raise ParameterError(f"t must be a number, got {t!r}")
-        return self.shape.with_vertices(self._positions(np.array([float(t)]))[0])
+        try:
+            value = float(t)
+        except OverflowError:  # an integer beyond every float
+            raise ParameterError(f"t (an integer of {len(str(abs(int(t))))} digits) is outside the sequence's "
+                                 f"times [{self.times[0]}, {self.times[-1]}]") from None
+        return self.shape.with_vertices(self._positions(np.array([value]))[0])
 
     def resample(self, frames: int | None = None, times: ArrayLike | None = None) -> Sequence:
         """The sequence at new frame times, by :meth:`at`.
@@ -257,11 +262,21 @@ class Sequence:
         if times is None:
             if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
                 raise ParameterError(f"frames must be an integer >= 2, got {frames!r}")
+            from .resources import check_memory
+
+            # the edge arrays of every new frame (a dozen complex values per edge and vertex)
+            check_memory(200.0 * float(frames) * (self.shape.n_vertices + self.shape.n_edges + 1),
+                         f"resampling to {frames} frames of {self.shape.n_vertices} vertices",
+                         advice="use fewer frames")
             t = np.linspace(self.times[0], self.times[-1], int(frames))
         else:
             t = np.asarray(times, dtype=np.float64)
             if t.ndim != 1 or not len(t) or np.any(np.diff(t) <= 0):
                 raise ParameterError("times must be a non-empty 1-D array of increasing times")
+            from .resources import check_memory
+
+            check_memory(200.0 * len(t) * (self.shape.n_vertices + self.shape.n_edges + 1),
+                         f"resampling to {len(t)} frames of {self.shape.n_vertices} vertices", advice="use fewer times")
         info = dict(self.info, resampled_from=self.times.copy())
         return replace(self, frames=self._positions(t), times=t, energy=list(self.energy),
                        timings=dict(self.timings), info=info)

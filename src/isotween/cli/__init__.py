@@ -16,6 +16,7 @@ import click
 
 from .. import __version__
 from .._heap import keep_heap
+from .._text import safe_text
 from ..errors import IsotweenError
 
 #: command name -> the summary line of its help, for ``isotween --help`` without importing every command
@@ -36,8 +37,8 @@ COMMANDS = {
 
 #: parameters that name files a command reads, and ones it writes
 _INPUTS = ("source", "target", "source_start", "source_end", "target_start", "sequence",
-           "keyframes", "shapes", "file", "texture")
-_OUTPUTS = {"output": "-o", "outdir": "-o", "report_dir": "-o", "plot": "--plot"}
+           "keyframes", "shapes", "file", "texture", "manifest")
+_OUTPUTS = {"output": "-o", "outdir": "-o", "report_dir": "-o", "plot": "--plot", "report": "--report"}
 
 
 class _Terminated(KeyboardInterrupt):
@@ -66,10 +67,14 @@ def _guarded(callback):
         inputs = []
         for key in _INPUTS:
             value = params.get(key)
+            if key == "manifest" and value is not None and Path(value).is_dir():
+                continue  # a folder of pairs may also receive the outputs: `batch` checks each job's
             inputs += list(value) if isinstance(value, (list, tuple)) else [value]
         outputs = [(opt, params.get(key)) for key, opt in _OUTPUTS.items() if params.get(key) is not None]
         check_paths(inputs, outputs)
-        for _, out in outputs:  # a file can be created where each output goes
+        for opt, out in outputs:  # a file can be created where each output goes
+            if opt == "--report":  # in OUTDIR, which the command creates
+                continue
             out = Path(out)
             probe_writable(out if out.is_dir() else out.parent, out)
         return callback(**params)
@@ -137,6 +142,8 @@ class _Group(click.Group):
         super().add_command(cmd, name)
 
     def invoke(self, ctx):
+        import warnings
+
         from ..resources import memory_limit
 
         previous = None
@@ -145,8 +152,14 @@ class _Group(click.Group):
         except ValueError:  # not the main thread: leave signals alone
             pass
         try:
-            with memory_limit(None):
-                return super().invoke(ctx)
+            # warnings become one 'warning:' line each, printed when the command succeeds
+            # (a failing command prints its one 'error:' line only)
+            with memory_limit(None), warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("default")
+                result = super().invoke(ctx)
+            for seen in {str(w.message): None for w in caught}:
+                click.echo(f"warning: {safe_text(seen)}", err=True)
+            return result
         except IsotweenError as exc:
             _fail(str(exc), 2)
         except _Terminated:
@@ -166,7 +179,7 @@ class _Group(click.Group):
 
 
 def _fail(message, code):
-    click.echo(f"error: {message}", err=True)
+    click.echo(f"error: {safe_text(message)}", err=True)
     sys.exit(code)
 
 

@@ -32,15 +32,30 @@ def batch_command(manifest, outdir, workers, scheduler, report, force, frames, r
     import sys
 
     from .. import batch
-    from ..batch import read_manifest
+    from .._text import safe_text
+    from ..batch import check_jobs, read_manifest
+    from . import _fail, _Terminated
 
     defaults = {k: v for k, v in (("frames", frames), ("resample", resample)) if v is not None}
-    total = sum(1 for _ in read_manifest(manifest, defaults))  # checks the whole manifest first
-    result = batch(read_manifest(manifest, defaults), outdir=outdir, workers=workers, scheduler=scheduler,
-                   report=report, resume=not force, progress=not quiet, total=total)
+    total = 0
+
+    def counted():  # the whole manifest is read before anything runs
+        nonlocal total
+        for job in read_manifest(manifest, defaults):
+            total += 1
+            yield job
+
+    check_jobs(counted(), outdir)  # two jobs with one output, or an output that is an input: refused
+    try:
+        result = batch(read_manifest(manifest, defaults), outdir=outdir, workers=workers, scheduler=scheduler,
+                       report=report, resume=not force, progress=not quiet, total=total)
+    except _Terminated:
+        _fail("terminated; finished jobs are in the report, the others did not run", 143)
+    except KeyboardInterrupt:
+        _fail("interrupted; finished jobs are in the report, the others did not run", 130)
     for rec in result["failures"][:10]:
-        click.echo(f"failed: {rec['output']}: {rec['error']}", err=True)
+        click.echo(f"failed: {safe_text(rec['output'])}: {safe_text(rec['error'])}", err=True)
     click.echo(f"jobs={total} done={result['done']} skipped={result['skipped']} failed={result['failed']} "
-               f"seconds={result['seconds']:.2f} report={result['report']}")
+               f"seconds={result['seconds']:.2f} report={safe_text(result['report'])}")
     if result["failed"]:
         sys.exit(1)

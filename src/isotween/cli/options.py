@@ -269,11 +269,13 @@ def check_texture(texture):
         Missing file, not an image, or an image too large for memory.
     """
     from ..errors import require
+    from ..io._files import check_readable
     from ..resources import check_memory
 
-    path = Path(texture)
-    if not path.is_file():
-        raise FileFormatError(f"{texture}: no such texture image")
+    try:
+        path = check_readable(texture)
+    except FileFormatError as exc:
+        raise FileFormatError(f"{exc} (the texture image)") from None
     image = require("PIL.Image", "cli")
     try:
         with image.open(path) as im:
@@ -281,26 +283,49 @@ def check_texture(texture):
             im.verify()
     except Exception as exc:  # Pillow raises many kinds (UnidentifiedImageError, SyntaxError, bombs)
         raise FileFormatError(f"{texture}: not a readable texture image ({type(exc).__name__})") from None
-    check_memory(16.0 * width * height, f"the texture {texture} ({width} x {height} pixels)",
+    from ..render.texture import TEXTURE_BYTES_PER_PIXEL
+
+    check_memory(TEXTURE_BYTES_PER_PIXEL * float(width) * height, f"the texture {texture} ({width} x {height} pixels)",
                  advice="use a smaller image")
 
 
-#: peak bytes per frame of a GIF: every frame is drawn (RGBA, 400 x 400 pixels) and kept,
-#: with its palette image, until the file is written
-GIF_BYTES_PER_FRAME = 5 * 400 * 400
+def check_render_memory(output, fmt, frames, vertices=0):
+    """Refuse, before any work, an output whose pixels (or vector ticks) would not fit in memory.
 
+    The same estimate as every writer's (`isotween.resources.output_bytes`),
+    with the largest image ``--size`` allows (N x N for a longest side N),
+    every frame kept for GIF, WebP and APNG, the picked cells of a strip,
+    and the ticks at ``--fps`` with ``--hold`` for Lottie and SVG.
 
-def check_render_memory(output, fmt, frames):
-    """Refuse a GIF of more frames than memory holds (`ResourceError`); other kinds stream or store points."""
-    from ..resources import check_memory
+    Raises
+    ------
+    ResourceError
+    """
+    from ..outputs import output_kind
+    from ..resources import OUTPUT_BYTES, check_output_memory
 
-    if output_kind(output, fmt) == "gif":
-        check_memory(GIF_BYTES_PER_FRAME * float(frames), f"rendering {frames} frames into {output}",
-                     advice="use fewer frames, or write .mp4, .html or a sequence file")
+    kind = output_kind(output, fmt)
+    if kind == "frames" and str(fmt or "obj").lower() != "png":
+        return
+    if kind not in OUTPUT_BYTES:
+        return
+    ctx = click.get_current_context(silent=True)
+    params = ctx.params if ctx is not None else {}
+    size = params.get("size") or {"strip": 240, "frames": 600}.get(kind, SIZE)
+    width, height = (size, size) if isinstance(size, int) else size
+    frames = int(frames)
+    if kind == "strip":
+        frames = min(8, frames)
+    elif kind in ("lottie", "svg"):
+        fps, hold = params.get("fps") or FPS, params.get("hold") or 0.0
+        frames = (2 * frames if params.get("bounce") else frames) + 2 * round(hold * fps)
+    elif kind == "frames":
+        frames = 1
+    check_output_memory(kind, width, height, frames, output, vertices=vertices)
 
 
 def check_paths(inputs, outputs):
-    """Fail when an output path names one of the input files.
+    """Fail when an output path names one of the input files, or another output.
 
     Parameters
     ----------
@@ -312,21 +337,45 @@ def check_paths(inputs, outputs):
     Raises
     ------
     FileFormatError
+        An output that would overwrite an input or another output of the
+        same command, ``-`` (standard output is not written to), a NUL byte
+        or a name longer than the file system takes.
     """
+    from ..io._files import NAME_MAX, check_path_text
+
     def same(a, b):
         try:
             return os.path.samefile(a, b)
         except OSError:
             return os.path.abspath(a) == os.path.abspath(b)
 
-    existing = [p for p in inputs if p is not None and Path(p).exists()]
+    def exists(p):
+        try:
+            return p is not None and Path(p).exists()
+        except (ValueError, TypeError):  # a NUL byte: the loader names it
+            return False
+
+    existing = [p for p in inputs if exists(p)]
+    seen = []
     for option, out in outputs:
         if out is None:
             continue
+        path = check_path_text(out)
+        if str(out) == "-":
+            raise FileFormatError(f"{option} -: writing to standard output is not supported; name a file or folder")
+        size = len(path.name.encode("utf-8", "surrogatepass"))
+        if size > NAME_MAX:
+            raise FileFormatError(f"{option} {out}: the name is {size} bytes long; file systems take at most "
+                                  f"{NAME_MAX}")
         for p in existing:
             if Path(out).exists() and same(out, p):
                 raise FileFormatError(
                     f"{option} {out} names an input file; it would be overwritten (choose another name)")
+        for other, prev in seen:
+            if same(out, prev):
+                raise FileFormatError(f"{option} {out} and {other} {prev} name the same file; "
+                                      "one would replace the other (choose two names)")
+        seen.append((option, out))
 
 
 def ensure_compatible(source, target, source_path, target_path):
@@ -471,7 +520,7 @@ def emit(seq, out, fmt=None, texture=None, quiet=False, plot=None, seconds=None)
     kinds = ctx.meta.get("isotween.kinds", {}) if ctx is not None else {}
     outs = out if isinstance(out, (list, tuple)) else [out]
     for o in outs:
-        check_render_memory(o, fmt, len(seq))
+        check_render_memory(o, fmt, len(seq), seq.shape.n_vertices)
     written = []
     with contextlib.ExitStack() as stack:
         if plot is not None:  # drawn first: a plot that fails leaves no output at all

@@ -99,10 +99,14 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
     (Shape, Shape), or with ``prepared`` an `isotween.pipeline.Prepared`
     """
     from ..correspondence import mesh_pair, resample
+    from ..correspondence.resample import check_points
     from ..pipeline import Prepared
 
     want = prepared
 
+    for value in (points, resample_points):  # refused before any geometry library allocates them
+        if isinstance(value, int) and value > 0:
+            check_points(value, 2, "putting in correspondence")
     if resample_points is None and mesh_area is None:
         from ..pipeline import prepare_pair
 

@@ -2,6 +2,7 @@
 
 import os
 import shutil
+import stat
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -9,22 +10,59 @@ from pathlib import Path
 from ..errors import FileFormatError
 from ..resources import check_memory
 
-__all__ = ["read_text", "check_readable", "atomic_path", "atomic_dir", "write_text"]
+__all__ = ["read_text", "check_readable", "check_path_text", "atomic_path", "atomic_dir", "write_text"]
 
 # files made by mkstemp are private (0600); give results the usual permissions
 _UMASK = os.umask(0)
 os.umask(_UMASK)
 
 
+def check_path_text(path):
+    """``path`` as a `Path`; `FileFormatError` for a NUL byte or a value that is not a path.
+
+    Raises
+    ------
+    FileFormatError
+        The path holds a NUL byte (no file system takes one) or is not a
+        str, bytes or path-like object.
+    """
+    try:
+        text = os.fsdecode(path)
+    except TypeError:
+        raise FileFormatError(f"a file name must be a str or path, got {type(path).__name__}") from None
+    if "\0" in text:
+        raise FileFormatError(f"{text!r}: a file name cannot hold a NUL byte")
+    return Path(text)
+
+
+#: what `check_readable` calls each kind of file that is not a regular one
+_KINDS = ((stat.S_ISDIR, "is a folder, expected a file"), (stat.S_ISFIFO, "is a pipe (FIFO), expected a file"),
+          (stat.S_ISCHR, "is a device, expected a file"), (stat.S_ISBLK, "is a device, expected a file"),
+          (stat.S_ISSOCK, "is a socket, expected a file"))
+
+
 def check_readable(path):
-    """Raise `FileFormatError` unless ``path`` is an existing regular file."""
-    path = Path(path)
-    if not path.exists():
-        raise FileFormatError(f"{path}: no such file")
-    if path.is_dir():
-        raise FileFormatError(f"{path}: is a folder, expected a file")
+    """``path`` as a `Path`; `FileFormatError` unless it is an existing regular file.
+
+    Links are followed: a link to a regular file is fine, one to a device
+    (``/dev/zero``), a FIFO (which would block) or a folder is refused
+    before anything opens it.
+    """
+    path = check_path_text(path)
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        raise FileFormatError(f"{path}: no such file") from None
+    except OSError as exc:
+        raise FileFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(mode):
+        why = next((what for test, what in _KINDS if test(mode)), "is not a regular file")
+        raise FileFormatError(f"{path}: {why}")
     return path
 
+
+#: longest file name (bytes) most file systems take
+NAME_MAX = 255
 
 #: peak bytes a text parser needs per byte of file (the text, its lines and tokens,
 #: the parsed numbers as Python objects)
@@ -69,12 +107,17 @@ def atomic_path(path):
     from the suffix still work). On any error it is removed, so no partial
     output is ever left; `OSError` becomes `FileFormatError` naming ``path``.
     """
-    path = Path(path)
+    path = check_path_text(path)
     _check_parent(path)
     if path.is_dir():
         raise FileFormatError(f"cannot write {path}: is a folder")
+    # the temporary name (dot, stem, 8 random characters, suffix) stays within NAME_MAX: a long
+    # legal name must not fail only because of the temporary one
+    stem = path.stem[: max(0, NAME_MAX - len(path.suffix.encode("utf-8", "surrogatepass")) - 16)]
+    while len(stem.encode("utf-8", "surrogatepass")) + len(path.suffix) + 16 > NAME_MAX and stem:
+        stem = stem[:-1]
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
+        fd, tmp = tempfile.mkstemp(prefix=f".{stem}.", suffix=path.suffix, dir=path.parent)
         os.close(fd)
     except OSError as exc:
         raise FileFormatError(f"cannot write {path}: {exc.strerror or exc}") from exc

@@ -8,7 +8,7 @@ import numpy as np
 from ..errors import FileFormatError
 from ._files import read_text
 
-__all__ = ["JsonDocument", "dumps_rows"]
+__all__ = ["JsonDocument", "dumps_rows", "dumps_finite", "first_non_finite"]
 
 _DECODER = json.JSONDecoder()
 _WS = " \t\n\r"
@@ -190,3 +190,67 @@ def dumps_rows(rows, indent="  "):
         return "[]"
     body = f",\n{indent}  ".join(json.dumps(r) for r in rows)
     return f"[\n{indent}  {body}\n{indent}]"
+
+
+def first_non_finite(value, where=""):
+    """Where the first NaN or infinity in nested lists, dicts and arrays sits, or None.
+
+    Parameters
+    ----------
+    value : object
+        JSON-ready data (dicts, lists, tuples, numbers, numpy arrays).
+    where : str
+        Name of ``value`` itself, as the result starts.
+
+    Returns
+    -------
+    (str, float) or None
+        ``('paint[0].width[2]', inf)`` style location and the value.
+    """
+    if isinstance(value, float | np.floating):
+        return None if np.isfinite(value) else (where or "value", float(value))
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind in "fc" and not np.all(np.isfinite(value)):
+            k = np.argwhere(~np.isfinite(value))[0]
+            return f"{where}" + "".join(f"[{int(i)}]" for i in k), float(np.real(value[tuple(k)]))
+        return None
+    if isinstance(value, dict):
+        items = ((f"{where}.{k}" if where else str(k), v) for k, v in value.items())
+    elif isinstance(value, list | tuple):
+        items = ((f"{where}[{i}]", v) for i, v in enumerate(value))
+    else:
+        return None
+    for name, item in items:
+        found = first_non_finite(item, name)
+        if found is not None:
+            return found
+    return None
+
+
+def dumps_finite(data, path, **options):
+    """``json.dumps(data)`` that refuses NaN and infinity (JSON has neither) with a clear error.
+
+    Parameters
+    ----------
+    data : object
+    path : path-like or str
+        The file being written (named by the error).
+    **options
+        Passed to `json.dumps` (``separators``, ``indent``, ...).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    FileFormatError
+        Naming the file, the element and its value.
+    """
+    try:
+        return json.dumps(data, allow_nan=False, **options)
+    except ValueError:
+        found = first_non_finite(data)
+        where, value = found if found is not None else ("a value", float("nan"))
+        raise FileFormatError(f"cannot write {path}: {where} is {value}, and JSON holds finite numbers only "
+                              "(a coordinate, width or time too large or undefined)") from None

@@ -20,7 +20,7 @@ from .npz import connectivity_arrays, connectivity_from, open_npz, save_arrays
 if TYPE_CHECKING:
     from os import PathLike
 
-__all__ = ["save_sequence", "load_sequence", "is_sequence_file"]
+__all__ = ["save_sequence", "load_sequence", "is_sequence_file", "check_sequence"]
 
 FORMAT = "isotween-sequence"
 VERSION = 1
@@ -56,6 +56,80 @@ def _meta(seq):
     }
 
 
+def check_sequence(seq: Sequence, where: str) -> Sequence:
+    """Refuse a sequence whose fields disagree, naming the field (what `load_sequence` and every writer check).
+
+    Frames are (F, n, 2), finite, with n the shape's vertex count; times
+    have one finite value per frame and do not decrease; energy values are
+    finite; ``info['keyframe_indices']`` are frame indices; ``info['paint']``
+    gives one paint per path for each key time and its regions name paths.
+
+    Parameters
+    ----------
+    seq : Sequence
+    where : str
+        How the error starts (``'x.npz'`` or ``'cannot write x.html'``).
+
+    Returns
+    -------
+    Sequence
+        ``seq`` itself.
+
+    Raises
+    ------
+    FileFormatError
+        Naming ``where`` and the field.
+    """
+    from ..errors import IsotweenError
+    from ..paint import sequence_paint
+
+    frames = np.asarray(seq.frames)
+    if frames.ndim != 3 or frames.shape[2] != 2 or frames.shape[0] < 1:
+        raise FileFormatError(f"{where}: frames must have shape (frames, n, 2) with at least one frame, "
+                              f"got {frames.shape}")
+    if frames.shape[1] != seq.shape.n_vertices:
+        raise FileFormatError(f"{where}: frames have {frames.shape[1]} vertices but the shape has "
+                              f"{seq.shape.n_vertices}")
+    if not np.all(np.isfinite(frames)):
+        k = int(np.argwhere(~np.isfinite(frames))[0, 0])
+        raise FileFormatError(f"{where}: frames: frame {k} has a non-finite coordinate")
+    times = np.asarray(seq.times)
+    if times.shape != (len(frames),):
+        raise FileFormatError(f"{where}: times: {times.size} values for {len(frames)} frames")
+    if times.dtype.kind not in "iuf" or not np.all(np.isfinite(times)) or np.any(np.diff(times) < 0):
+        raise FileFormatError(f"{where}: times must be finite numbers that do not decrease")
+    try:
+        energy = np.asarray(seq.energy, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise FileFormatError(f"{where}: energy must be a list of numbers") from None
+    if not np.all(np.isfinite(energy)):
+        k = int(np.flatnonzero(~np.isfinite(energy))[0])
+        raise FileFormatError(f"{where}: energy[{k}] is {energy[k]}, not a finite number")
+    info = seq.info
+    if not isinstance(info, dict):
+        raise FileFormatError(f"{where}: info must be a dict, got {type(info).__name__}")
+    keys = info.get("keyframe_indices")
+    if keys is not None:
+        ok = isinstance(keys, list | tuple | np.ndarray) and all(
+            isinstance(k, int | np.integer) and not isinstance(k, bool) and 0 <= k < len(frames) for k in keys)
+        if not ok:
+            raise FileFormatError(f"{where}: info.keyframe_indices must be frame indices from 0 to "
+                                  f"{len(frames) - 1}, got {str(keys)[:80]}")
+    if info.get("paint"):
+        n_paths = len(seq.shape.paths or [])
+        regions = info["paint"].get("regions") if isinstance(info["paint"], dict) else None
+        if regions is not None and not (isinstance(regions, list) and all(
+                isinstance(r, list) and all(isinstance(i, int) and not isinstance(i, bool) and 0 <= i < n_paths
+                                            for i in r) for r in regions)):
+            raise FileFormatError(f"{where}: info.paint.regions must list path indices from 0 to {n_paths - 1}, "
+                                  f"got {str(regions)[:80]}")
+        try:
+            sequence_paint(seq)
+        except (IsotweenError, KeyError, TypeError, ValueError, IndexError, AttributeError) as exc:
+            raise FileFormatError(f"{where}: info.paint: {str(exc)[:200]}") from None
+    return seq
+
+
 def save_sequence(seq: Sequence, path: str | PathLike) -> None:
     """Write a sequence to ``.npz`` or ``.json`` (layout in docs/formats.md).
 
@@ -80,6 +154,7 @@ def save_sequence(seq: Sequence, path: str | PathLike) -> None:
         raise FileFormatError(f"{path}: a sequence file must end in .npz or .json")
     if not isinstance(seq, Sequence):
         raise FileFormatError(f"{path}: save_sequence expects an isotween.Sequence, got {type(seq).__name__}")
+    check_sequence(seq, f"cannot write {path}")  # what load_sequence would refuse is not written
     meta = _meta(seq)
     shape = seq.shape
     own_vertices = len(seq.frames) == 0 or not np.array_equal(shape.vertices, seq.frames[0])
@@ -235,12 +310,12 @@ def _load_npz(path):
         if a is not None and (a.dtype.kind not in "iuf" or a.ndim != 1):
             raise FileFormatError(f"{path}: array '{name}' must be a 1-d array of numbers, got {a.dtype} {a.shape}")
     _check_times(path, frames, times)
-    return Sequence(
+    return check_sequence(Sequence(
         frames, shape, times=times, scheme=scalar("scheme", str, "midpoint"),
         energy=[float(e) for e in np.asarray(energy, dtype=np.float64).reshape(-1)],
         iterations=scalar("iterations", int, 0), converged=scalar("converged", bool, True),
         timings=parsed("timings"), method=scalar("method", str, "aiap"), info=parsed("info"),
-    )
+    ), str(path))
 
 
 def _load_json(path):
@@ -273,12 +348,12 @@ def _load_json(path):
             raise doc.error(f"has the wrong type ({type(value).__name__})", key)
         return value
 
-    return Sequence(
+    return check_sequence(Sequence(
         frames, shape, times=times, scheme=field("scheme", str, "midpoint"),
         energy=[] if energy is None else energy.tolist(),
         iterations=field("iterations", int, 0), converged=field("converged", bool, True),
         timings=field("timings", dict, {}), method=field("method", str, "aiap"), info=field("info", dict, {}),
-    )
+    ), str(path))
 
 
 def _natural_key(name):

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import FileFormatError
 from ..shape import Shape
+from ._files import check_readable
 from .json_shape import read_json, write_json
 from .npz import read_npz, write_npz
 from .obj import read_obj, write_obj
@@ -68,7 +69,7 @@ def load(path: str | PathLike, **options: Any) -> Shape:
     (True, 3)
     """
     reader = _codec(path, "read")[0]
-    return reader(path, **options)
+    return reader(check_readable(path), **options)
 
 
 def save(shape: Shape, path: str | PathLike) -> None:

@@ -41,14 +41,25 @@ class SequenceRenderer:
     dpi : float
     background : matplotlib colour
         Colour behind the shape.
+    kind : str
+        What the images become (a key of `isotween.resources.OUTPUT_BYTES`):
+        the memory that needs, for ``kept`` images, is checked before the
+        first one is drawn.
+    kept : int, optional
+        Images the writer keeps in memory (default: every frame).
     """
 
-    def __init__(self, seq, size, texture=None, style="auto", even=False, dpi=100, background="white"):
+    def __init__(self, seq, size, texture=None, style="auto", even=False, dpi=100, background="white",
+                 kind="image", kept=None):
+        from ..resources import check_output_memory
+
         self.seq = seq
         self.frames = sequence_frames(seq)
         self.regions, self.paints = sequence_paint(seq)
         self.bbox = bbox_of(self.frames)
         self.width, self.height = image_size(self.bbox, size, even=even)
+        check_output_memory(kind, self.width, self.height, len(self.frames) if kept is None else kept,
+                            f"a {kind}" if kind != "image" else "an image")
         self.texture = None if texture is None else load_texture(texture)
         self.style = style
         self.painter = FramePainter(self.width, self.height, self.bbox, dpi=dpi, y_down=seq.shape.y_down,

@@ -15,6 +15,10 @@ from .defaults import BACKGROUND, FPS, SIZE
 __all__ = ["write_gif", "write_mp4", "write_webp", "write_apng", "playback_order", "FPS", "SIZE"]
 
 
+#: longest hold (seconds) at each end of an animation
+MAX_HOLD = 3600
+
+
 def check_fps(fps):
     """Raise `ParameterError` unless ``fps`` is in (0, 100]."""
     if isinstance(fps, bool) or not isinstance(fps, (int, float, np.number)) or not np.isfinite(fps) \
@@ -42,8 +46,8 @@ def playback_order(n, fps=FPS, hold=0.0, bounce=False):
         Frame index of every tick.
     """
     check_fps(fps)
-    if not np.isfinite(hold) or hold < 0:
-        raise ParameterError(f"hold must be a number of seconds >= 0, got {hold!r}")
+    if isinstance(hold, bool) or not isinstance(hold, (int, float, np.number)) or not 0 <= hold <= MAX_HOLD:
+        raise ParameterError(f"hold must be a number of seconds from 0 to {MAX_HOLD}, got {hold!r}")
     extra = int(round(hold * fps))
     forward = np.arange(n)
     ends = lambda k: np.full(extra, k, dtype=np.int64)  # noqa: E731
@@ -51,6 +55,52 @@ def playback_order(n, fps=FPS, hold=0.0, bounce=False):
     if bounce and n > 2:
         parts += [forward[-2:0:-1]]
     return np.concatenate(parts).astype(np.int64)
+
+
+#: longest a single image may stay on screen in each format (milliseconds): GIF delays are 16-bit counts
+#: of 1/100 s, APNG's 16-bit counts of 1/1000 s (as Pillow writes them), WebP's 24-bit milliseconds
+FRAME_MS_LIMIT = {"gif": 655_350, "apng": 65_535, "webp": 16_777_215}
+
+
+def check_timing(kind, durations, order=None, rgb=None):
+    """Refuse an animation whose image would stay on screen longer than its format can say.
+
+    Pillow merges consecutive identical images into one longer one, so the
+    durations of each run of identical images (same frame, or the same
+    pixels) are summed first.
+
+    Parameters
+    ----------
+    kind : {'gif', 'apng', 'webp'}
+    durations : (P,) array_like
+        Milliseconds of every tick.
+    order : (P,) int array, optional
+        Frame of every tick (default: all different).
+    rgb : dict, optional
+        Frame index -> image, to merge different frames with the same pixels.
+
+    Raises
+    ------
+    ParameterError
+        Naming the longest run, the limit and what to change.
+    """
+    durations = np.asarray(durations, dtype=np.float64)
+    if order is not None and len(order):
+        order = np.asarray(order)
+        same = order[1:] == order[:-1]
+        if rgb is not None:
+            changed = np.flatnonzero(~same)
+            for i in changed:
+                a, b = rgb[int(order[i])], rgb[int(order[i + 1])]
+                same[i] = a.shape == b.shape and np.array_equal(a, b)
+        starts = np.flatnonzero(np.r_[True, ~same])
+        durations = np.add.reduceat(durations, starts) if len(durations) else durations
+    longest = float(durations.max(initial=0.0))
+    limit = FRAME_MS_LIMIT[kind]
+    if not np.isfinite(longest) or longest > limit:
+        raise ParameterError(
+            f"in a {kind.upper()} file an image can stay at most {limit / 1000:g} s on screen, but one would stay "
+            f"{longest / 1000:.4g} s; raise the frame rate (fps) or shorten the hold")
 
 
 def _render(renderer, order, progress):
@@ -63,10 +113,10 @@ def _render(renderer, order, progress):
     return {int(k): renderer.image(int(k)) for k in needed}
 
 
-def _pillow_frames(seq, fps, size, texture, bounce, hold, background, style, progress):
+def _pillow_frames(seq, fps, size, texture, bounce, hold, background, style, progress, kind):
     from PIL import Image
 
-    renderer = SequenceRenderer(seq, size, texture=texture, style=style, background=background)
+    renderer = SequenceRenderer(seq, size, texture=texture, style=style, background=background, kind=kind)
     order = playback_order(len(renderer), fps, hold, bounce)
     rgb = _render(renderer, order, progress)
     return Image, rgb, order
@@ -102,7 +152,7 @@ def write_gif(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=Fal
     progress : bool
         Progress bar on stderr while rendering.
     """
-    Image, rgb, order = _pillow_frames(seq, fps, size, texture, bounce, hold, background, style, progress)
+    Image, rgb, order = _pillow_frames(seq, fps, size, texture, bounce, hold, background, style, progress, "gif")
     keys = sorted(rgb)
     # one palette for the whole animation, from a montage of up to 16 frames (paint colours included)
     sample = [keys[i] for i in np.unique(np.linspace(0, len(keys) - 1, min(16, len(keys))).round().astype(int))]
@@ -110,7 +160,9 @@ def write_gif(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=Fal
     palette = montage.quantize(colors=256, method=Image.Quantize.FASTOCTREE)
     frames = {k: Image.fromarray(img).quantize(palette=palette, dither=Image.Dither.NONE) for k, img in rgb.items()}
     images = [frames[int(k)] for k in order]
-    options = {"save_all": True, "append_images": images[1:], "duration": max(10, round(1000 / fps)), "disposal": 1}
+    tick = max(10, round(1000 / fps))
+    check_timing("gif", np.full(len(order), float(tick)), order, rgb)
+    options = {"save_all": True, "append_images": images[1:], "duration": tick, "disposal": 1}
     if loop:
         options["loop"] = 0
     with atomic_path(path) as tmp:
@@ -125,7 +177,7 @@ def write_webp(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=Fa
     """
     if not 0 <= quality <= 100:
         raise ParameterError(f"quality must be in [0, 100], got {quality!r}")
-    images, durations = _pillow_images(seq, fps, size, texture, bounce, hold, background, style, progress)
+    images, durations = _pillow_images(seq, fps, size, texture, bounce, hold, background, style, progress, "webp")
     with atomic_path(path) as tmp:
         images[0].save(tmp, format="WEBP", save_all=True, append_images=images[1:], duration=durations,
                        loop=0 if loop else 1, lossless=quality >= 100, quality=int(quality), method=4)
@@ -138,7 +190,7 @@ def write_apng(seq, path, fps=FPS, size=SIZE, texture=None, loop=True, bounce=Fa
     Parameters are those of `write_gif`. Plays in every current browser;
     viewers without APNG support show the first frame.
     """
-    images, durations = _pillow_images(seq, fps, size, texture, bounce, hold, background, style, progress)
+    images, durations = _pillow_images(seq, fps, size, texture, bounce, hold, background, style, progress, "apng")
     with atomic_path(path) as tmp:
         images[0].save(tmp, format="PNG", save_all=True, append_images=images[1:], duration=durations,
                        loop=0 if loop else 1, disposal=0, blend=0)
@@ -166,35 +218,80 @@ def write_mp4(seq, path, fps=FPS, size=SIZE, texture=None, style="auto", *, boun
         See `write_gif`.
     """
     imageio_ffmpeg = errors.require("imageio_ffmpeg", "video")
-    renderer = SequenceRenderer(seq, size, texture=texture, style=style, even=True, background=background)
+    renderer = SequenceRenderer(seq, size, texture=texture, style=style, even=True, background=background,
+                                kind="mp4")
     order = playback_order(len(renderer), fps, hold, bounce)
-    rgb = _render(renderer, order, progress)
     with atomic_path(path) as tmp:
-        writer = imageio_ffmpeg.write_frames(
-            str(tmp),
-            (renderer.width, renderer.height),
-            fps=fps,
-            codec="libx264",
-            pix_fmt_in="rgb24",
-            pix_fmt_out="yuv420p",
-            macro_block_size=2,
-            ffmpeg_log_level="error",
-            output_params=["-f", "mp4"],
-        )
-        writer.send(None)
+        _encode(imageio_ffmpeg.get_ffmpeg_exe(), renderer, order, fps, tmp, path, progress)
+
+
+def _encode(exe, renderer, order, fps, tmp, path, progress):
+    """Stream the frames of ``order`` to ffmpeg (H.264 in MP4); a failing ffmpeg fails the write.
+
+    Frames are drawn as they are sent (one in memory). ffmpeg's messages go
+    to a temporary file, and its exit status is checked: a full disk or a
+    rejected frame rate raises `FileFormatError` with ffmpeg's last message.
+    """
+    import subprocess
+    import tempfile
+    from fractions import Fraction
+
+    from ..errors import FileFormatError
+
+    rate = Fraction(float(fps)).limit_denominator(1001)
+    if rate <= 0:
+        raise ParameterError(f"fps {fps!r} is too small for a video (at least 1/1001)")
+    cmd = [exe, "-y", "-nostdin", "-f", "rawvideo", "-vcodec", "rawvideo", "-s", f"{renderer.width}x{renderer.height}",
+           "-pix_fmt", "rgb24", "-r", str(rate), "-i", "-", "-an", "-vcodec", "libx264", "-pix_fmt", "yuv420p",
+           "-crf", "25", "-v", "error", "-f", "mp4", str(tmp)]
+    ticks = order
+    if progress:
+        from tqdm import tqdm
+
+        ticks = tqdm(order, desc="rendering", unit="frame", leave=False, delay=0.5)
+    with tempfile.TemporaryFile() as log:
+        proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=log)
         try:
-            for k in order:
-                writer.send(np.ascontiguousarray(rgb[int(k)]))
-        finally:
-            writer.close()
+            last, image = None, None
+            for k in ticks:
+                if k != last:
+                    last, image = k, np.ascontiguousarray(renderer.image(int(k)))
+                try:
+                    proc.stdin.write(image.tobytes())
+                except (BrokenPipeError, OSError):
+                    break  # ffmpeg ended early: its status and message say why
+            try:
+                proc.stdin.close()
+            except OSError:
+                pass
+            code = proc.wait()
+        except BaseException:
+            proc.kill()
+            proc.wait()
+            raise
+        log.seek(0)
+        lines = [line.strip() for line in log.read().decode("utf-8", "replace").splitlines() if line.strip()]
+    if code != 0 or lines:
+        import signal
+
+        if lines:
+            why = lines[-1]
+        elif code < 0 and -code in signal.valid_signals():
+            why = f"killed by {signal.Signals(-code).name}"
+            why += ", the file size limit" if -code == signal.SIGXFSZ else ""
+        else:
+            why = f"exit status {code}"
+        raise FileFormatError(f"cannot write {path}: ffmpeg failed ({why[:200]})")
 
 
-def _pillow_images(seq, fps, size, texture, bounce, hold, background, style, progress):
+def _pillow_images(seq, fps, size, texture, bounce, hold, background, style, progress, kind):
     """Pillow images in playing order and their durations (animated WebP and APNG).
 
     Durations are integer milliseconds whose running sum stays on the 1/fps grid.
     """
-    image, rgb, order = _pillow_frames(seq, fps, size, texture, bounce, hold, background, style, progress)
-    images = [image.fromarray(rgb[int(k)]) for k in order]
-    durations = np.diff(np.round(np.arange(len(images) + 1) * 1000.0 / fps)).astype(int).tolist()
-    return images, durations
+    image, rgb, order = _pillow_frames(seq, fps, size, texture, bounce, hold, background, style, progress, kind)
+    durations = np.diff(np.round(np.arange(len(order) + 1) * 1000.0 / fps))
+    check_timing(kind, durations, order, rgb if kind == "apng" else None)  # Pillow merges identical APNG images
+    distinct = {k: image.fromarray(rgb.pop(k)) for k in sorted(rgb)}  # one image per frame, repeated by reference
+    images = [distinct[int(k)] for k in order]
+    return images, durations.astype(int).tolist()

@@ -3,14 +3,16 @@
 import base64
 import html
 import io
-import json
 import re
 import zlib
 from importlib import resources
 
 import numpy as np
 
+from .._text import document_text
+from ..errors import FileFormatError
 from ..io import atomic_path
+from ..io._json import dumps_finite
 from ..paint import paint_groups, sequence_paint
 from ._frames import sequence_frames
 from ._framestats import frame_stats
@@ -21,6 +23,10 @@ from .outline import mesh_boundary
 from .texture import load_texture, texture_uv
 
 __all__ = ["write_html", "page_html"]
+
+#: JSON text made safe inside an HTML <script> element (the same values, as JSON escapes)
+_SCRIPT_SAFE = str.maketrans({"<": "\\u003c", ">": "\\u003e", "&": "\\u0026", "\u2028": "\\u2028",
+                              "\u2029": "\\u2029"})
 
 
 def _png_data_url(tex, max_side=1024):
@@ -144,9 +150,9 @@ def page_data(seq, texture=None, title=None, fps=FPS, bounce=False, background="
     stats = frame_stats(seq)
     flipped = stats["flipped"] if shape.n_faces else np.zeros((len(frames), 0), bool)
     info = getattr(seq, "info", None) or {}
-    keyframes = sorted({0, len(frames) - 1, *[int(k) for k in info.get("keyframe_indices", [])]})
+    keyframes = sorted({0, len(frames) - 1, *[int(k) for k in info.get("keyframe_indices") or []]})
     data = {
-        "title": title or "isotween sequence",
+        "title": document_text(title) if title else "isotween sequence",
         "method": str(getattr(seq, "method", "")),
         "iterations": int(getattr(seq, "iterations", 0)),
         "converged": bool(getattr(seq, "converged", True)),
@@ -198,8 +204,11 @@ def _embedded_animations(seq, fps, bounce, title, background):
     # a cheap size estimate first: both hold every vertex of every frame as text, ~12 bytes a number
     if seq.frames.size * 12 * (1 + (seq.shape.n_faces > 0)) > EMBED_LIMIT:
         return out
-    out["lottie"] = json.dumps(lottie_data(seq, fps=fps, bounce=bounce, title=title, background=None),
-                               separators=(",", ":"), allow_nan=False)
+    try:
+        out["lottie"] = dumps_finite(lottie_data(seq, fps=fps, bounce=bounce, title=title, background=None),
+                                     "the page's Lottie download", separators=(",", ":"))
+    except FileFormatError:  # a width or coordinate beyond what Lottie's numbers hold: no Lottie download
+        pass
     out["svg"] = svg_animation_text(seq, fps=fps, bounce=bounce, title=title)
     return {k: v for k, v in out.items() if len(v) <= EMBED_LIMIT}
 
@@ -233,16 +242,17 @@ def write_html(seq, path, texture=None, title=None, fps=FPS, bounce=False, backg
         only up to `EMBED_LIMIT` bytes; larger ones: ``isotween render``).
     """
     page = page_html(seq, texture=texture, title=title, fps=fps, bounce=bounce, background=background,
-                     downloads=downloads)
+                     downloads=downloads, name=path)
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as fh:
             fh.write(page)
 
 
-def page_html(seq, texture=None, title=None, fps=FPS, bounce=False, background="white", downloads=True):
+def page_html(seq, texture=None, title=None, fps=FPS, bounce=False, background="white", downloads=True, name=None):
     """The viewer page of `write_html` as a string (also shown inline by ``Sequence._repr_html_``).
 
-    Parameters are those of `write_html` but ``path``.
+    Parameters are those of `write_html` but ``path``; ``name`` is the file
+    that errors name (a value JSON cannot hold: `FileFormatError`).
 
     Returns
     -------
@@ -252,7 +262,8 @@ def page_html(seq, texture=None, title=None, fps=FPS, bounce=False, background="
     embedded = _embedded_animations(seq, fps, bounce, title, background) if downloads else {}
     data = page_data(seq, texture=texture, title=title, fps=fps, bounce=bounce, background=background,
                      downloads=embedded)
-    payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
+    # inside <script>, '<!--', '<script' and '</script' change how the page is parsed: no '<' is left raw
+    payload = dumps_finite(data, name or "the viewer page", separators=(",", ":")).translate(_SCRIPT_SAFE)
     template = resources.files(__package__).joinpath("page.html").read_text(encoding="utf-8")
     values = {"TITLE": html.escape(data["title"]), "DATA": payload}
     return re.sub(r"@@(TITLE|DATA)@@", lambda m: values[m.group(1)], template)

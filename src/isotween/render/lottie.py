@@ -6,11 +6,12 @@ the ``lottie-specs`` package). Coordinates are pixels of a ``w x h``
 composition framed exactly like isotween's raster outputs (`fit_view`), y down.
 """
 
-import json
 
 import numpy as np
 
+from .._text import document_text
 from ..io import write_text
+from ..io._json import dumps_finite
 from ..paint import sequence_paint
 from ._view import to_pixels
 from .animation import FPS, SIZE, playback_order
@@ -266,8 +267,11 @@ def lottie_data(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, title=None, bac
         ``curves`` and ``reduce`` every tick is a linear keyframe holding
         exactly the sequence frame shown at that tick.
     """
+    from ..resources import check_output_memory
+
     order = playback_order(len(seq), fps, hold, bounce)
     shape = seq.shape
+    check_output_memory("lottie", 0, 0, len(order), "a Lottie animation", vertices=shape.n_vertices)
     px, w, h, unit = pixel_frames(seq, size)
     if tolerance is None:
         tolerance = TOLERANCE * float(np.hypot(w, h))
@@ -290,8 +294,9 @@ def lottie_data(seq, fps=FPS, size=SIZE, bounce=False, hold=0.0, title=None, bac
     if background is not None:
         layers.append({"ddd": 0, "ind": 2, "ty": 1, "nm": "background", "sr": 1, "ao": 0, "ip": 0, "op": n, "st": 0,
                        "bm": 0, "ks": layer["ks"], "sc": hex_colour(background), "sw": int(w), "sh": int(h)})
+    name = document_text(title) if title else f"isotween: {len(seq)} frames, {shape.n_vertices} vertices"
     return {
-        "v": "5.7.0", "nm": title or f"isotween: {len(seq)} frames, {shape.n_vertices} vertices",
+        "v": "5.7.0", "nm": name,
         "fr": float(fps), "ip": 0, "op": n, "w": int(w), "h": int(h), "ddd": 0, "assets": [], "layers": layers,
     }
 
@@ -305,4 +310,4 @@ def write_lottie(seq, path, fps=FPS, size=SIZE, bounce=False, hold=0.0, title=No
     """
     data = lottie_data(seq, fps=fps, size=size, bounce=bounce, hold=hold, title=title, background=background,
                        curves=curves, reduce=reduce)
-    write_text(path, json.dumps(data, separators=(",", ":"), allow_nan=False))
+    write_text(path, dumps_finite(data, path, separators=(",", ":")))

@@ -3,7 +3,7 @@
 import numpy as np
 
 from ..errors import ParameterError
-from ._frames import SequenceRenderer
+from ._frames import SequenceRenderer, sequence_frames
 from .frame import save_png
 
 __all__ = ["write_strip"]
@@ -50,8 +50,9 @@ def write_strip(seq, path, columns=None, frames=None, texture=None, cell=240, st
     (width, height) : tuple of int
         Size of the written image: ``(columns * cell_w, rows * cell_h)``.
     """
-    renderer = SequenceRenderer(seq, cell, texture=texture, style=style, background=background)
-    picked = _pick(len(renderer), frames)
+    picked = _pick(len(sequence_frames(seq)), frames)
+    renderer = SequenceRenderer(seq, cell, texture=texture, style=style, background=background, kind="strip",
+                                kept=len(picked))
     cols = len(picked) if columns is None else columns
     if int(cols) != cols or cols < 1:
         raise ParameterError(f"columns must be a positive integer, got {columns!r}")

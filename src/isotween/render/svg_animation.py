@@ -10,6 +10,7 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 
+from .._text import document_text
 from ..io import write_text
 from ..paint import sequence_paint, svg_paint_attributes
 from ._view import decimals
@@ -170,9 +171,12 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
     Tick ``k`` of `playback_order` shows at ``k / fps`` seconds; one pass
     lasts one tick more than the ticks (the last frame shows for a tick).
     """
+    from ..resources import check_output_memory
+
     order = playback_order(len(seq), fps, hold, bounce)
     frames = svg_frames(seq)
     shape = seq.shape
+    check_output_memory("svg", 0, 0, len(order), "an animated SVG", vertices=shape.n_vertices)
     regions, paints = sequence_paint(seq)
     box = view_box(frames)
     diagonal = float(np.hypot(*np.ptp(frames.reshape(-1, 2), axis=0)))
@@ -235,7 +239,8 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
                         f'{first_attrs}>{anim}\n  </path>')
     view = " ".join(f"{v:.{digits}f}" for v in box)
     width, height = pixel_size(box, size)
-    title = title or f"isotween: {len(seq)} frames, {shape.n_vertices} vertices, method {seq.method}"
+    title = (document_text(title) if title
+             else f"isotween: {len(seq)} frames, {shape.n_vertices} vertices, method {seq.method}")
     back = ""
     if background is not None:
         back = (f'  <rect x="{box[0]:.{digits}f}" y="{box[1]:.{digits}f}" width="{box[2]:.{digits}f}" '

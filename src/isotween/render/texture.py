@@ -14,6 +14,11 @@ from ..shape import _as_uv
 __all__ = ["load_texture", "texture_uv", "rasterize_triangles", "render_texture"]
 
 
+#: peak bytes per pixel of loading a texture: the decoded image, its RGBA copy, the array and
+#: two float32 RGBA arrays (measured about 37 with Pillow 10-11)
+TEXTURE_BYTES_PER_PIXEL = 40
+
+
 def load_texture(texture):
     """Texture as a float RGBA image.
 
@@ -31,12 +36,20 @@ def load_texture(texture):
     if isinstance(texture, (str, os.PathLike)):
         from PIL import Image, UnidentifiedImageError
 
+        from ..io._files import check_readable
+        from ..resources import check_memory
+
+        check_readable(texture)
         try:
             with Image.open(texture) as im:
+                width, height = im.size
+                check_memory(TEXTURE_BYTES_PER_PIXEL * float(width) * height,
+                             f"the texture {os.fspath(texture)} ({width} x {height} pixels)",
+                             advice="use a smaller image")
                 arr = np.asarray(im.convert("RGBA"))
         except FileNotFoundError as exc:
             raise FileFormatError(f"texture file {os.fspath(texture)} does not exist") from exc
-        except (UnidentifiedImageError, OSError) as exc:
+        except (UnidentifiedImageError, OSError, Image.DecompressionBombError) as exc:
             raise FileFormatError(f"cannot read texture image {os.fspath(texture)}: {exc}") from exc
         return arr.astype(np.float32) / 255.0
     arr = np.asarray(texture)
