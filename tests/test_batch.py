@@ -22,7 +22,7 @@ def curl(n, turns):
 
 @pytest.fixture
 def pairs(tmp_path):
-    """Three compatible pairs and one incompatible (bad) pair as .json files."""
+    """Three compatible pairs and one bad pair (its target file is not JSON) as .json files."""
     folder = tmp_path / "in"
     folder.mkdir()
     names = []
@@ -31,7 +31,7 @@ def pairs(tmp_path):
         io.save(curl(10 + i, turns), folder / f"p{i}.target.json")
         names.append(f"p{i}")
     io.save(curl(10, 0.0), folder / "bad.source.json")
-    io.save(curl(12, 0.5), folder / "bad.target.json")  # other vertex count
+    (folder / "bad.target.json").write_text("{ not json")  # a pair of other vertex counts would be corresponded
     return folder, names
 
 
@@ -69,7 +69,7 @@ def test_processes_and_dask_equal_serial_and_bad_job_is_reported(pairs, tmp_path
     for res in (serial, local, dask):
         assert (res["done"], res["failed"]) == (3, 1)
         (bad,) = res["failures"]
-        assert bad["output"].endswith("bad.npz") and "IncompatibleShapesError" in bad["error"]
+        assert bad["output"].endswith("bad.npz") and "FileFormatError" in bad["error"]
     for n in names:
         ref = io.load_sequence(tmp_path / "serial" / f"{n}.npz").frames
         for run in ("local", "dask"):
@@ -210,3 +210,28 @@ def test_local_workers_run_single_threaded_after_jobs_in_this_process(pairs, tmp
     expected = {k: (None if v is None else 1) for k, v in here.items()}
     assert seen == [expected] * 4
     assert threads_in_use() == here  # this process keeps its own settings
+
+
+def test_batch_morphs_any_two_drawings_as_interpolate_does(tmp_path):
+    """Manifest and folder modes take drawings that do not share connectivity (the library's pipeline)."""
+    pytest.importorskip("svgelements")
+    folder = tmp_path / "pairs"
+    (folder / "one").mkdir(parents=True)
+    square = '<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 H4 V4 H0 Z" fill="black"/></svg>'
+    star = ('<svg xmlns="http://www.w3.org/2000/svg"><polygon points="2,0 2.6,1.4 4,1.5 3,2.5 3.3,4 2,3.2 '
+            '0.7,4 1,2.5 0,1.5 1.4,1.4" fill="black"/></svg>')
+    (folder / "one" / "source.svg").write_text(square)
+    (folder / "one" / "target.svg").write_text(star)
+    manifest = tmp_path / "jobs.csv"
+    manifest.write_text(f"source,target,output,frames\n{folder / 'one' / 'source.svg'},"
+                        f"{folder / 'one' / 'target.svg'},m.npz,5\n")
+    res = isotween.batch(manifest, outdir=tmp_path / "out", workers=1)
+    assert (res["done"], res["failed"]) == (1, 0)
+    expected = isotween.morph(folder / "one" / "source.svg", folder / "one" / "target.svg", frames=5)
+    got = io.load_sequence(tmp_path / "out" / "m.npz")
+    np.testing.assert_array_equal(got.frames, expected.frames)
+    assert got.shape.n_faces > 0  # filled drawings morph as solids, as `isotween interpolate` does
+    result = CliRunner().invoke(main, ["batch", str(folder), "-o", str(tmp_path / "out2"), "--frames", "5"])
+    assert result.exit_code == 0, result.output
+    np.testing.assert_array_equal(io.load_sequence(tmp_path / "out2" / "one.npz").frames, expected.frames)
+

@@ -1142,7 +1142,7 @@ def test_output_that_is_a_symbolic_link_replaces_the_link_not_its_target(files, 
 @pytest.mark.parametrize("chunk", [1, 7, 1 << 20])
 def test_winding_numbers_match_the_dense_crossing_count(monkeypatch, chunk):
     """The sweep gives the dense test's numbers (points on vertices and edges included), whatever the chunk."""
-    from isotween.correspondence import regions
+    from isotween import geometry
 
     def dense(points, rings):
         a = np.vstack(rings)
@@ -1154,9 +1154,9 @@ def test_winding_numbers_match_the_dense_crossing_count(monkeypatch, chunk):
             - ((a[:, 1] > py) & (b[:, 1] <= py) & (cross < 0)).astype(int)
         return np.array([w[:, owner == r].sum(axis=1) for r in range(len(rings))]).T
 
-    monkeypatch.setattr(regions, "WINDING_CHUNK", chunk)
+    monkeypatch.setattr(geometry, "WINDING_CHUNK", chunk)
     rng = np.random.default_rng(3)
     for _ in range(60):
         rings = [np.round(rng.normal(size=(rng.integers(3, 9), 2)) * 3) / 2 for _ in range(rng.integers(1, 6))]
         points = np.vstack([np.round(rng.normal(size=(20, 2)) * 3) / 2, np.vstack(rings)[:4]])
-        np.testing.assert_array_equal(regions.winding_numbers(points, rings), dense(points, rings))
+        np.testing.assert_array_equal(geometry.winding_numbers(points, rings), dense(points, rings))

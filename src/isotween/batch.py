@@ -39,6 +39,7 @@ JOB_OPTIONS = {
     "resample": int,
     "mesh": lambda v: v if v == "auto" else float(v),
     "format": str,
+    "correspondence": str,
 }
 _FIELDS = ("source", "target", "output")
 _SHAPE_EXTS = (".obj", ".off", ".svg", ".json", ".npz")
@@ -252,22 +253,28 @@ def run_job(job):
         from .correspondence import check_compatible, mesh_pair, resample
         from .io import load
         from .outputs import write_output
+        from .pipeline import morph
 
         opts = dict(job["options"])
         points, area, fmt = opts.pop("resample", None), opts.pop("mesh", None), opts.pop("format", None)
-        src, tgt = load(job["source"]), load(job["target"])
-        if points is not None:
-            src, tgt = resample(src, tgt, points=points)
-        if area is not None:
-            check_compatible(src, tgt)
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                src, tgt, _ = mesh_pair(src, tgt, max_area=None if area == "auto" else area)
-        seq = interpolate(src, tgt, **opts)
+        if points is None and area is None:  # the library's pipeline: any two inputs, as `isotween interpolate`
+            correspondence = opts.pop("correspondence", "auto")
+            seq = morph(job["source"], job["target"], correspondence=correspondence, **opts)
+        else:  # the older explicit steps
+            opts.pop("correspondence", None)
+            src, tgt = load(job["source"]), load(job["target"])
+            if points is not None:
+                src, tgt = resample(src, tgt, points=points)
+            if area is not None:
+                check_compatible(src, tgt)
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    src, tgt, _ = mesh_pair(src, tgt, max_area=None if area == "auto" else area)
+            seq = interpolate(src, tgt, **opts)
         write_output(seq, job["output"], format=fmt, quiet=True)
         record.update(status="done", iterations=int(seq.iterations),
                       energy=float(seq.energy[-1]) if len(seq.energy) else None,
-                      vertices=int(src.n_vertices))
+                      vertices=int(seq.shape.n_vertices))
     except Exception as exc:  # noqa: BLE001 - one job's failure is recorded, the others go on
         record.update(status="failed", error=f"{type(exc).__name__}: {exc}")
     record["seconds"] = round(time.perf_counter() - start, 6)
