@@ -1,7 +1,7 @@
 """Known motions: drawings whose in-betweens are known, morphed by isotween, flubber and GSAP.
 
-Usage: python benchmarks/motion.py [--cases N] [--frames 21] [--only NAME] [--no-others]
-[--workers 1] [--timeout 60] [--no-write]
+Usage: python benchmarks/motion.py [--cases N] [--frames 21] [--only NAME ...] [--no-others]
+[--workers 1] [--timeout 60] [--no-write] [--section "Known motions"]
 
 Every case (issue 20) is a source drawing and a target that is the same drawing moved by a
 known motion, so the right in-betweens are known:
@@ -251,7 +251,7 @@ def glyph(char, font_file):
             cur = v[-1]
     if ring:
         rings.append(_closed_ring(ring))
-    return Drawing(rings, [True] * len(rings), "nonzero")
+    return _without_flat_rings(Drawing(rings, [True] * len(rings), "nonzero"))
 
 
 def icon(file):
@@ -294,7 +294,14 @@ def icon(file):
             rings.append(_closed_ring(ring))
     if len(rules) != 1:
         raise ValueError(f"{file}: elements with different fill rules {sorted(rules)}")
-    return Drawing(rings, [True] * len(rings), rules.pop())
+    return _without_flat_rings(Drawing(rings, [True] * len(rings), rules.pop()))
+
+
+def _without_flat_rings(drawing):
+    """The filled drawing without rings of zero area (they paint nothing; readers may drop them)."""
+    scale = _diag(drawing) ** 2
+    keep = [k for k, (p, _) in enumerate(sample(drawing, 1e-3 * np.sqrt(scale))) if abs(ring_area(p)) > 1e-6 * scale]
+    return Drawing([drawing.rings[k] for k in keep], [True] * len(keep), drawing.fill_rule, drawing.stroke)
 
 
 def normalised(drawing):
@@ -455,8 +462,8 @@ def write_cases(selected):
     """Write the source and target SVG of every case into CACHE/cases; (source, target) paths."""
     folder = CACHE / "cases"
     folder.mkdir(parents=True, exist_ok=True)
-    for k, case in enumerate(selected):
-        stem = f"{k:02d}-" + "".join(ch if ch.isalnum() else "-" for ch in case.name).strip("-")
+    for case in selected:
+        stem = "".join(ch if ch.isalnum() else "-" for ch in case.name).strip("-")
         case.files = (folder / f"{stem}-a.svg", folder / f"{stem}-b.svg")
         write_svg(case.source, case.files[0])
         write_svg(case.target, case.files[1])
@@ -597,7 +604,7 @@ def blend(case, v0, v1, t):
 def evaluate(case, frames, times, keeps_order=True):
     """Measures of one tool's frames ([frame] -> [(points, closed)]) on a case."""
     e0, e1 = measures(sample(case.source)), measures(sample(case.target))
-    role = roles(frames[0]) if keeps_order else None
+    role = roles(frames[0])  # where the tool reorders its rings, the last frame gets its own (below)
     out = {"stray": float("nan"), "area": float("nan"), "length": float("nan")}
     areas, lengths, strays = [], [], []
     if case.kind != "bend":
@@ -662,6 +669,11 @@ def _isotween_job(source, target, frames, strip, conn):
         isotween.render.write_strip(seq, strip, frames=np.linspace(0, len(arr) - 1, 7).round().astype(int))
 
 
+def strip_file(case):
+    """Where the strip of isotween's frames of a case goes."""
+    return CACHE / f"strip-{case.files[0].stem[:-2]}.png"
+
+
 def run_isotween(selected, frames, workers, timeout, strips):
     """Frames of isotween for every case: {name: result}, at most ``workers`` processes at a time."""
     ctx = mp.get_context("fork")
@@ -670,7 +682,9 @@ def run_isotween(selected, frames, workers, timeout, strips):
         while pending and len(running) < workers:
             case = pending.pop(0)
             recv, send = ctx.Pipe(duplex=False)
-            strip = str(CACHE / f"strip-{case.files[0].stem[:-2]}.png") if case.name in strips else None
+            strip = str(strip_file(case)) if case.name in strips else None
+            if strip:
+                strip_file(case).unlink(missing_ok=True)
             proc = ctx.Process(target=_isotween_job, args=(str(case.files[0]), str(case.files[1]), frames, strip, send))
             proc.start()
             send.close()
@@ -836,11 +850,13 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--cases", type=int, default=None, help="only the first N cases (default: all)")
     parser.add_argument("--frames", type=int, default=21)
-    parser.add_argument("--only", default=None, help="only the cases whose name contains this text")
+    parser.add_argument("--only", action="append", default=None,
+                        help="only the cases whose name contains this text (case-insensitive; repeat for several)")
     parser.add_argument("--no-others", action="store_true", help="isotween only: skip flubber and GSAP")
     parser.add_argument("--workers", type=int, default=1, help="isotween processes at a time")
     parser.add_argument("--timeout", type=float, default=60, help="seconds per case and tool before it fails")
     parser.add_argument("--no-write", action="store_true", help="print only; leave RESULTS.md alone")
+    parser.add_argument("--section", default="Known motions", help="the RESULTS.md section to write")
     args = parser.parse_args()
 
     CACHE.mkdir(exist_ok=True)
@@ -848,7 +864,7 @@ def main():
         install()
     selected = cases()
     if args.only:
-        selected = [c for c in selected if args.only.lower() in c.name.lower()]
+        selected = [c for c in selected if any(o.lower() in c.name.lower() for o in args.only)]
     if args.cases:
         selected = selected[:args.cases]
     if not selected:
@@ -904,9 +920,10 @@ def main():
                 if not r["ok"] and not r["error"].startswith("n/a")]
     if failures:
         body += ["", "Failures:", ""] + [f"- {t}, {n}: {e[:200]}" for n, t, e in failures]
-    if strips:
-        body += ["", "Strips of isotween's frames: " + ", ".join(
-            f"benchmarks/.motion/strip-{c.files[0].stem[:-2]}.png" for c in selected if c.name in strips) + "."]
+    drawn = [f"benchmarks/.motion/{strip_file(c).name}" for c in selected
+             if c.name in strips and strip_file(c).exists()]
+    if drawn:
+        body += ["", "Strips of isotween's frames: " + ", ".join(drawn) + "."]
     text = "\n".join(body)
     print(text)
     details = CACHE / "motion.json"
@@ -914,7 +931,7 @@ def main():
                                             for t, r in results[c.name].items()} for c in selected}, default=str))
     print(f"per-case details: {details}")
     if not args.no_write:
-        write_section("Known motions", text, " ".join(["python benchmarks/motion.py", *sys.argv[1:]]))
+        write_section(args.section, text, " ".join(["python benchmarks/motion.py", *sys.argv[1:]]))
 
 
 if __name__ == "__main__":
