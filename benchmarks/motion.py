@@ -44,7 +44,8 @@ Measures, per case, over all frames (the end frames included), in % :
   diagonal.
 - area: the largest | area(t) / ((1 - t) A0 + t A1) - 1 |, the drawing's area under the
   even-odd rule (signed ring areas, each ring's role and orientation taken from frame 0
-  where the tool keeps its rings in order); for similarities the blend is A0 ** (1 - t) * A1 ** t,
+  where the tool keeps its rings in order: a ring turned inside out counts negative, so a
+  swing over 100 % means a ring inverted on the way); for similarities the blend is A0 ** (1 - t) * A1 ** t,
   the area of the exact in-between;
 - length: the largest | outline length(t) / ((1 - t) L0 + t L1) - 1 | (all rings and strokes;
   geometric blend for similarities).
@@ -661,12 +662,13 @@ def _isotween_job(source, target, frames, strip, conn):
         out["method"] = seq.method
         out["fallback"] = str(seq.info.get("fallback", ""))
         out["ok"] = True
+        if strip:  # drawn within the case's time limit, but not timed
+            isotween.render.write_strip(seq, strip, frames=np.linspace(0, len(arr) - 1, 7).round().astype(int))
+            out["strip"] = strip
     except Exception as exc:  # noqa: BLE001 - every failure is a measured outcome
         out = {"ok": False, "error": f"{type(exc).__name__}: {exc}"[:300]}
     conn.send(out)
     conn.close()
-    if strip and out["ok"]:  # after the result: drawing is not timed
-        isotween.render.write_strip(seq, strip, frames=np.linspace(0, len(arr) - 1, 7).round().astype(int))
 
 
 def strip_file(case):
@@ -683,8 +685,6 @@ def run_isotween(selected, frames, workers, timeout, strips):
             case = pending.pop(0)
             recv, send = ctx.Pipe(duplex=False)
             strip = str(strip_file(case)) if case.name in strips else None
-            if strip:
-                strip_file(case).unlink(missing_ok=True)
             proc = ctx.Process(target=_isotween_job, args=(str(case.files[0]), str(case.files[1]), frames, strip, send))
             proc.start()
             send.close()
@@ -702,10 +702,7 @@ def run_isotween(selected, frames, workers, timeout, strips):
                 results[name] = {"ok": False, "error": f"worker died (exit code {proc.exitcode})"}
             else:
                 continue
-            proc.join(timeout)  # a strip being drawn after the result gets the same bound
-            if proc.is_alive():
-                proc.kill()
-                proc.join()
+            proc.join()
             recv.close()
             del running[name]
             r = results[name]
@@ -878,6 +875,7 @@ def main():
     t0 = time.perf_counter()
     ours = run_isotween(selected, args.frames, args.workers, args.timeout, strips)
     wall = time.perf_counter() - t0
+    load = os.getloadavg()[1]  # the machine's load over the last 5 minutes of isotween's runs
     results = {}
     times = np.linspace(0, 1, args.frames)
     for c in selected:
@@ -900,10 +898,12 @@ def main():
         f"{len(selected)} cases ({n_moved} rigid turns and similarities, {len(selected) - n_moved} bends), "
         f"{args.frames} frames each, no options. Stray: the largest distance over all frames from the frame to "
         "the best rigid (similar) copy of the source, % of the source's bounding-box diagonal (target: at most "
-        f"{STRAY_TARGET} %). Area: the largest deviation of the area from the blend of the two ends' areas, %; "
+        f"{STRAY_TARGET} %). Area: the largest deviation of the area from the blend of the two ends' areas, % "
+        "(signed area: a ring turned inside out counts negative, so over 100 % means a ring inverted); "
         f"length: the same for the outline length (bends' target: both within {BEND_TARGET} %; strokes: length "
         "only). isotween: one process per case, "
-        f"at most {args.timeout:g} s each, {wall:.0f} s wall in all; the fold-free fallback replaced AIAP on "
+        f"at most {args.timeout:g} s each, {wall:.0f} s wall in all ({os.cpu_count()} cores, load average {load:.1f} "
+        "at the end); the fold-free fallback replaced AIAP on "
         f"{fallback} of {len(selected)} cases. "
         + ("" if args.no_others else
            "flubber: rings as isotween reads them, maxSegmentLength 1 % of the diagonal (no strokes: it morphs "
@@ -920,8 +920,7 @@ def main():
                 if not r["ok"] and not r["error"].startswith("n/a")]
     if failures:
         body += ["", "Failures:", ""] + [f"- {t}, {n}: {e[:200]}" for n, t, e in failures]
-    drawn = [f"benchmarks/.motion/{strip_file(c).name}" for c in selected
-             if c.name in strips and strip_file(c).exists()]
+    drawn = [f"benchmarks/.motion/{Path(ours[c.name]['strip']).name}" for c in selected if ours[c.name].get("strip")]
     if drawn:
         body += ["", "Strips of isotween's frames: " + ", ".join(drawn) + "."]
     text = "\n".join(body)
