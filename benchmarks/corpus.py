@@ -1,9 +1,11 @@
-"""The drawing corpus of the correspondence benchmark: public filled icons and font glyphs.
+"""The drawing corpus of the correspondence benchmark: public filled icons, font glyphs, stroked icons.
 
-Icons come from two npm packages installed into ``benchmarks/.corpus`` on first use
-(Bootstrap Icons' ``*-fill.svg``, MIT; Font Awesome Free's solid set, CC BY 4.0),
-glyphs from the DejaVu fonts that matplotlib ships, written as filled SVG paths
-(nonzero rule, quadratic curves kept). Pairs are drawn with a fixed seed.
+Icons come from npm packages installed into ``benchmarks/.corpus`` on first use, with
+the other tools (flubber, GSAP) (Bootstrap Icons' ``*-fill.svg``, MIT; Font Awesome
+Free's solid set, CC BY 4.0; Lucide's stroked line icons from ``lucide-static``, ISC:
+``fill="none"``, a 2-unit round stroke), glyphs from the DejaVu fonts that matplotlib ships, written
+as filled SVG paths (nonzero rule, quadratic curves kept). Pairs are drawn with a
+fixed seed.
 """
 
 import json
@@ -15,7 +17,8 @@ import numpy as np
 
 HERE = Path(__file__).parent
 CACHE = HERE / ".corpus"
-PACKAGES = {"bootstrap-icons": "1.13.2", "@fortawesome/fontawesome-free": "7.3.1", "flubber": "0.4.2"}
+PACKAGES = {"bootstrap-icons": "1.13.2", "@fortawesome/fontawesome-free": "7.3.1", "flubber": "0.4.2",
+            "lucide-static": "1.62.0", "gsap": "3.15.0"}
 
 #: classic morphs, Bootstrap Icons names (without -fill.svg)
 CLASSIC = [
@@ -28,7 +31,7 @@ CLASSIC = [
 
 
 def install():
-    """Install the npm packages (icons and flubber) into the cache folder once."""
+    """Install the npm packages (icons, flubber, GSAP) into the cache folder once."""
     marker = CACHE / "installed.json"
     if marker.exists() and json.loads(marker.read_text()) == PACKAGES:
         return CACHE
@@ -48,6 +51,11 @@ def icons():
     bootstrap = sorted((root / "bootstrap-icons" / "icons").glob("*-fill.svg"))
     awesome = sorted((root / "@fortawesome" / "fontawesome-free" / "svgs" / "solid").glob("*.svg"))
     return bootstrap, awesome
+
+
+def strokes():
+    """Sorted list of Lucide's stroked icon files."""
+    return sorted((install() / "node_modules" / "lucide-static" / "icons").glob("*.svg"))
 
 
 def classic_pairs():
@@ -104,10 +112,12 @@ def glyphs():
     return out
 
 
-def pairs(n_icons=500, n_glyphs=200, seed=20261123):
+def pairs(n_icons=500, n_glyphs=200, seed=20261123, n_strokes=0):
     """(kind, source file, target file) pairs.
 
-    The classic morphs, random icon pairs (each within one icon set), random glyph pairs; a fixed seed.
+    The classic morphs, random icon pairs (each within one icon set), random glyph pairs,
+    random stroked-icon pairs (kind 'stroke', within Lucide); a fixed seed. The stroked pairs
+    come last and from their own generator, so the other pairs stay those of earlier runs.
     """
     rng = np.random.default_rng(seed)
     bootstrap, awesome = icons()
@@ -120,4 +130,10 @@ def pairs(n_icons=500, n_glyphs=200, seed=20261123):
     for _ in range(n_glyphs):
         i, j = rng.choice(len(pool), size=2, replace=False)
         out.append(("glyph", pool[i], pool[j]))
+    if n_strokes:
+        rng = np.random.default_rng(seed + 1)
+        pool = strokes()
+        for _ in range(n_strokes):
+            i, j = rng.choice(len(pool), size=2, replace=False)
+            out.append(("stroke", pool[i], pool[j]))
     return out
