@@ -41,7 +41,6 @@ from typing import NamedTuple
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
-from scipy.sparse.linalg import splu
 
 from ..errors import (
     IncompatibleShapesError,
@@ -52,12 +51,12 @@ from ..errors import (
     ShapeError,
     require,
 )
+from ..geometry import MAX_TRIANGLES, convex_map, edge_table, orient, ring_area, triangle_angles, triangle_areas
 from ..optimisation.barrier import SymmetricDirichlet, max_step, minimise
 from ..shape import Shape
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
 
-MAX_FACES = 2_000_000  # refused before meshing: the overlay and quality step hold several copies
 STALL_SINE = 0.0005  # the quality step stops after three rounds that raise the smallest angle's sine less
 STALL_FACES = 0.002  # and free fewer than this fraction of the faces from below the angle limit
 MAP_ITER = 15  # Newton iterations of the low-distortion map at most
@@ -130,7 +129,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
         clockwise in one shape and counter-clockwise in the other (a mirror).
     ParameterError
         ``mesh_size`` is not a positive number, or so small that the source
-        mesh would pass ``MAX_FACES`` triangles (refused before meshing,
+        mesh would pass ``MAX_TRIANGLES`` triangles (refused before meshing,
         naming the count it would reach).
     MissingDependencyError
         shapely >= 2.1 is missing (``pip install 'isotween[cli]'``).
@@ -161,13 +160,13 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     elif not (np.isscalar(mesh_size) and np.isfinite(mesh_size) and mesh_size > 0):
         raise ParameterError(f"mesh_size must be a positive number, got {mesh_size!r}")
 
-    area = abs(_signed_area(zs[rings[0]])) - sum(abs(_signed_area(zs[r])) for r in rings[1:])
+    area = abs(ring_area(zs[rings[0]])) - sum(abs(ring_area(zs[r])) for r in rings[1:])
     expected = area / (np.sqrt(3) / 4 * mesh_size ** 2)
-    if expected > MAX_FACES:
+    if expected > MAX_TRIANGLES:
         raise ResourceError(
             f"mesh_size={mesh_size:.6g} would make about {expected:.3g} triangles in the source mesh, "
-            f"more than the {MAX_FACES} allowed; use a mesh size of at least "
-            f"{np.sqrt(area / (np.sqrt(3) / 4 * MAX_FACES)):.3g}")
+            f"more than the {MAX_TRIANGLES} allowed; use a mesh size of at least "
+            f"{np.sqrt(area / (np.sqrt(3) / 4 * MAX_TRIANGLES)):.3g}")
     cuts = _cuts(zs, zt, rings)
     cut_edges = np.array([c for _, *pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2)
     fixed_keys = _keys(cut_edges)
@@ -176,8 +175,8 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
 
     # first try: the source mesh mapped by mean-value weights (reproduces affine maps); if a triangle
     # flips, the source mesh pulled onto the target outline with no flip; then the map made least distorted
-    w_tgt = _convex_map(z1, f1, np.arange(K), zt)
-    if not np.all(_areas(w_tgt, f1) > 1e-12 * _scale2(zt)):
+    w_tgt = convex_map(z1, f1, np.arange(K), zt)
+    if not np.all(triangle_areas(w_tgt, f1) > 1e-12 * _scale2(zt)):
         w_tgt = _pulled(z1, f1, K, zt) if pull else None
     overlay = w_tgt is None
     crossings = 0
@@ -196,7 +195,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
         before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
         z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, False)
         w_tgt = _least_distorted(z1, w_tgt, f1, K)
-    a1, a2 = _areas(z1, f1), _areas(w_tgt, f1)
+    a1, a2 = triangle_areas(z1, f1), triangle_areas(w_tgt, f1)
     if not (np.all(a1 > 0) and np.all(a2 > 0)):  # a construction error, never expected
         bad = int(np.flatnonzero((a1 <= 0) | (a2 <= 0))[0])
         raise ShapeError(f"compatible meshing produced a degenerate triangle {bad} {f1[bad].tolist()}; "
@@ -276,15 +275,11 @@ def _check_rings(rings, name):
                 raise ShapeError(f"ring {h} of the {name} (a hole) lies inside ring {g}, another hole")
 
 
-def _signed_area(z):
-    return 0.5 * np.sum((np.conj(z) * np.roll(z, -1)).imag)
-
-
 def _orientation(src, tgt):
     """Per ring, the vertex order that makes the outer ring ccw and the holes cw."""
     order = []
     for r, (a, b) in enumerate(zip(src, tgt, strict=False)):
-        sa, sb = np.sign(_signed_area(a)), np.sign(_signed_area(b))
+        sa, sb = np.sign(ring_area(a)), np.sign(ring_area(b))
         if sa != sb:
             raise IncompatibleShapesError(
                 f"ring {r} runs {'counter-' if sa > 0 else ''}clockwise in the source but "
@@ -302,27 +297,12 @@ def _keys(e):
     return e[:, 0] * (1 << 32) + e[:, 1]
 
 
-def _areas(z, f):
-    """(F,) signed areas of triangles ``f`` (F, 3) over complex positions ``z``."""
-    return 0.5 * (np.conj(z[f[:, 1]] - z[f[:, 0]]) * (z[f[:, 2]] - z[f[:, 0]])).imag
-
-
 def _scale2(z):
     return float(np.ptp(z.real) ** 2 + np.ptp(z.imag) ** 2)
 
 
-def _angles(z, f):
-    """(F, 3) corner angles in radians."""
-    p = z[f]
-    u = p[:, [1, 2, 0]] - p
-    v = p[:, [2, 0, 1]] - p
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ang = np.abs(np.angle(v / u))
-    return np.where(np.isnan(ang), 0.0, ang)
-
-
 def _min_angle(z, f):
-    return float(np.degrees(_angles(z, f).min())) if len(f) else 0.0
+    return float(np.degrees(triangle_angles(z, f).min())) if len(f) else 0.0
 
 
 def _polygon(z, rings):
@@ -389,13 +369,13 @@ def _triangulate(z, rings, constraints, fixed_keys, name):
         raise ShapeError(f"the {name} outline is too close to degenerate to triangulate near "
                          f"({c.real:.6g}, {c.imag:.6g})")
     f = order[idx].reshape(-1, 3)
-    a = _areas(z, f)
+    a = triangle_areas(z, f)
     f[a < 0] = f[a < 0][:, ::-1]
-    area = abs(_signed_area(z[rings[0]])) - sum(abs(_signed_area(z[r])) for r in rings[1:])
+    area = abs(ring_area(z[rings[0]])) - sum(abs(ring_area(z[r])) for r in rings[1:])
     if not np.isclose(np.abs(a).sum(), area, rtol=1e-9, atol=0):
         raise ShapeError(f"the {name} outline is too close to degenerate to triangulate")
     f = _lawson(z, f, fixed_keys, tiny=1e-13 * _scale2(z))
-    thin = np.flatnonzero(_areas(z, f) <= 1e-13 * _scale2(z))
+    thin = np.flatnonzero(triangle_areas(z, f) <= 1e-13 * _scale2(z))
     if thin.size:
         ring_of = np.concatenate([np.full(len(r), i) for i, r in enumerate(rings)])
         local = np.concatenate([np.arange(len(r)) for r in rings])
@@ -413,7 +393,7 @@ def _shared_diagonals(f_src, zt, poly_t, fixed):
     """
     import shapely
 
-    a, b, _, key, twin = _edge_table(f_src)
+    a, b, _, key, twin = edge_table(f_src)
     h = np.flatnonzero((twin > np.arange(len(a))) & ~np.isin(key, _keys(fixed)))
     d = np.c_[a[h], b[h]]
     d = d[_inside(zt, poly_t, d)]
@@ -519,21 +499,6 @@ def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
 
 
 # ---------------------------------------------------------------- refinement
-def _edge_table(f):
-    """Directed half-edges of faces f (F, 3): (a, b, opposite, face, corner) and twin (-1 on the boundary)."""
-    a = f.ravel()
-    b = np.roll(f, -1, axis=1).ravel()
-    c = np.roll(f, -2, axis=1).ravel()
-    key = np.minimum(a, b) * (1 << 32) + np.maximum(a, b)
-    order = np.argsort(key, kind="stable")
-    ks = key[order]
-    twin = np.full(len(a), -1, dtype=np.int64)
-    same = np.flatnonzero(ks[1:] == ks[:-1])
-    twin[order[same]] = order[same + 1]
-    twin[order[same + 1]] = order[same]
-    return a, b, c, key, twin
-
-
 def _incircle(pa, pb, pc, pd):
     """> 0 when pd lies inside the circle through the ccw triangle (pa, pb, pc)."""
     a, b, c = pa - pd, pb - pd, pc - pd
@@ -568,21 +533,21 @@ def _lawson(z, f, fixed_keys, rounds=200, tiny=0.0):
     positive.
     """
     for _ in range(rounds):
-        a, b, c, key, twin = _edge_table(f)
+        a, b, c, key, twin = edge_table(f)
         h = np.flatnonzero((twin > np.arange(len(a))) & ~np.isin(key, fixed_keys))
         d = c[twin[h]]
         s = _incircle(z[a[h]], z[b[h]], z[c[h]], z[d])
         scale = np.abs(z[a[h]] - z[b[h]]) ** 4
         if tiny > 0:
-            area = _areas(z, f)
+            area = triangle_areas(z, f)
             sliver = (area[h // 3] <= tiny) | (area[twin[h] // 3] <= tiny)
             s = np.where(sliver, np.inf, s)
         h, s = h[s > 1e-12 * scale], s[s > 1e-12 * scale]
         if not len(h):
             return f
         h = h[_independent(s, h // 3, twin[h] // 3, len(f))]
-        new1 = _areas(z, np.c_[a[h], c[twin[h]], c[h]])
-        new2 = _areas(z, np.c_[c[twin[h]], b[h], c[h]])
+        new1 = triangle_areas(z, np.c_[a[h], c[twin[h]], c[h]])
+        new2 = triangle_areas(z, np.c_[c[twin[h]], b[h], c[h]])
         h = h[(new1 > 0) & (new2 > 0)]
         if not len(h):
             return f
@@ -603,7 +568,7 @@ def _refine(z, f, fixed_keys, size, rounds=30):
     f = _lawson(z, f.copy(), fixed_keys)
     big = 1.5 * np.sqrt(3) / 4 * size ** 2
     for _ in range(rounds):
-        area = _areas(z, f)
+        area = triangle_areas(z, f)
         bad = np.flatnonzero(area > big)
         if not len(bad):
             break
@@ -614,39 +579,6 @@ def _refine(z, f, fixed_keys, size, rounds=30):
                   np.c_[t[:, 2], t[:, 0], m]]
         f = _lawson(z, f, fixed_keys)
     return z, f
-
-
-# ---------------------------------------------------------------- convex maps
-def _mean_value_laplacian(z, f):
-    """Sparse (N, N) matrix L with rows sum_j w_ij (z_j - z_i), mean-value weights (Floater 2003)."""
-    N = len(z)
-    ang = _angles(z, f)
-    t = np.tan(ang / 2)
-    i = f.ravel()
-    j = np.roll(f, -1, axis=1).ravel()
-    k = np.roll(f, -2, axis=1).ravel()
-    w_ij = t.ravel() / np.abs(z[j] - z[i])
-    w_ik = t.ravel() / np.abs(z[k] - z[i])
-    rows, cols, w = np.r_[i, i], np.r_[j, k], np.r_[w_ij, w_ik]
-    W = coo_matrix((w, (rows, cols)), shape=(N, N)).tocsr()
-    return W - coo_matrix((np.asarray(W.sum(axis=1)).ravel(), (np.arange(N), np.arange(N))), shape=(N, N))
-
-
-def _convex_map(z, f, fixed, values):
-    """Positions (N,) complex: ``values`` at vertices ``fixed``, mean-value combinations elsewhere.
-
-    ``z`` (N,) complex gives the weights (from the shape of the triangles f (F, 3)).
-    """
-    out = z.astype(complex)  # vertices in no face stay where they are
-    out[fixed] = values
-    free = np.setdiff1d(np.unique(f), fixed)
-    if len(free):
-        L = _mean_value_laplacian(z, f).tocsr()
-        rhs = -(L[free][:, fixed] @ values)
-        lu = splu(L[free][:, free].tocsc())
-        sol = lu.solve(np.c_[rhs.real, rhs.imag])
-        out[free] = sol[:, 0] + 1j * sol[:, 1]
-    return out
 
 
 # ---------------------------------------------------------------- low-distortion map
@@ -754,18 +686,13 @@ def _disc_cycle(rings, cuts, first_copy):
     return np.array(out, dtype=np.int64)
 
 
-def _orient(pa, pb, pc):
-    """Twice the signed area of (pa, pb, pc); > 0 when pc lies left of pa -> pb."""
-    return (np.conj(pb - pa) * (pc - pa)).imag
-
-
 def _side(D, pos, B, u, a, b):
     """(m,) side of vertices u against chords a -> b: +1 left, -1 right, 0 endpoint.
 
     Boundary vertices are decided by their cyclic order on the circle (exact);
     interior ones by the orientation sign.
     """
-    s = np.sign(_orient(D[a], D[b], D[u])).astype(np.int64)
+    s = np.sign(orient(D[a], D[b], D[u])).astype(np.int64)
     on = pos[u] >= 0
     pa, pb, pu = pos[a][on], pos[b][on], pos[u][on]
     right = ((pu - pa) % B) < ((pb - pa) % B)
@@ -802,11 +729,11 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     ls = np.abs(np.diff(zs_all[np.r_[cyc, cyc[:1]]]))
     lt = np.abs(np.diff(zt_all[np.r_[cyc, cyc[:1]]]))
     s = 0.5 * (np.r_[0, np.cumsum(ls)[:-1]] / ls.sum() + np.r_[0, np.cumsum(lt)[:-1]] / lt.sum())
-    D = _convex_map(zs_all, F1, cyc, np.exp(2j * np.pi * s))
+    D = convex_map(zs_all, F1, cyc, np.exp(2j * np.pi * s))
 
     # target chords: edges of F2 that are neither boundary edges nor edges of F1
-    a1, b1, _, key1, twin1 = _edge_table(F1)
-    a2, b2, _, key2, twin2 = _edge_table(F2)
+    a1, b1, _, key1, twin1 = edge_table(F1)
+    a2, b2, _, key2, twin2 = edge_table(F2)
     rep2 = np.flatnonzero(twin2 > np.arange(len(a2)))
     chords = np.c_[a2[rep2], b2[rep2]]
     chords = chords[~np.isin(key2[rep2], key1)]
@@ -825,7 +752,7 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
         e, c = candidates()
         u = np.r_[lo[e], hi[e]]
         cc = np.r_[c, c]
-        near = interior[u] & (np.abs(_orient(D[ca[cc]], D[cb[cc]], D[u])) < tol * np.abs(D[cb[cc]] - D[ca[cc]]))
+        near = interior[u] & (np.abs(orient(D[ca[cc]], D[cb[cc]], D[u])) < tol * np.abs(D[cb[cc]] - D[ca[cc]]))
         if not near.any():
             break
         for vert, ch in zip(*np.unique(np.c_[u[near], cc[near]], axis=0).T, strict=True):
@@ -833,8 +760,8 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     su, sv = _side(D, pos, B, lo[e], ca[c], cb[c]), _side(D, pos, B, hi[e], ca[c], cb[c])
     hit = su * sv == -1
     e, c = e[hit], c[hit]
-    ou = _orient(D[ca[c]], D[cb[c]], D[lo[e]])
-    ov = _orient(D[ca[c]], D[cb[c]], D[hi[e]])
+    ou = orient(D[ca[c]], D[cb[c]], D[lo[e]])
+    ov = orient(D[ca[c]], D[cb[c]], D[hi[e]])
     te = np.abs(ou) / (np.abs(ou) + np.abs(ov))  # along lo -> hi; the sides are known exactly
     ncross = len(e)
     Nd = len(orig)
@@ -924,8 +851,8 @@ def _locate(D, F2, zt_all, inner):
     pi, ti = shapely.STRtree(tri).query(pts, predicate="intersects")
     A, Bc, C = D[F2[ti, 0]], D[F2[ti, 1]], D[F2[ti, 2]]
     p = D[inner[pi]]
-    area = _orient(A, Bc, C)
-    lam = np.c_[_orient(Bc, C, p), _orient(C, A, p), _orient(A, Bc, p)] / area[:, None]
+    area = orient(A, Bc, C)
+    lam = np.c_[orient(Bc, C, p), orient(C, A, p), orient(A, Bc, p)] / area[:, None]
     best = np.lexsort((-lam.min(axis=1), pi))
     firsts = np.r_[True, pi[best][1:] != pi[best][:-1]]
     sel = best[firsts]
@@ -944,7 +871,7 @@ def _nudge(D, F, vert, direction, tol):
     for step in 1e3 * tol * 0.5 ** np.arange(12):
         for sgn in (1, -1):
             D[vert] = old + sgn * step * n
-            if np.all(_areas(D, F[star]) > 0):
+            if np.all(triangle_areas(D, F[star]) > 0):
                 return
     D[vert] = old
 
@@ -979,7 +906,7 @@ def _quality(z, w, f):
 
 
 def _valid(z, w, f, eps):
-    return (_areas(z, f) > eps[0]) & (_areas(w, f) > eps[1])
+    return (triangle_areas(z, f) > eps[0]) & (triangle_areas(w, f) > eps[1])
 
 
 def _colour_classes(f, N, K, seed=0):
@@ -1102,7 +1029,7 @@ def _joint_flips(z, w, f, eps, limit=0.5):
     Only edges where that angle's sine is below ``limit`` are flipped; f is
     changed in place. Returns the number of flips.
     """
-    a, b, c, key, twin = _edge_table(f)
+    a, b, c, key, twin = edge_table(f)
     qf = _quality(z, w, f)
     h = np.flatnonzero(twin > np.arange(len(a)))
     q_old = np.minimum(qf[h // 3], qf[twin[h] // 3])
@@ -1193,12 +1120,12 @@ def _joint_refine(z, w, f, size, rounds=30):
     Large means larger than an equilateral triangle of side ``size`` (in the
     source; the target size is scaled by the area ratio).
     """
-    ratio = np.sqrt(abs(_areas(w, f).sum() / _areas(z, f).sum()))
+    ratio = np.sqrt(abs(triangle_areas(w, f).sum() / triangle_areas(z, f).sum()))
     big_s = 1.5 * np.sqrt(3) / 4 * size ** 2
     big_t = big_s * ratio ** 2
     eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
     for _ in range(rounds):
-        bad = np.flatnonzero((_areas(z, f) > big_s) | (_areas(w, f) > big_t))
+        bad = np.flatnonzero((triangle_areas(z, f) > big_s) | (triangle_areas(w, f) > big_t))
         if not len(bad):
             break
         m = len(z) + np.arange(len(bad))
