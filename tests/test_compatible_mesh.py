@@ -265,7 +265,7 @@ def test_smoothing_keeps_both_meshes_valid_and_the_boundary_fixed():
     # the colour-class smoothing on its own, from random valid meshes of random stars: no face of
     # either mesh may lose its positive area, no ring vertex may move, the connectivity is kept,
     # and every colour class is an independent set
-    from isotween.correspondence import compatible_mesh as cm
+    from isotween.correspondence import _quality as cm
     from isotween.geometry import triangle_areas
 
     rng = np.random.default_rng(11)
