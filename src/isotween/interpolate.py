@@ -16,7 +16,7 @@ from .errors import MethodError
 from .initialisation import INITIALISERS
 from .optimisation.global_solver import LINEAR_SOLVERS
 from .optimisation.local_solver import ASSEMBLY
-from .optimisation.problem import Result, bbox_diagonal
+from .optimisation.problem import DEFAULT_TOL, Result, bbox_diagonal
 from .optimisation.schemes import SCHEMES
 from .optimisation.solve import SOLVERS, solve
 from .paint import paint_keys
@@ -38,7 +38,7 @@ FOLDS = ("allow", "fallback")
 
 
 def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver: str = "local",
-                init: str = "edge", scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
+                init: str = "edge", scheme: str = "midpoint", tol: float = DEFAULT_TOL, max_iter: int = 100,
                 callback: Callable[[int, float, float], object] | None = None, method: str = "aiap",
                 times: ArrayLike | None = None, assembly: str = "shared",
                 linear_solver: str = "cg", max_memory: float | None = None,

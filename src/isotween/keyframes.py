@@ -14,7 +14,7 @@ from .easing import frame_times as eased_times
 from .errors import ParameterError
 from .interpolate import interpolate
 from .optimisation.local_solver import ASSEMBLY
-from .optimisation.problem import bbox_diagonal
+from .optimisation.problem import DEFAULT_TOL, bbox_diagonal
 from .optimisation.schemes import SCHEMES
 from .optimisation.solve import solve
 from .paint import paint_keys
@@ -37,7 +37,7 @@ __all__ = ["interpolate_keyframes"]
 def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None = None,
                           frames: int | None = None,
                           easing: str | Callable[[np.ndarray], np.ndarray] = "linear", init: str = "edge",
-                          scheme: str = "midpoint", tol: float = 5e-4, max_iter: int = 100,
+                          scheme: str = "midpoint", tol: float = DEFAULT_TOL, max_iter: int = 100,
                           smooth: float = 1.0, assembly: str = "shared",
                           callback: Callable[..., object] | None = None,
                           max_memory: float | None = None, solver: str = "local",

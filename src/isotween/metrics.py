@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, overload
 import numpy as np
 
 from .errors import ParameterError
-from .optimisation.problem import bbox_diagonal
+from .geometry import bbox_diagonal, orient, ring_areas
 from .optimisation.schemes import SCHEMES
 from .optimisation.schemes import isometric_energy as _energy
 
@@ -105,14 +105,7 @@ def loop_areas(seq: Sequence) -> np.ndarray:
     loops = [p for p, closed in (shape.paths or []) if closed]
     if not loops:
         return np.zeros((len(seq), 0))
-    idx = np.concatenate(loops)
-    nxt = np.concatenate([np.roll(p, -1) for p in loops])
-    owner = np.repeat(np.arange(len(loops)), [len(p) for p in loops])
-    z = seq.z
-    cross = 0.5 * (z[:, idx].conj() * z[:, nxt]).imag  # shoelace terms
-    out = np.zeros((len(seq), len(loops)))
-    np.add.at(out.T, owner, cross.T)
-    return out
+    return ring_areas(seq.z, loops)
 
 
 @overload
@@ -227,9 +220,6 @@ def _crossing_pairs(z, edges, group=None):
     if group is not None:
         keep &= group[i] == group[j]
     i, j = i[keep], j[keep]
-
-    def orient(p, q, r):
-        return ((q - p).conj() * (r - p)).imag
 
     d1, d2 = orient(a[i], b[i], a[j]), orient(a[i], b[i], b[j])
     d3, d4 = orient(a[j], b[j], a[i]), orient(a[j], b[j], b[i])

@@ -501,10 +501,9 @@ class Shape:
         >>> Shape.from_polyline([[0, 0], [3, 4]]).bbox_diagonal()
         5.0
         """
-        if not len(self.vertices):
-            return 0.0
-        d = self.vertices.max(axis=0) - self.vertices.min(axis=0)
-        return float(np.sqrt(d @ d))
+        from .geometry import bbox_diagonal  # the kernel sits above the model: imported at call time
+
+        return bbox_diagonal(self.vertices) if len(self.vertices) else 0.0
 
     def with_vertices(self, vertices: ArrayLike) -> Shape:
         """A shape with the same connectivity (and uv, paths, paint) at new positions.
@@ -561,9 +560,9 @@ class Shape:
         v = self.vertices if vertices is None else np.asarray(vertices)
         if self.faces is None:
             return np.zeros(v.shape[:-2] + (0,))
-        a, b, c = (v[..., self.faces[:, i], :] for i in range(3))
-        ab, ac = b - a, c - a
-        return 0.5 * (ab[..., 0] * ac[..., 1] - ab[..., 1] * ac[..., 0])
+        from .geometry import triangle_areas  # the kernel sits above the model: imported at call time
+
+        return triangle_areas(v, self.faces)
 
     # ------------------------------------------------------------------ value semantics
     def _freeze(self) -> None:

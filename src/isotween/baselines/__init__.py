@@ -35,6 +35,7 @@ import time
 import numpy as np
 
 from ..errors import MethodError
+from ..optimisation.problem import DEFAULT_TOL
 from ..times import frame_times
 
 __all__ = ["METHODS", "run"]
@@ -107,7 +108,7 @@ def run(method, source, target, n_frames, *, times=None, **options):
     check_compatible(source, target)
     t = frame_times(n_frames, times)
     options = {k: v for k, v in options.items() if v is not None}
-    options.setdefault("tol", 5e-4)
+    options.setdefault("tol", DEFAULT_TOL)
     options.setdefault("max_iter", 100)
     check_stopping(options["tol"], options["max_iter"])
     problem = keyed_problem([source, target], t, np.array([0, len(t) - 1]), init=None, scheme="midpoint",

@@ -30,7 +30,8 @@ from scipy.sparse import coo_matrix, identity
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
-from ..errors import IncompatibleShapesError, IsotweenError, MethodError
+from ..errors import IncompatibleShapesError, IsotweenError, MethodError, ShapeError
+from ..geometry import boundary_loops, mean_value_weights, ring_area, triangle_areas
 from ..optimisation.problem import Result
 
 __all__ = ["solve", "per_component", "disc", "Disc", "ConvexFrames", "place", "SIDES"]
@@ -99,7 +100,7 @@ def per_component(problem, name, solve):
     if loose.size:
         raise MethodError(f"method {name!r} needs solid regions: {loose.size} vertex(es) lie in no face "
                           f"(open polylines or outlines), first: vertex {loose[0]}")
-    a_s, a_t = _areas(zs, f), _areas(zt, f)
+    a_s, a_t = triangle_areas(zs, f), triangle_areas(zt, f)
     if np.any(a_s == 0):
         raise MethodError(f"method {name!r}: triangle {np.flatnonzero(a_s == 0)[0]} of the source has zero area")
     bad = np.flatnonzero(np.sign(a_s) != np.sign(a_t))
@@ -189,7 +190,7 @@ def disc(zs, zt, f):
         cannot be meshed compatibly.
     """
     loops = _boundary_loops(f, len(zs))
-    outer = int(np.argmax([abs(_ring_area(zs[p])) for p in loops]))
+    outer = int(np.argmax([abs(ring_area(zs[p])) for p in loops]))
     loops = [loops[outer]] + loops[:outer] + loops[outer + 1:]
     cs, ct = zs.mean(), zt.mean()
     rot = np.sum(np.conj(zs - cs) * (zt - ct))
@@ -233,7 +234,7 @@ class ConvexFrames:
     """
 
     def __init__(self, d):
-        Ws, Wa = _weights(d.ws, d.faces), _weights(d.wa, d.faces)
+        Ws, Wa = mean_value_weights(d.ws, d.faces), mean_value_weights(d.wa, d.faces)
         self.disc = d
         self.free = np.setdiff1d(np.arange(len(d.ws)), d.boundary)
         self._eye = identity(len(self.free), format="csc")
@@ -284,63 +285,8 @@ def _mesh(rings_s, rings_a):
 
 
 def _boundary_loops(f, n):
-    """Boundary loops of counter-clockwise faces f (F, 3), each a (k,) int array in order.
-
-    Raises
-    ------
-    MethodError
-        Two boundary loops meet at a vertex, or an edge has more than two faces.
-    """
-    half = np.stack([f, np.roll(f, -1, axis=1)], axis=-1).reshape(-1, 2)
-    key = half[:, 0] * n + half[:, 1]
-    twin = half[:, 1] * n + half[:, 0]
-    if len(np.unique(key)) < len(key):
-        raise MethodError("an edge is shared by more than two triangles (or two with the same orientation)")
-    side = half[~np.isin(key, twin)]
-    start, count = np.unique(side[:, 0], return_counts=True)
-    if np.any(count > 1):
-        raise MethodError(f"two boundary loops meet at vertex {start[count > 1][0]}")
-    # list ranking by pointer doubling: the steps from each loop's first vertex
-    pos = np.full(n, -1)
-    pos[start] = np.arange(len(start))
-    succ = np.empty(len(start), dtype=np.int64)
-    succ[pos[side[:, 0]]] = pos[side[:, 1]]
-    _, label = connected_components(
-        coo_matrix((np.ones(len(succ)), (np.arange(len(succ)), succ)), shape=(len(succ),) * 2), directed=False)
-    _, root = np.unique(label, return_index=True)
-    jump = np.empty_like(succ)
-    jump[succ] = np.arange(len(succ))  # the predecessor
-    jump[root] = root
-    rank = np.ones(len(succ), dtype=np.int64)
-    rank[root] = 0
-    while np.any(jump != jump[jump]):
-        rank += rank[jump]
-        jump = jump[jump]
-    order = np.lexsort((rank, label))
-    return np.split(start[order], np.cumsum(np.bincount(label))[:-1])
-
-
-def _ring_area(z):
-    return 0.5 * np.sum((np.conj(z) * np.roll(z, -1)).imag)
-
-
-def _areas(z, f):
-    a, b, c = z[f[:, 0]], z[f[:, 1]], z[f[:, 2]]
-    return 0.5 * (np.conj(b - a) * (c - a)).imag
-
-
-def _weights(z, f):
-    """(N, N) sparse normalised mean-value weights (Floater 2003): rows sum to 1.
-
-    For the corner at vertex i of a triangle (i, j, k) with angle a,
-    w_ij += tan(a/2) / |z_j - z_i| and w_ik += tan(a/2) / |z_k - z_i|.
-    """
-    N = len(z)
-    i, j, k = f.ravel(), np.roll(f, -1, axis=1).ravel(), np.roll(f, -2, axis=1).ravel()
-    dj, dk = z[j] - z[i], z[k] - z[i]
-    half = np.tan(np.abs(np.angle(dk / dj)) / 2)
-    rows, cols = np.r_[i, i], np.r_[j, k]
-    w = np.r_[half / np.abs(dj), half / np.abs(dk)]
-    total = np.bincount(rows, weights=w, minlength=N)
-    total[total == 0] = 1
-    return coo_matrix((w / total[rows], (rows, cols)), shape=(N, N)).tocsr()
+    """`isotween.geometry.boundary_loops`, its ShapeError raised as MethodError."""
+    try:
+        return boundary_loops(f, n)
+    except ShapeError as exc:
+        raise MethodError(str(exc)) from None

@@ -2,6 +2,7 @@
 
 import click
 
+from .._defaults import DEFAULT_TOL
 from ..errors import ParameterError
 from .options import frames_option, timer
 
@@ -14,7 +15,7 @@ from .options import frames_option, timer
               show_default=True,
               help="Comma-separated methods to compare.")
 @frames_option
-@click.option("--tol", type=float, default=5e-4, show_default=True,
+@click.option("--tol", type=float, default=DEFAULT_TOL, show_default=True,
               help="Stopping rule of the iterative methods (Eq. 11).")
 @click.option("--max-iter", type=int, default=100, show_default=True, help="Iteration limit.")
 @click.option("-o", "--output", "report_dir", required=True,

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import click
 
+from .._defaults import DEFAULT_TOL
 from ..errors import FileFormatError, IncompatibleShapesError, require
 from ..io import atomic_path
 from ..outputs import FORMATS, output_kind, with_paint, write_output
@@ -122,7 +123,7 @@ def _solver_option(key):
                              help="Initial guess: edge-vector interpolation (Eqs. 12-13) or linear blending."),
         "scheme": click.option("--scheme", type=click.Choice(tuple(SCHEMES)), default="midpoint", show_default=True,
                                help="Time discretisation of the energy (Eq. 6)."),
-        "tol": click.option("--tol", type=float, default=5e-4, show_default=True,
+        "tol": click.option("--tol", type=float, default=DEFAULT_TOL, show_default=True,
                             help="Stop when no vertex moves more than tol x bounding-box diagonal (Eq. 11)."),
         "max_iter": click.option("--max-iter", type=int, default=100, show_default=True, help="Iteration limit."),
         "method": click.option("--method", type=click.Choice(("aiap",) + tuple(BASELINES)), default="aiap",

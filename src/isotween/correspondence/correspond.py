@@ -17,6 +17,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import IncompatibleShapesError, IsotweenError, ParameterError, ResourceError, ShapeError
+from ..geometry import MAX_TRIANGLES, bbox_diagonal
 from ..shape import Shape
 from . import regions as _regions
 from .alignment import align
@@ -27,7 +28,6 @@ from .resample import _counts, _Ring, resample
 __all__ = ["Correspondence", "CorrespondenceReport", "correspond", "correspond_keys", "MAX_TRIANGLES"]
 
 #: meshes estimated to need more triangles than this (all regions together) are refused
-MAX_TRIANGLES = 2_000_000
 
 #: a landmark point may lie at most this fraction of its drawing's diagonal from an outline
 LANDMARK_REACH = 0.05
@@ -573,7 +573,7 @@ def _solids(shapes, report, mesh_size):
         return shape.vertices[shape.paths[p][0]]
 
     both = np.vstack([src.vertices, tgt.vertices])
-    coarsest = MESH_FRACTION * float(np.hypot(*np.ptp(both, axis=0)))
+    coarsest = MESH_FRACTION * bbox_diagonal(both)
     for r in src.regions:
         rs, rt = [ring_xy(src, p) for p in r], [ring_xy(tgt, p) for p in r]
         size = mesh_size

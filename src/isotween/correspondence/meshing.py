@@ -26,6 +26,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
 from ..errors import ParameterError, ResourceError, ShapeError, require
+from ..geometry import cotangent_laplacian, ring_area
 from ..resources import check_memory
 from ..shape import Shape
 from .compatibility import as_shape, check_compatible
@@ -89,7 +90,7 @@ def mesh_pair(source: ShapeLike, target: ShapeLike, max_area: float | None = Non
         memory available now. The triangle count is estimated from the
         enclosed area and ``max_area`` before meshing (`ResourceError` when
         too many). The default mesher refuses a mesh size past
-        `compatible_mesh.MAX_FACES` triangles before meshing.
+        `isotween.geometry.MAX_TRIANGLES` triangles before meshing.
 
     Returns
     -------
@@ -138,7 +139,7 @@ def mesh_pair(source: ShapeLike, target: ShapeLike, max_area: float | None = Non
     _check_distinct(source)
     if mesh_size is None and max_area is not None:
         mesh_size = float(np.sqrt(4 * max_area / np.sqrt(3)))
-    area = [abs(np.sum((np.conj(source.z[p]) * np.roll(source.z[p], -1)).imag)) for p, _ in source.paths]
+    area = [abs(ring_area(source.z[p])) for p, _ in source.paths]
     paths = [source.paths[i][0] for i in np.argsort(-np.array(area), kind="stable")]  # the outer ring first
     ring_ids = np.concatenate(paths)
     try:
@@ -211,8 +212,7 @@ _AREA_SLACK = 2.0
 
 def _enclosed_area(shape):
     """Sum of the absolute areas of the closed rings (an upper bound of the filled area)."""
-    z = shape.z
-    return float(sum(abs(0.5 * np.sum((z[p].conj() * z[np.roll(p, -1)]).imag)) for p, c in shape.paths or [] if c))
+    return float(sum(abs(ring_area(shape.z[p])) for p, c in shape.paths or [] if c))
 
 
 def _check_max_area(vertices, faces, max_area, segments, z):
@@ -351,14 +351,8 @@ def _harmonic(vertices, faces, n, boundary):
     -------
     (N,) complex array
     """
-    p = vertices[:, 0] + 1j * vertices[:, 1]
-    N = len(p)
-    # the angle at each corner weighs the side opposite it, (j, k)
-    j, k = np.roll(faces, -1, axis=1), np.roll(faces, -2, axis=1)
-    uv = (p[j] - p[faces]).conj() * (p[k] - p[faces])
-    w, rows, cols = 0.5 * (uv.real / np.abs(uv.imag)).ravel(), j.ravel(), k.ravel()
-    W = coo_matrix((np.r_[w, w], (np.r_[rows, cols], np.r_[cols, rows])), shape=(N, N)).tocsr()
-    L = (coo_matrix((np.asarray(W.sum(axis=1)).ravel(), (np.arange(N), np.arange(N))), shape=(N, N)) - W).tocsc()
+    N = len(vertices)
+    L = cotangent_laplacian(vertices, faces)
     z = np.empty(N, dtype=complex)
     z[:n] = boundary
     if N > n:

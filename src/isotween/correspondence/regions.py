@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import IncompatibleShapesError, ParameterError, ShapeError
-from ..geometry import fill_regions, ring_area, winding_numbers
+from ..geometry import fill_regions, ring_area, ring_centroid, winding_numbers
 
 __all__ = ["Item", "Slot", "Frame", "TINY", "items_of", "frames_of", "plan", "winding_numbers", "fill_regions",
            "ring_area", "centroid", "inside_point", "region_polygon", "small_copy"]
@@ -75,12 +75,7 @@ class Slot(NamedTuple):
 def centroid(z, closed):
     """Area centroid of a closed ring (vertex mean if flat), length-weighted mean of a polyline."""
     if closed:
-        w = np.roll(z, -1)
-        cross = (np.conj(z) * w).imag
-        a = cross.sum()
-        if abs(a) > 1e-12 * max(np.ptp(z.real), np.ptp(z.imag), 1e-300) ** 2:
-            return complex(np.sum((z + w) * cross) / (3 * a))
-        return complex(z.mean())
+        return ring_centroid(z)
     mid, seg = 0.5 * (z[1:] + z[:-1]), np.abs(np.diff(z))
     return complex(np.sum(mid * seg) / seg.sum()) if seg.sum() > 0 else complex(z.mean())
 

@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import IncompatibleShapesError, ParameterError, ShapeError
+from ..geometry import ring_orientation
 from ..shape import Shape
 
 if TYPE_CHECKING:
@@ -318,8 +319,8 @@ def _best_start(x, ring, rotation, keep_turn=False):
     best = (-np.inf, 0.0, False)
     allowed = (False, True)
     if keep_turn:
-        turn = np.sign(np.sum((np.conj(x) * np.roll(x, -1)).imag))
-        own = np.sign(np.sum((np.conj(ring.z) * np.roll(ring.z, -1)).imag))
+        turn = ring_orientation(x)
+        own = ring_orientation(ring.z)
         allowed = (bool(turn != own),)
     for reverse, r in zip((False, True), both, strict=False):
         if reverse not in allowed:

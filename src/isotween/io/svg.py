@@ -24,7 +24,7 @@ from xml.parsers import expat
 import numpy as np
 
 from ..errors import FileFormatError, ParameterError, ShapeError, require
-from ..geometry import fill_regions
+from ..geometry import bbox_diagonal, fill_regions, ring_area
 from ..paint import Paint, paint_groups, svg_paint_attributes
 from ..resources import check_memory
 from ..shape import MAX_COORDINATE, Shape
@@ -242,7 +242,7 @@ def read_svg(path, curve_segments=None):
             kind = "closed subpath" if closed else "open subpath"
             if len(points) < need:
                 dropped.append(f"{label}: {kind} {k} has {len(points)} distinct point(s), needs {need}")
-            elif paint.filled and abs(_ring_area(points)) <= 1e-9 * _ring_length(points) ** 2:
+            elif paint.filled and abs(ring_area(points)) <= 1e-9 * _ring_length(points) ** 2:
                 dropped.append(f"{label}: filled subpath {k} encloses no area")
             else:
                 kept.append((points, closed))
@@ -301,7 +301,7 @@ def _control_diagonal(segment_lists):
     if not pts:
         return 0.0
     xy = np.asarray(pts, dtype=np.float64)
-    return float(np.hypot(*np.ptp(xy, axis=0)))
+    return bbox_diagonal(xy)
 
 
 def _check_curve_segments(curve_segments):
@@ -488,12 +488,6 @@ def _paint(path, el, tag, label):
         return Paint(fill=fill, stroke=stroke, stroke_width=float(width or 0.0), opacity=opacity)
     except (TypeError, ValueError, ParameterError) as exc:
         raise FileFormatError(f"{path}: {label}: unreadable paint ({exc})") from None
-
-
-def _ring_area(points):
-    """Signed shoelace area of a closed ring (k, 2)."""
-    x, y = points[:, 0], points[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
 
 def _ring_length(points):

@@ -16,18 +16,13 @@ from scipy.sparse import csc_matrix, diags
 from scipy.sparse.linalg import splu
 
 from ..errors import MethodError, require
+from ..geometry import triangle_areas
 from .assembly import HAVE_CHOLMOD
 
 __all__ = ["SymmetricDirichlet", "minimise", "max_step", "triangle_areas", "TOL", "ARMIJO"]
 
 TOL = 1e-3  # stop when an iteration lowers the energy by less than this fraction of its excess
 ARMIJO = 1e-4
-
-
-def triangle_areas(z, faces):
-    """(K,) signed areas of the triangles ``faces`` (K, 3) of positions ``z`` (N,) complex."""
-    p = z[faces]
-    return 0.5 * ((np.conj(p[:, 1] - p[:, 0]) * (p[:, 2] - p[:, 0])).imag)
 
 
 def max_step(z, d, faces):

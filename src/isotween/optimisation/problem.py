@@ -17,27 +17,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._defaults import DEFAULT_TOL
 from ..errors import ParameterError
+from ..geometry import bbox_diagonal
 from ..sequence import Sequence
 
 if TYPE_CHECKING:
     from ..shape import Shape
 
-__all__ = ["Problem", "Result", "bbox_diagonal", "pack"]
-
-
-def bbox_diagonal(*vertices: np.ndarray) -> float:
-    """Length of the diagonal of the bounding box of all (n_i, 2) vertex arrays together.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from isotween.optimisation.problem import bbox_diagonal
-    >>> bbox_diagonal(np.array([[0.0, 0.0]]), np.array([[3.0, 4.0]]))
-    5.0
-    """
-    both = np.concatenate(vertices)
-    return float(np.hypot(*(both.max(axis=0) - both.min(axis=0))))
+__all__ = ["Problem", "Result", "bbox_diagonal", "pack", "DEFAULT_TOL"]
 
 
 def pack(z: np.ndarray) -> np.ndarray:

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
+from ..geometry import bbox_diagonal
 
 __all__ = ["CurvePath", "fit_curves", "curve_controls", "TOLERANCE", "CORNER"]
 
@@ -270,7 +271,7 @@ def fit_curves(frames, paths, tolerance=None, corner=CORNER):
         raise ParameterError(f"frames must have shape (F, n, 2), got {frames.shape}")
     if tolerance is None:
         flat = frames.reshape(-1, 2)
-        tolerance = TOLERANCE * float(np.hypot(*np.ptp(flat, axis=0))) if len(flat) else TOLERANCE
+        tolerance = TOLERANCE * bbox_diagonal(flat) if len(flat) else TOLERANCE
     for name, value in (("tolerance", tolerance), ("corner", corner)):
         if not np.isfinite(value) or value <= 0:
             raise ParameterError(f"the curve {name} must be a positive number, got {value!r}")

@@ -7,6 +7,7 @@ from matplotlib.patches import PathPatch
 from matplotlib.path import Path
 
 from ..errors import ParameterError
+from ..geometry import ring_area
 from ..io import atomic_path
 from ..paint import paint_groups
 from ._view import bbox_of, check_frames, fit_view, image_size
@@ -50,8 +51,7 @@ def _rings_path(vertices, rings):
     parts, codes = [], []
     for i, loop in enumerate(loops):
         depth = sum(outlines[j].contains_point(loop[0]) for j in range(len(loops)) if j != i)
-        x, y = loop[:, 0], loop[:, 1]
-        area = 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
+        area = ring_area(loop)
         if (area > 0) == bool(depth % 2):
             loop = loop[::-1]
         parts.append(np.vstack([loop, loop[:1]]))

@@ -11,6 +11,7 @@ from xml.sax.saxutils import escape
 import numpy as np
 
 from .._text import document_text
+from ..geometry import bbox_diagonal
 from ..io import write_text
 from ..paint import sequence_paint, svg_paint_attributes
 from ._view import decimals
@@ -179,7 +180,7 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
     check_output_memory("svg", 0, 0, len(order), "an animated SVG", vertices=shape.n_vertices)
     regions, paints = sequence_paint(seq)
     box = view_box(frames)
-    diagonal = float(np.hypot(*np.ptp(frames.reshape(-1, 2), axis=0)))
+    diagonal = bbox_diagonal(frames.reshape(-1, 2))
     tolerance = TOLERANCE * diagonal if tolerance is None else tolerance
     key_tolerance = KEY_TOLERANCE * diagonal if key_tolerance is None else key_tolerance
     # before: 1e-4 of the size; lean: rounding within an eighth of the curve tolerance

@@ -1,0 +1,313 @@
+"""Compatible meshes, stage 4: joint quality improvement (collapses, flips, smoothing) of two meshes.
+
+Part of `isotween.correspondence.compatible_mesh` (see its description).
+"""
+
+import numpy as np
+from scipy.sparse import coo_matrix
+
+from ..geometry import edge_table, triangle_areas
+from ._disc import _flip, _independent, _scale2
+
+STALL_SINE = 0.0005  # the quality step stops after three rounds that raise the smallest angle's sine less
+STALL_FACES = 0.002  # and free fewer than this fraction of the faces from below the angle limit
+
+
+# ---------------------------------------------------------------- joint quality improvement
+def _sine(z, f):
+    """(F,) sine of the smallest corner angle, 2 A l_min / (l_1 l_2 l_3); negative when inverted.
+
+    (The smallest angle is at most 60 degrees and the sine of an obtuse angle
+    is the sine of the sum of the other two, so the smallest sine is the
+    sine of the smallest angle.)
+    """
+    return _sine_area(z, f)[0]
+
+
+def _sine_area(z, f):
+    """(F,) `_sine` and (F,) signed area of triangles ``f`` (F, 3), from one pass over the sides."""
+    u = z[f[:, 1]] - z[f[:, 0]]
+    v = z[f[:, 2]] - z[f[:, 0]]
+    cross = (np.conj(u) * v).imag  # 2 A
+    d = v - u
+    l1, l2, l3 = u.real ** 2 + u.imag ** 2, v.real ** 2 + v.imag ** 2, d.real ** 2 + d.imag ** 2
+    prod = l1 * l2 * l3
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = cross * np.sqrt(np.minimum(np.minimum(l1, l2), l3) / prod)
+    return np.where(prod > 0, q, 0.0), 0.5 * cross
+
+
+def _quality(z, w, f):
+    """(F,) sine of the smallest corner angle of every face over both meshes."""
+    return np.minimum(_sine(z, f), _sine(w, f))
+
+
+def _valid(z, w, f, eps):
+    return (triangle_areas(z, f) > eps[0]) & (triangle_areas(w, f) > eps[1])
+
+
+def _colour_classes(f, N, K, seed=0):
+    """Independent sets of the vertices K.. that have faces, covering all of them.
+
+    Greedy by random priority (Luby): a vertex joins the current class when
+    its priority beats that of every neighbour not yet in a class.
+
+    Returns
+    -------
+    (N,) int : the class of every vertex, -1 for the first K and unused ones
+    """
+    a, b = f.ravel(), np.roll(f, -1, axis=1).ravel()  # in a closed fan every neighbour once
+    prio = np.argsort(np.argsort(np.random.default_rng(seed).random(N)))  # distinct ranks: the best left vertex joins
+    left = np.bincount(a, minlength=N) > 0
+    left[:K] = False
+    colour = np.full(N, -1, dtype=np.int64)
+    k = 0
+    while left.any():
+        e = left[a] & left[b]
+        top = np.full(N, -1)
+        np.maximum.at(top, a[e], prio[b[e]])
+        pick = left & (prio > top)
+        colour[pick] = k
+        left &= ~pick
+        k += 1
+    return colour
+
+
+def _smooth(z, w, f, K, eps, joint):
+    """Move every interior vertex to a better place, one independent set (colour class) at a time.
+
+    Goals, from the current positions: the area-weighted mean of the
+    circumcentres of the star (optimal Delaunay triangulation smoothing, Chen
+    and Xu 2004; not with ``joint``), else the neighbours' mean, at full,
+    half and quarter step. All vertices of a class move together (their
+    stars share no face) and each is judged on its own star: a move is
+    kept where every face of the star keeps a positive area and the star's
+    smallest angle grows. ``joint``: a vertex moves in both meshes or in
+    neither, judged on the smaller angle of the two (this keeps a target
+    that is an affine image of the source one); otherwise each mesh on its
+    own (the meshes share connectivity, not positions).
+
+    Returns
+    -------
+    z, w : (N,) complex, moved : int
+    """
+    N = len(z)
+    colour = _colour_classes(f, N, K)
+    v = f.ravel()
+    order = np.argsort(colour[v] * (N + 1) + v, kind="stable")  # corners by class, then vertex
+    order = order[colour[v[order]] >= 0]
+    vc, fc = v[order], order // 3
+    cls = colour[vc]
+    bounds = np.r_[0, np.cumsum(np.bincount(cls))]
+    pos = [z.copy(), w.copy()]
+    moved = 0
+    for k in range(len(bounds) - 1):
+        vk, tri = vc[bounds[k]:bounds[k + 1]], f[fc[bounds[k]:bounds[k + 1]]]
+        st = np.flatnonzero(np.r_[True, vk[1:] != vk[:-1]])
+        own = vk[st]
+        count = np.diff(np.r_[st, len(vk)])
+        went = np.zeros(len(own), dtype=bool)
+        for group in ((0, 1),) if joint else ((0,), (1,)):
+            goals = [{i: np.add.reduceat(pos[i][tri].sum(axis=1) - pos[i][vk], st) / (2 * count)
+                      for i in group}]  # Laplacian (each neighbour twice): affine images stay affine images
+            if not joint:
+                goals.insert(0, {i: _circumcentre_mean(pos[i][tri], st) for i in group})
+            old = np.min([np.minimum.reduceat(_sine(pos[i], tri), st) for i in group], axis=0)
+            done = np.zeros(len(own), dtype=bool)
+            for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
+                if done.all():
+                    break
+                ok = np.ones(len(own), dtype=bool)
+                q = np.full(len(own), np.inf)
+                trial = {}
+                for i in group:
+                    trial[i] = pos[i].copy()
+                    trial[i][own[~done]] += step * (goal[i] - pos[i][own])[~done]
+                    sine, area = _sine_area(trial[i], tri)
+                    ok &= np.minimum.reduceat((area > eps[i]).astype(np.int8), st) > 0
+                    q = np.minimum(q, np.minimum.reduceat(sine, st))
+                gain = ~done & ok & (q > old + 1e-9)
+                for i in group:
+                    pos[i][own[gain]] = trial[i][own[gain]]
+                done |= gain
+            went |= done
+        moved += int(went.sum())
+    return pos[0], pos[1], moved
+
+
+def _circumcentre_mean(p, st):
+    """Area-weighted mean of the circumcentres of consecutive groups of triangles.
+
+    Parameters
+    ----------
+    p : (m, 3) complex
+        Corner positions of the triangles, grouped.
+    st : (g,) int
+        First triangle of every group.
+
+    Returns
+    -------
+    (g,) complex
+    """
+    u, v = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    area = 0.5 * (np.conj(u) * v).imag
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cc = p[:, 0] + (np.abs(u) ** 2 * v - np.abs(v) ** 2 * u) / (4j * area)
+    cc = np.where(np.isfinite(cc), cc, p.mean(axis=1))
+    den = np.add.reduceat(area, st)
+    num = np.add.reduceat(area * cc, st)
+    mean = np.add.reduceat(p.mean(axis=1), st) / np.diff(np.r_[st, len(p)])
+    return np.where(den > 0, num / np.where(den > 0, den, 1), mean)
+
+
+def _joint_flips(z, w, f, eps, limit=0.5):
+    """Flip edges whose flip raises the smallest angle of their two faces in both meshes together.
+
+    Only edges where that angle's sine is below ``limit`` are flipped; f is
+    changed in place. Returns the number of flips.
+    """
+    a, b, c, key, twin = edge_table(f)
+    qf = _quality(z, w, f)
+    h = np.flatnonzero(twin > np.arange(len(a)))
+    q_old = np.minimum(qf[h // 3], qf[twin[h] // 3])
+    h, q_old = h[q_old < limit], q_old[q_old < limit]
+    d = c[twin[h]]
+    new1, new2 = np.c_[a[h], d, c[h]], np.c_[d, b[h], c[h]]
+    ok = _valid(z, w, new1, eps) & _valid(z, w, new2, eps)
+    q_new = np.minimum(_quality(z, w, new1), _quality(z, w, new2))
+    gain = q_new - q_old
+    sel = ok & (gain > 1e-6)
+    h, gain = h[sel], gain[sel]
+    if not len(h):
+        return 0
+    h = h[_independent(gain, h // 3, twin[h] // 3, len(f))]
+    _flip(f, h, twin, a, b, c)
+    return len(h)
+
+
+def _collapse(z, w, f, K, eps, limit):
+    """Collapse the shortest edge of faces whose smallest angle (in either mesh) has a sine below ``limit``.
+
+    An interior vertex x merges into its neighbour y when the link condition
+    holds (x and y share exactly the two neighbours across their edge), every
+    new face keeps a positive area in both meshes and the smallest angle
+    around x grows. Collapses in one call touch disjoint faces.
+
+    Returns
+    -------
+    (F', 3) faces (removed vertices are no longer referenced), number of collapses
+    """
+    N = len(z)
+    q = _quality(z, w, f)
+    bad = np.flatnonzero(q < limit)
+    if not len(bad):
+        return f, 0
+    p = f[bad]
+    nx = np.roll(p, -1, axis=1)
+    ls, lt = np.abs(z[nx] - z[p]), np.abs(w[nx] - w[p])
+    L = np.maximum(ls / ls.sum(axis=1, keepdims=True), lt / lt.sum(axis=1, keepdims=True))
+    k = np.argmin(L, axis=1)
+    r = np.arange(len(bad))
+    a, b = p[r, k], nx[r, k]
+    x = np.r_[a[a >= K], b[b >= K]]
+    y = np.r_[b[a >= K], a[b >= K]]
+    score = np.r_[q[bad][a >= K], q[bad][b >= K]]
+    if not len(x):
+        return f, 0
+    o = np.lexsort((score, x))
+    x, y, score = x[o], y[o], score[o]
+    keep = np.r_[True, x[1:] != x[:-1]]
+    x, y, score = x[keep], y[keep], score[keep]
+    nF = len(f)
+    vf = coo_matrix((np.ones(3 * nF), (f.ravel(), np.repeat(np.arange(nF), 3))), shape=(N, nF)).tocsr()
+    A = coo_matrix((np.ones(3 * nF), (f.ravel(), np.roll(f, -1, axis=1).ravel())), shape=(N, N)).tocsr()
+    A = ((A + A.T) > 0).astype(np.int64).tocsr()
+    link = np.asarray(A[x].multiply(A[y]).sum(axis=1)).ravel() == 2
+    cx, fx = vf[x].nonzero()  # faces around x
+    cy, fy = vf[y].nonzero()
+    rank = np.empty(len(x), dtype=np.int64)
+    rank[np.argsort(score, kind="stable")] = np.arange(len(x))
+    cc, ff = np.r_[cx, cy], np.r_[fx, fy]
+    claim = np.full(nF, len(x), dtype=np.int64)
+    np.minimum.at(claim, ff, rank[cc])
+    win = np.ones(len(x), dtype=bool)
+    np.logical_and.at(win, cc, claim[ff] == rank[cc])
+    old = np.full(len(x), np.inf)
+    np.minimum.at(old, cx, q[fx])
+    stay = ~np.any(f[fx] == y[cx][:, None], axis=1)
+    cs, fs = cx[stay], fx[stay]
+    nf = np.where(f[fs] == x[cs][:, None], y[cs][:, None], f[fs])
+    ok = np.ones(len(x), dtype=bool)
+    np.logical_and.at(ok, cs, _valid(z, w, nf, eps))
+    new = np.full(len(x), np.inf)
+    np.minimum.at(new, cs, _quality(z, w, nf))
+    take = win & link & ok & (new > old)
+    if not take.any():
+        return f, 0
+    vmap = np.arange(N)
+    vmap[x[take]] = y[take]
+    g = vmap[f]
+    g = g[(g[:, 0] != g[:, 1]) & (g[:, 1] != g[:, 2]) & (g[:, 2] != g[:, 0])]
+    return g, int(take.sum())
+
+
+def _joint_refine(z, w, f, size, rounds=30):
+    """Split large faces at their centroid in both meshes, then flip edges jointly.
+
+    Large means larger than an equilateral triangle of side ``size`` (in the
+    source; the target size is scaled by the area ratio).
+    """
+    ratio = np.sqrt(abs(triangle_areas(w, f).sum() / triangle_areas(z, f).sum()))
+    big_s = 1.5 * np.sqrt(3) / 4 * size ** 2
+    big_t = big_s * ratio ** 2
+    eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
+    for _ in range(rounds):
+        bad = np.flatnonzero((triangle_areas(z, f) > big_s) | (triangle_areas(w, f) > big_t))
+        if not len(bad):
+            break
+        m = len(z) + np.arange(len(bad))
+        t = f[bad]
+        z = np.r_[z, z[t].mean(axis=1)]
+        w = np.r_[w, w[t].mean(axis=1)]
+        f = np.r_[np.delete(f, bad, axis=0), np.c_[t[:, 0], t[:, 1], m], np.c_[t[:, 1], t[:, 2], m],
+                  np.c_[t[:, 2], t[:, 0], m]]
+        for _ in range(3):
+            if not _joint_flips(z, w, f, eps):
+                break
+    return z, w, f
+
+
+def _improve(z, w, f, K, joint, rounds=40, limit=20.0):
+    """Joint edge collapses, edge flips and smoothing of interior vertices in both meshes.
+
+    In the style of Surazhsky and Gotsman (2004); every step keeps both meshes valid.
+
+    Returns
+    -------
+    z, w : (N',) complex, f : (F', 3); vertices no face uses any more are dropped
+    (the first K, the rings, are kept in place).
+    """
+    eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
+    sin_limit = np.sin(np.radians(limit))
+    f = f.copy()
+    q = _quality(z, w, f)
+    worst, bad, stalled = q.min(), np.count_nonzero(q < sin_limit), 0
+    for _ in range(rounds):
+        f, collapsed = _collapse(z, w, f, K, eps, sin_limit)
+        flips = _joint_flips(z, w, f, eps)
+        z, w, moved = _smooth(z, w, f, K, eps, joint)
+        if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):
+            break
+        # effort in proportion to the gain: stop after three rounds that raised neither the smallest
+        # angle's sine (by STALL_SINE) nor the count of faces above the limit (by STALL_FACES of the faces)
+        q = _quality(z, w, f)
+        gain = (q.min() > worst + STALL_SINE) or np.count_nonzero(q < sin_limit) < bad - STALL_FACES * len(f)
+        worst, bad = max(worst, q.min()), min(bad, np.count_nonzero(q < sin_limit))
+        stalled = 0 if gain else stalled + 1
+        if stalled == 3:
+            break
+    used = np.zeros(len(z), dtype=bool)
+    used[f] = True
+    used[:K] = True
+    new_id = np.cumsum(used) - 1
+    return z[used], w[used], new_id[f]
