@@ -218,7 +218,11 @@ def test_transfer_export_and_project_round_trip(opened, drawings, tmp_path):
     client.post("/api/edit", json={"frame": 4, "handles": [[1, 2.5, 0.3]]}, headers=H)
     r = client.post("/api/export", json={"kind": "lottie", "fps": 12, "size": 200}, headers=H)
     lottie = json.loads(r.content)
+    # the studio's timing, not the library's rendered defaults: the 13 frames, one per tick, no hold
     assert r.status_code == 200 and lottie["fr"] == 12 and lottie["op"] - lottie["ip"] == 13
+    r = client.post("/api/export", json={"kind": "lottie", "fps": 12, "duration": 2.5, "hold": 0.5}, headers=H)
+    lottie = json.loads(r.content)  # 2.5 s of motion: 2.5 * 12 + 1 = 31 frames, held 0.5 * 12 = 6 ticks at both ends
+    assert r.status_code == 200 and lottie["fr"] == 12 and lottie["op"] - lottie["ip"] == 31 + 2 * 6
     from PIL import Image
 
     r = client.post("/api/export", json={"kind": "gif", "size": 120}, headers=H)
@@ -338,7 +342,7 @@ def test_a_whole_session_in_chromium(browser, drawings, tmp_path):
         # a landmark: click a point on an outline of each drawing (the square's corner, a tip of the star)
         page.check("input[name=corr-mode][value=landmark]")
         corner, tip = [0.0, 0.0], [4.0, 0.0]
-        page.mouse.click(*page.evaluate("window.__studio.corrOnPage(0, 1, -1)"))  # the square's middle: off its outline
+        page.mouse.click(*page.evaluate("window.__studio.corrOnPage(0, 1, 1)"))  # the square's middle: off its outline
         page.mouse.click(*page.evaluate(f"window.__studio.corrOnPage(1, {tip[0]}, {tip[1]})"))
         page.wait_for_selector("#message.error")
         assert "is not on the drawing" in page.text_content("#message") and session.doc["landmarks"] == []
@@ -395,11 +399,12 @@ def test_a_whole_session_in_chromium(browser, drawings, tmp_path):
             files[kind] = tmp_path / info.value.suggested_filename
             info.value.save_as(files[kind])
         lottie = json.loads(files["lottie"].read_text())
-        assert lottie["op"] - lottie["ip"] == 13 and lottie["layers"]
+        # the page's playback timing (13 frames over the 1.5 s Duration) at the export fps (24): 1.5 * 24 + 1 ticks
+        assert lottie["op"] - lottie["ip"] == 37 and lottie["fr"] == 24 and lottie["layers"]
         from PIL import Image
 
         with Image.open(files["gif"]) as gif:
-            assert gif.n_frames == 13
+            assert gif.n_frames == 37
         # save the project, change the session, reopen the project
         with page.expect_download() as info:
             page.click("#save-project")

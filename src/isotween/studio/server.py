@@ -301,8 +301,12 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
         if solved.preview:
             raise ParameterError("the morph is an outline preview while its meshes are solved; export in a moment")
         seq = solved.transfer if body.get("which") == "transfer" and solved.transfer is not None else solved.sequence
-        render: dict[str, Any] = {}
-        for key, kinds in (("fps", (int, float)), ("size", (int,)), ("hold", (int, float)), ("bounce", (bool,)),
+        # the timing is the studio's, not the library's rendered-output defaults (1 s of motion held 0.25 s):
+        # the sequence's own frames, one per tick at ``fps``, unless the request gives ``duration`` seconds of
+        # motion (the page sends its playback duration) or a ``hold``
+        render: dict[str, Any] = {"duration": 0, "hold": 0}
+        for key, kinds in (("fps", (int, float)), ("size", (int,)), ("duration", (int, float)),
+                           ("hold", (int, float)), ("bounce", (bool,)),
                            ("loop", (bool,)), ("background", (str,)), ("title", (str,))):
             value = body.get(key)
             if value is None or value == "":

@@ -497,6 +497,7 @@ $("export").onclick = async () => {
   try {
     const response = await post("api/export", {
       kind, fps: Number($("export-fps").value), size: Number($("export-size").value), which: S.showing,
+      duration: Math.max(0.1, Number($("duration").value) || 1.5),  // the motion lasts as long as it plays here
       bounce: $("export-bounce").checked, hold: Number($("export-hold").value), background: $("export-background").value,
     });
     const name = (response.headers.get("content-disposition") || "").match(/filename="([^"]+)"/)?.[1] || `isotween.${kind}`;
