@@ -124,3 +124,23 @@ def test_elements_that_draw_nothing_are_left_out(tmp_path):
                        '<path d="M4 4h8v8h-8z"/>')
     assert len(s.paths) == 1 and s.regions == [[0]]
     np.testing.assert_allclose(s.vertices, [[4, 4], [12, 4], [12, 12], [4, 12]])
+
+
+def test_what_the_reader_does_not_read_is_named_in_one_warning(tmp_path):
+    """Gradient paint, text and images are not drawn silently: one warning names them."""
+    pytest.importorskip("svgelements")
+    path = tmp_path / "g.svg"
+    path.write_text('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10"><defs><linearGradient id="g">'
+                    '<stop offset="0" stop-color="red"/></linearGradient></defs>'
+                    '<rect id="box" x="1" y="1" width="8" height="8" fill="url(#g)"/>'
+                    '<text x="1" y="5">hi</text><image href="a.png" x="0" y="0" width="1" height="1"/></svg>')
+    with pytest.warns(UserWarning) as caught:
+        shape = io.load(path)
+    (w,) = [str(c.message) for c in caught if "does not read" in str(c.message)]
+    assert "<text> x1" in w and "<image> x1" in w and "<rect id='box'> fill" in w
+    assert shape.n_vertices == 4  # the rectangle itself is still read
+    plain = tmp_path / "p.svg"
+    plain.write_text('<svg xmlns="http://www.w3.org/2000/svg"><rect x="1" y="1" width="8" height="8"/></svg>')
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        io.load(plain)  # nothing unread: no warning

@@ -262,6 +262,9 @@ def read_svg(path, curve_segments=None):
     if dropped:
         warnings.warn(f"{path}: dropped {len(dropped)} degenerate subpath(s): " + "; ".join(dropped),
                       stacklevel=2)
+    unread = _unread(root)
+    if unread:
+        warnings.warn(f"{path}: drawn without what isotween does not read: {unread}", stacklevel=2)
     if not rings:
         why = f" (dropped: {'; '.join(dropped)})" if dropped else ""
         raise FileFormatError(
@@ -270,6 +273,33 @@ def read_svg(path, curve_segments=None):
     if y_up:
         rings = [(points * np.array([1.0, -1.0]) + 0.0, closed) for points, closed in rings]
     return _shape_of_rings(path, rings, regions, paints, y_down=not y_up)
+
+
+#: elements whose drawing isotween does not read (named in one warning)
+_UNREAD_TAGS = ("text", "image", "mask", "filter", "pattern", "foreignObject", "clipPath", "linearGradient",
+                "radialGradient")
+
+
+def _unread(root):
+    """One phrase naming what a drawing has that the reader drops or paints plainly, or ''.
+
+    Gradient and pattern paint (``url(#...)``) is read as the SVG initial
+    paint (black fill, no stroke); text, images, masks, filters and clip paths
+    are not read.
+    """
+    counts, paints = {}, []
+    for el in root.iter():
+        tag = str(el.tag).rsplit("}", 1)[-1]
+        if tag in _UNREAD_TAGS and "Gradient" not in tag:
+            counts[tag] = counts.get(tag, 0) + 1
+        for attr in ("fill", "stroke"):
+            if el.get(attr, "").strip().startswith("url(") or re.search(rf"{attr}\s*:\s*url\(", el.get("style", "")):
+                paints.append(f"<{tag}{' id=' + repr(el.get('id')) if el.get('id') else ''}> {attr}")
+    parts = [f"<{tag}> x{n}" for tag, n in counts.items()]
+    if paints:
+        parts.append(f"gradient or pattern paint read as plain colour ({', '.join(paints[:3])}"
+                     + (f" and {len(paints) - 3} more" if len(paints) > 3 else "") + ")")
+    return "; ".join(parts)
 
 
 #: what svgelements raises on drawings it cannot interpret
