@@ -40,7 +40,8 @@ _outline_options = (
     click.option("--segment", type=float, default=None, metavar="LENGTH",
                  help="Instead of --points: enough points that no segment is longer than LENGTH."),
     click.option("--rotation", is_flag=True,
-                 help="Factor out rotation when choosing where each ring starts."),
+                 help="Keyframes and transfer: factor out rotation when choosing where each ring starts "
+                      "(two drawings are aligned as wholes, turn included, without it)."),
     click.option("--unmatched", type=click.Choice(["grow", "split"]), default="grow", show_default=True,
                  help="A region or hole with no partner grows from a small copy at its own place, or "
                       "splits off from the nearest region."),

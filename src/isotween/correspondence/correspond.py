@@ -144,7 +144,9 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
         Largest segment length instead: every ring gets enough points that
         no segment is longer (in both drawings). Not with ``points``.
     rotation : bool
-        Factor out rotation when choosing where each ring starts.
+        Kept for `correspond_keys` (several drawings): factor out rotation
+        when choosing where each ring starts. Two drawings are always
+        aligned as wholes, turn included (`alignment.align`).
     outline : bool
         Keep outlines only (no triangle meshes for filled regions).
     mesh_size : float, optional
