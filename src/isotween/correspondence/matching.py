@@ -328,7 +328,6 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None,
     # target vertices that land on source vertices are the same point
     i, j = _snap_pairs(s_z, phi.inverse(s_w), closed)
     paired = np.zeros(len(s_w), bool)
-    u_src = None
     if len(i):
         a_all, b_all = np.r_[a0, s_z[i]], np.r_[b0, s_w[j]]
         order = np.argsort(a_all, kind="stable")
@@ -337,17 +336,15 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None,
         kept = keep[keep >= len(a0)] - len(a0)  # the snap pairs that agree with the order
         i, j = i[kept], j[kept]
         paired[j] = True
-        u_src = phi(s_z)
-        u_src[i] = s_w[j]
-    # the union: source vertices at phi(s), unpaired target vertices at phi^-1(u)
-    if u_src is None:
-        u_src = phi(s_z)
+    # the union: source vertices at phi(s) (a snapped one at its partner exactly), unpaired target
+    # vertices at phi^-1(u); sorted by source parameter, a source vertex before a target one at a tie
+    u_src = phi(s_z)
+    u_src[i] = s_w[j]
     extra = ~paired
     s_all = np.r_[s_z, phi.inverse(s_w[extra])]
     u_all = np.r_[u_src, s_w[extra]]
-    from_src = np.r_[np.ones(len(s_z), bool), np.zeros(int(extra.sum()), bool)]
-    order = np.lexsort((~from_src, s_all))
-    s_all, u_all, from_src = s_all[order], u_all[order], from_src[order]
+    order = np.lexsort((np.r_[np.zeros(len(s_z)), np.ones(int(extra.sum()))], s_all))
+    s_all, u_all = s_all[order], u_all[order]
     if not closed:
         s_all, u_all = np.clip(s_all, 0, 1), np.clip(u_all, 0, 1)
     # drop repeats (a pulled-back target vertex on a source vertex's parameter)
