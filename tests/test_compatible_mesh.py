@@ -291,3 +291,43 @@ def test_smoothing_keeps_both_meshes_valid_and_the_boundary_fixed():
             after = np.minimum(cm._sine(z2, f), cm._sine(w2, f)).min() if joint else cm._sine(z2, f).min()
             assert after >= before - 1e-12
     assert moved > 0  # the smoothing had work to do
+
+
+def test_a_ring_chord_that_leaves_the_target_is_cut_instead_of_overlaying():
+    # a 12-gon meshed with no interior vertex has chords between ring vertices; denting vertex 3 past the
+    # chord (2, 4) turns the ear (2, 3, 4) over in the target: no map of that mesh can keep it. Cutting the
+    # chord at its midpoint lets the source mesh be pulled onto the target, with no overlay.
+    theta = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    src = np.c_[np.cos(theta), np.sin(theta)]
+    tgt = src.copy()
+    tgt[3] *= 0.3
+    s, t, info = compatible_meshes(src, tgt, mesh_size=10.0)
+    assert not info["overlay"]
+    assert np.all(s.face_areas() > 0) and np.all(t.face_areas() > 0)
+    assert np.array_equal(t.vertices[:12], tgt)  # the ring exactly where it was asked
+    ring_pairs = np.sort(s.faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    side = np.diff(ring_pairs, axis=1)[:, 0]
+    chord = (ring_pairs[:, 1] < 12) & (side != 1) & (side != 11)
+    assert not np.any(chord & np.isin(ring_pairs, [3]).any(axis=1))  # the ear's chord is gone
+
+
+def test_split_edges_keeps_orientation_and_area():
+    from isotween.correspondence._disc import _split_edges
+    from isotween.geometry import triangle_areas
+
+    rng = np.random.default_rng(4)
+    z = rng.random(60) + 1j * rng.random(60)
+    from scipy.spatial import Delaunay
+
+    f = Delaunay(np.c_[z.real, z.imag]).simplices
+    f = np.where((triangle_areas(z, f) < 0)[:, None], f[:, ::-1], f)
+    edges = np.unique(np.sort(f[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1), axis=0)
+    cut = edges[rng.random(len(edges)) < 0.5]
+    f2 = _split_edges(f, cut, len(z))
+    z2 = np.r_[z, z[cut].mean(axis=1)]
+    a = triangle_areas(z2, f2)
+    assert np.all(a > 0) and np.isclose(a.sum(), triangle_areas(z, f).sum())
+    # every cut side is gone, its midpoint a vertex of the faces on its side(s)
+    sides = np.sort(f2[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    assert not (np.isin(sides @ [1000, 1], cut @ [1000, 1])).any()
+    assert np.all(np.bincount(f2.ravel(), minlength=len(z2))[len(z):] >= 2)

@@ -378,6 +378,46 @@ def _refine(z, f, fixed_keys, size, rounds=30):
 
 
 
+def _chords(f, K):
+    """(C, 2) interior edges of faces ``f`` whose two ends are both ring vertices (index below ``K``)."""
+    e = np.sort(np.stack([f, np.roll(f, -1, axis=1)], axis=-1).reshape(-1, 2), axis=1)
+    edges, count = np.unique(e, axis=0, return_counts=True)
+    return edges[(count == 2) & (edges[:, 1] < K)]
+
+
+def _split_edges(f, split, n):
+    """Faces ``f`` (F, 3) with the edges ``split`` (S, 2) cut at their midpoints, vertices n .. n+S-1.
+
+    Every face is subdivided by the templates of red-green refinement (one,
+    two or three of its sides cut: two, three or four faces), which keep
+    its orientation; the new vertex of ``split[s]`` is ``n + s``, at the
+    midpoint of its ends in any positions (the caller appends them).
+    """
+    if not len(split):
+        return f
+    N = int(max(f.max(), split.max())) + 1
+    key = np.sort(split, axis=1) @ [N, 1]
+    order = np.argsort(key)
+    side = np.sort(np.stack([f, np.roll(f, -1, axis=1)], axis=-1), axis=-1) @ [N, 1]  # (F, 3): side j = (v_j, v_j+1)
+    at = np.minimum(np.searchsorted(key[order], side), len(key) - 1)
+    m = np.where(key[order][at] == side, n + order[at], -1)
+    cut = m >= 0
+    count = cut.sum(axis=1)
+    out = [f[count == 0]]
+    for j in range(3):
+        one = (count == 1) & cut[:, j]  # side j cut: rotate it to side 0
+        v, a = np.roll(f[one], -j, axis=1), m[one, j]
+        out += [np.c_[v[:, 0], a, v[:, 2]], np.c_[a, v[:, 1], v[:, 2]]]
+        two = (count == 2) & ~cut[:, j]  # side j whole: rotate it to side 2
+        r = (j + 1) % 3
+        v, a = np.roll(f[two], -r, axis=1), np.roll(m[two], -r, axis=1)
+        out += [np.c_[a[:, 0], v[:, 1], a[:, 1]], np.c_[v[:, 0], a[:, 0], a[:, 1]], np.c_[v[:, 0], a[:, 1], v[:, 2]]]
+    v, a = f[count == 3], m[count == 3]
+    out += [np.c_[v[:, 0], a[:, 0], a[:, 2]], np.c_[a[:, 0], v[:, 1], a[:, 1]], np.c_[a[:, 2], a[:, 1], v[:, 2]], a]
+    return np.concatenate(out).astype(f.dtype, copy=False)
+
+
+
 
 # ---------------------------------------------------------------- cuts opened, the disc's boundary
 def _open_cuts(f, cuts, first_copy):

@@ -56,11 +56,13 @@ from ..errors import (
     require,
 )
 from ..geometry import MAX_TRIANGLES, convex_map, ring_area, triangle_areas
-from ..optimisation.barrier import SymmetricDirichlet, max_step, minimise
+from ..optimisation.barrier import SymmetricDirichlet, face_steps, max_step, minimise
 from ..shape import Shape
 from ._disc import (
     _check_rings,
+    _chords,
     _cuts,
+    _inside,
     _keys,
     _min_angle,
     _orientation,
@@ -69,10 +71,11 @@ from ._disc import (
     _rings,
     _scale2,
     _shared_diagonals,
+    _split_edges,
     _triangulate,
 )
 from ._overlay import _overlay
-from ._quality import _improve, _joint_refine
+from ._quality import _improve, _joint_refine, _smooth
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
 
@@ -80,6 +83,10 @@ MAP_ITER = 15  # Newton iterations of the low-distortion map at most
 MAP_TOL = 1e-2  # the map's Newton stops when an iteration lowers the energy's excess by less than this
 PULL_ITER = 15  # Newton iterations per pull weight
 PULL_WEIGHTS = (0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4, 1e5)  # the ring's pull, in units of the least energy
+IMPROVE = False
+SMOOTH_ROUNDS = 3  # smoothing rounds of the source mesh after its chords are cut
+SNAP_ROUNDS = 12  # rounds that move the pulled ring onto the target outline
+SNAP_CUT = 0.1  # a round that moves the ring less than this fraction of the way cuts the triangles in the way
 
 
 class CompatibleMeshes(NamedTuple):
@@ -189,17 +196,24 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     fixed_keys = _keys(cut_edges)
     f_src = _triangulate(zs, rings, cut_edges, fixed_keys, "source")
     z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size))
+    chords = _misfits(f1, K, zt, rings)
+    z1, f1 = np.r_[z1, z1[chords].mean(axis=1)], _split_edges(f1, chords, len(z1))
+    for _ in range(SMOOTH_ROUNDS):  # a midpoint of a chord across a flat ear makes slivers: smoothed away
+        z1 = _smooth(z1, z1, f1, K, (1e-14 * _scale2(z1),) * 2, False)[0]
 
     # first try: the source mesh mapped by mean-value weights (reproduces affine maps); if a triangle
     # flips, the source mesh pulled onto the target outline with no flip; then the map made least distorted
     w_tgt = convex_map(z1, f1, np.arange(K), zt)
     if not np.all(triangle_areas(w_tgt, f1) > 1e-12 * _scale2(zt)):
-        w_tgt = _pulled(z1, f1, K, zt) if pull else None
+        z1, f1, w_tgt = _pulled(z1, f1, K, zt) if pull else (z1, f1, None)
     overlay = w_tgt is None
     crossings = 0
     if not overlay:
         before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
         w_tgt = _least_distorted(z1, w_tgt, f1, K)
+        if IMPROVE:
+            z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, False)
+            w_tgt = _least_distorted(z1, w_tgt, f1, K)
     else:  # the two triangulations overlaid, then refined in both at once
         # the target keeps every source diagonal that is a diagonal of the target too: fewer crossings
         shared = _shared_diagonals(f_src, zt, _polygon(zt, rings), cut_edges)
@@ -231,6 +245,21 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
 
 
 # ---------------------------------------------------------------- low-distortion map
+def _misfits(f, K, zt, rings):
+    """(C, 2) edges between two ring vertices that cannot stay edges in the target: not inside it, or a side of
+    a triangle of ring vertices that is not positive there. No map of the mesh keeps them; each gets a midpoint.
+    """
+    chords = _chords(f, K)
+    if not len(chords):
+        return chords
+    bad = ~_inside(zt, _polygon(zt, rings), chords)
+    ear = f[(f < K).all(axis=1)]
+    ear = ear[triangle_areas(zt, ear) <= 1e-12 * _scale2(zt)]
+    sides = np.sort(np.stack([ear, np.roll(ear, -1, axis=1)], axis=-1).reshape(-1, 2), axis=1) @ [K, 1]
+    bad |= np.isin(chords @ [K, 1], sides)
+    return chords[bad]
+
+
 def _least_distorted(z, w, f, K):
     """Interior target positions (N,) complex that make the map ``z -> w`` least distorted, no triangle flipped.
 
@@ -254,14 +283,22 @@ def _least_distorted(z, w, f, K):
 
 
 def _pulled(z, f, K, zt):
-    """The source mesh ``z`` deformed with no flipped triangle until its ring vertices reach ``zt``; None if stuck.
+    """The source mesh deformed with no flipped triangle until its ring vertices reach ``zt``.
 
     Start: the best similarity of the rings onto ``zt`` applied to the whole
     mesh (every triangle positive). Every vertex is then free, the ring
     vertices pulled towards ``zt`` by a penalty of growing weight
     (`PULL_WEIGHTS`) while the symmetric Dirichlet energy against the source
-    triangles keeps the mesh from folding; last, the ring vertices are moved
-    onto ``zt`` in one step, which must flip no triangle.
+    triangles keeps the mesh from folding. Last, the ring vertices are moved
+    onto ``zt`` in rounds (`SNAP_ROUNDS`): as far as no triangle flips, then
+    the interior relaxed with the ring held; a triangle that blocks the move
+    gets its sides cut at their midpoints (in the source mesh and in the
+    deformed one alike), which frees room around it.
+
+    Returns
+    -------
+    z : (N',) complex, f : (F', 3) int, w : (N',) complex or None
+        The (refined) source mesh and its deformed copy; ``w`` None when stuck.
     """
     zk = z[:K] - z[:K].mean()
     a = np.vdot(zk, zt - zt.mean()) / np.vdot(zk, zk)
@@ -277,14 +314,26 @@ def _pulled(z, f, K, zt):
             w, _ = minimise(energy, w, PULL_ITER, tol=1e-2)
             if np.abs(w[:K] - zt).max() < 1e-9 * np.sqrt(h2):
                 break
+        for _ in range(SNAP_ROUNDS):
+            step = np.zeros_like(w)
+            step[:K] = zt - w[:K]
+            s = max_step(w, step, f)
+            if s > 1.0:
+                w = w + step
+                w[:K] = zt
+                return z, f, w
+            w = w + 0.8 * s * step
+            if s < SNAP_CUT:  # the triangles that stop the ring from moving on get their sides cut
+                blocked = face_steps(w, step, f) < 1.0
+                sides = np.sort(np.stack([f[blocked], np.roll(f[blocked], -1, axis=1)], axis=-1).reshape(-1, 2), axis=1)
+                sides = np.unique(sides[sides[:, 1] >= K], axis=0)  # ring sides stay (chords were cut before)
+                z, w = np.r_[z, z[sides].mean(axis=1)], np.r_[w, w[sides].mean(axis=1)]
+                f = _split_edges(f, sides, len(z) - len(sides))
+            held = np.zeros(len(z), dtype=bool)
+            held[:K] = True
+            relax = SymmetricDirichlet(z, w, f, held)
+            relax.rest(0.0)
+            w, _ = minimise(relax, w, PULL_ITER, tol=1e-3)
     except MethodError:
-        return None
-    step = np.zeros_like(w)
-    step[:K] = zt - w[:K]
-    if max_step(w, step, energy.faces) <= 1.0:
-        return None
-    w = w + step
-    w[:K] = zt
-    return w
-
-
+        pass
+    return z, f, None

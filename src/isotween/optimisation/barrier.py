@@ -19,7 +19,7 @@ from ..errors import MethodError, require
 from ..geometry import triangle_areas
 from .assembly import HAVE_CHOLMOD
 
-__all__ = ["SymmetricDirichlet", "minimise", "max_step", "triangle_areas", "TOL", "ARMIJO"]
+__all__ = ["SymmetricDirichlet", "minimise", "max_step", "face_steps", "triangle_areas", "TOL", "ARMIJO"]
 
 TOL = 1e-3  # stop when an iteration lowers the energy by less than this fraction of its excess
 ARMIJO = 1e-4
@@ -41,6 +41,12 @@ def max_step(z, d, faces):
     float
         ``inf`` when no triangle degenerates for any ``s > 0``.
     """
+    steps = face_steps(z, d, faces)
+    return float(steps.min()) if steps.size else np.inf
+
+
+def face_steps(z, d, faces):
+    """(K,) for every face, the first step ``s > 0`` at which it has zero signed area in ``z + s d`` (or inf)."""
     p0, p1, p2 = (z[faces[:, k]] for k in range(3))
     q0, q1, q2 = (d[faces[:, k]] for k in range(3))
     u, v, du, dv = p1 - p0, p2 - p0, q1 - q0, q2 - q0
@@ -58,8 +64,7 @@ def max_step(z, d, faces):
     r2 = np.where((disc >= 0) & (q != 0), r2, np.inf)
     r1 = np.where(a == 0, np.where(b < 0, linear, np.inf), r1)
     roots = np.stack([r1, r2])
-    roots = np.where(np.isfinite(roots) & (roots > 0), roots, np.inf)
-    return float(roots.min()) if roots.size else np.inf
+    return np.where(np.isfinite(roots) & (roots > 0), roots, np.inf).min(axis=0)
 
 
 def _cross(u, v):
@@ -186,7 +191,10 @@ class SymmetricDirichlet:
 
     def rest(self, tk):
         """Set the rest triangles of time ``tk``: edge lengths blended linearly."""
-        L = (1 - tk) * self._ls + tk * self._la
+        self.rest_lengths((1 - tk) * self._ls + tk * self._la)
+
+    def rest_lengths(self, L):
+        """Set the rest triangles from their side lengths ``L`` (K, 3): side j from corner j to corner j+1."""
         a, b, c = L[:, 0], L[:, 1], L[:, 2]
         x2 = (a * a + c * c - b * b) / (2 * a)
         y2 = np.sqrt(np.maximum(c * c - x2 * x2, (1e-12 * a) ** 2))
