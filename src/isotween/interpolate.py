@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import numbers
 import time
 from typing import TYPE_CHECKING
@@ -158,6 +159,12 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     return _fallback(seq, source, target, t, options) if fold == "fallback" else seq
 
 
+def _complex_frames(frames):
+    """(T, n) complex copy of (T, n, 2) float frames."""
+    frames = np.asarray(frames, dtype=np.float64)
+    return frames[..., 0] + 1j * frames[..., 1]
+
+
 def _complex(v):
     """(n,) complex view of (n, 2) float vertices (read only here)."""
     return np.ascontiguousarray(v, dtype=np.float64).view(complex)[:, 0]
@@ -174,8 +181,15 @@ def _baseline(method, source, target, t, options, callback):
 
 
 def _fallback(seq, source, target, t, options):
-    """``seq``, or the fold-free 'injective' morph (else 'convex') when an in-between frame of ``seq`` folds."""
+    """``seq``; where an in-between frame folds, its folding frames repaired, else the fold-free morph.
+
+    First `isotween.optimisation.repair.repair_folds` (the frames that fold
+    moved as little as no flipped triangle allows); if a repaired frame still
+    has crossing outline edges, the fold-free 'injective' morph (else
+    'convex') replaces the whole sequence. ``info['fallback']`` says which.
+    """
     from . import metrics
+    from .optimisation.repair import repair_folds
 
     if seq.method in ("convex", "injective") or len(t) < 3:
         return seq
@@ -185,6 +199,23 @@ def _fallback(seq, source, target, t, options):
         return seq
     folded = (f"{seq.method} folded in {int(np.count_nonzero(flips | crossings))} of {len(t) - 2} "
               f"in-between frames ({int(flips.sum())} flipped triangles, {int(crossings.sum())} outline crossings)")
+    if seq.shape.faces is not None:
+        started = time.perf_counter()
+        try:
+            frames, info = repair_folds(_complex_frames(seq.frames), seq.shape.faces)
+        except MethodError:
+            frames = None
+        if frames is not None:
+            repaired = dataclasses.replace(seq, frames=np.stack([frames.real, frames.imag], axis=-1),
+                                           info=dict(seq.info), timings=dict(seq.timings))
+            if not metrics.outline_crossings(repaired, scope="region")[1:-1].any():
+                diag = bbox_diagonal(seq.frames[0])
+                repaired.info["fallback"] = (
+                    f"{folded}; frames {info['frames'][0]}-{info['frames'][-1]} repaired with no flip "
+                    f"(within {100 * info['deviation'] / diag:.2g} % of the diagonal of {seq.method}'s)")
+                repaired.info["repair"] = info
+                repaired.timings["repair"] = time.perf_counter() - started
+                return repaired
     try:
         free = _baseline("injective", source, target, t, options, None)
         free.info["fallback"] = f"{folded}; replaced by the fold-free injective morph"

@@ -1,0 +1,48 @@
+"""Folds repaired frame by frame: no flipped triangle, the rest of the frame kept."""
+
+import numpy as np
+
+from isotween.geometry import triangle_areas
+from isotween.optimisation.repair import repair_folds
+
+
+def grid(n=6):
+    x, y = np.meshgrid(np.arange(n, dtype=float), np.arange(n, dtype=float))
+    z = (x + 1j * y).ravel()
+    i = np.arange(n - 1)
+    a = (i[:, None] * n + i[None, :]).ravel()
+    f = np.r_[np.c_[a, a + 1, a + n + 1], np.c_[a, a + n + 1, a + n]]
+    return z, f
+
+
+def test_a_folded_frame_is_unfolded_and_the_others_kept():
+    z, f = grid()
+    turn = np.exp(0.3j)
+    folded = z * turn
+    v = 2 * 6 + 2  # an interior vertex pushed across two of its neighbours
+    folded[v] = (z[v] + 1.6 + 1.3j) * turn
+    frames = np.stack([z, z * np.exp(0.15j), folded, z * np.exp(0.45j), z * np.exp(0.6j)])
+    assert np.any(triangle_areas(folded, f) <= 0)
+    out, info = repair_folds(frames, f)
+    assert info["frames"] == [2]
+    assert np.all(triangle_areas(out[2], f) > 0)
+    for k in (0, 1, 3, 4):  # frames that do not fold: bit for bit
+        assert np.array_equal(out[k], frames[k])
+    far = np.abs(z - z[v]) > 2.5  # away from the fold, the frame is the given one to within a tenth of an edge
+    assert np.abs(out[2] - folded)[far].max() < 0.1
+
+
+def test_nothing_to_repair_is_returned_unchanged():
+    z, f = grid(4)
+    frames = np.stack([z, z * 1.1, z * 1.2])
+    out, info = repair_folds(frames, f)
+    assert info["frames"] == [] and np.array_equal(out, frames)
+
+
+def test_clockwise_faces_are_kept_clockwise():
+    z, f = grid(5)
+    f = f[:, ::-1]  # every face clockwise in frame 0
+    folded = z.copy()
+    folded[6] = z[6] + 1.5 + 1.5j
+    out, _ = repair_folds(np.stack([z, folded, z]), f)
+    assert np.all(triangle_areas(out[1], f) < 0)
