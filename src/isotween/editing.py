@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numbers
+import os
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -25,7 +26,8 @@ __all__ = ["edit"]
 
 
 def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = None,
-         edits: Mapping[int, Shape] | None = None, keep_ends: bool = True) -> Sequence:
+         edits: Mapping[int, Shape] | None = None, keep_ends: bool = True,
+         correspondence: str = "auto", correspond_options: dict | None = None) -> Sequence:
     """Edit frames of a sequence and carry the change through its motion.
 
     Each edited frame k gives every edge a similarity S~_ij(t_k) with
@@ -46,12 +48,22 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
     sequence : Sequence
     frame : int, optional
         Index of the edited frame (with ``shape``).
-    shape : Shape, optional
-        The edited frame.
-    edits : dict {int: Shape}, optional
+    shape : Shape or path, optional
+        The edited frame: a shape with the sequence's connectivity, or a
+        drawing (a file, or a shape with paths) brought onto it.
+    edits : dict {int: Shape or path}, optional
         Several edited frames at once.
     keep_ends : bool
         Hold the first and last frames unless they are edited.
+    correspondence : {'auto', 'always', 'never'}
+        ``'auto'``: an edited frame with the sequence's connectivity is used
+        as it is; a drawing file, or a shape with paths of other
+        connectivity, is brought onto the sequence's connectivity by
+        :func:`isotween.pipeline.onto_connectivity` (the frame corresponded
+        with the drawing as outlines, the frame's mesh kept). ``'always'``:
+        every edited frame so. ``'never'``: edited frames must be compatible.
+    correspond_options : dict, optional
+        Options of `isotween.correspond` for ``onto_connectivity``.
 
     Returns
     -------
@@ -87,6 +99,20 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
         if isinstance(k, bool) or not isinstance(k, numbers.Integral) or not 0 <= k < F:
             raise ParameterError(f"frame index {k!r} is out of range for a sequence of {F} frames (0..{F - 1})")
     names = ["sequence"] + [f"edited frame {k}" for k in edits]
+    from .pipeline import needs_correspondence, onto_connectivity  # a layer above: reached at call time
+
+    for k, s in edits.items():
+        if isinstance(s, (str, os.PathLike)):
+            from .io import load
+
+            name, s = str(s), load(s)
+            drawing = correspondence != "never"
+        else:
+            name, drawing = f"edited frame {k}", False
+        if drawing or needs_correspondence(sequence.shape, s, correspondence=correspondence,
+                                           names=["sequence", name], options=bool(correspond_options)):
+            s = onto_connectivity(sequence[k], s, name=name, **(correspond_options or {}))
+        edits[k] = s
     edits = {k: as_shape(s, f"edited frame {k}") for k, s in edits.items()}
     check_compatible(sequence.shape, *edits.values(), names=names)
     base = sequence.shape
