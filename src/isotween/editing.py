@@ -57,8 +57,9 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
         Hold the first and last frames unless they are edited.
     correspondence : {'auto', 'always', 'never'}
         ``'auto'``: an edited frame with the sequence's connectivity is used
-        as it is; a drawing file, or a shape with paths of other
-        connectivity, is brought onto the sequence's connectivity by
+        as it is (also a drawing file: a frame written by ``render`` loads
+        back so); a shape or drawing with paths of other connectivity is
+        brought onto the sequence's connectivity by
         :func:`isotween.pipeline.onto_connectivity` (the frame corresponded
         with the drawing as outlines, the frame's mesh kept). ``'always'``:
         every edited frame so. ``'never'``: edited frames must be compatible.
@@ -106,11 +107,10 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
             from .io import load
 
             name, s = str(s), load(s)
-            drawing = correspondence != "never"
         else:
-            name, drawing = f"edited frame {k}", False
-        if drawing or needs_correspondence(sequence.shape, s, correspondence=correspondence,
-                                           names=["sequence", name], options=bool(correspond_options)):
+            name = f"edited frame {k}"
+        if needs_correspondence(sequence.shape, s, correspondence=correspondence, names=["sequence", name],
+                                options=bool(correspond_options)):
             s = onto_connectivity(sequence[k], s, name=name, **(correspond_options or {}))
         edits[k] = s
     edits = {k: as_shape(s, f"edited frame {k}") for k, s in edits.items()}
