@@ -7,7 +7,7 @@ import warnings
 
 import click
 
-from ..errors import IncompatibleShapesError, ParameterError, ShapeError
+from ..errors import ParameterError
 from .options import _compose, ensure_compatible
 
 __all__ = ["correspondence_options", "outline_correspondence_options", "correspondence_kwargs",
