@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import numbers
 import os
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ._validate import is_int
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import ParameterError
 from .initialisation import edge_rotations
@@ -97,7 +97,7 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
         raise ParameterError("nothing to edit: give frame= and shape=, or edits={frame: shape}")
     F = len(sequence)
     for k in edits:
-        if isinstance(k, bool) or not isinstance(k, numbers.Integral) or not 0 <= k < F:
+        if not is_int(k) or not 0 <= k < F:
             raise ParameterError(f"frame index {k!r} is out of range for a sequence of {F} frames (0..{F - 1})")
     names = ["sequence"] + [f"edited frame {k}" for k in edits]
     from .pipeline import needs_correspondence, onto_connectivity  # a layer above: reached at call time

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import numbers
 import time
 from typing import TYPE_CHECKING
 
@@ -11,6 +10,7 @@ import numpy as np
 from . import baselines
 from ._callable import make_callable
 from ._heap import keep_heap_if_asked
+from ._validate import is_int
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError
 from .initialisation import INITIALISERS
@@ -144,7 +144,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     start = time.perf_counter()
     source, target = as_shape(source, "source"), as_shape(target, "target")
     check_movable(source, "source")
-    if isinstance(frames, numbers.Integral) and not isinstance(frames, bool):  # before any allocation
+    if is_int(frames):  # before any allocation
         check_memory(solve_bytes(frames, source.n_vertices, source.n_edges),
                      f"interpolating {frames} frames of {source.n_vertices} vertices and {source.n_edges} edges",
                      max_memory)

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import numbers
 import time
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ._heap import keep_heap_if_asked
+from ._validate import check_int, check_number
 from .correspondence.compatibility import as_shape, check_compatible
 from .easing import frame_times as eased_times
 from .errors import ParameterError
@@ -126,12 +126,10 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
     check_choice("scheme", scheme, SCHEMES)
     check_choice("assembly", assembly, ASSEMBLY)
     check_stopping(tol, max_iter)
-    if isinstance(smooth, bool) or not (isinstance(smooth, numbers.Real) and np.isfinite(smooth) and smooth >= 0):
-        raise ParameterError(f"smooth must be a finite number >= 0, got {smooth!r}")
+    check_number("smooth", smooth, strict=False)
     K = len(shapes)
     frames = 8 * (K - 1) + 1 if frames is None else frames
-    if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < K:
-        raise ParameterError(f"frames must be an integer >= the number of keyframes ({K}), got {frames!r}")
+    check_int("frames", frames, K, bound=f">= the number of keyframes ({K})")
     check_memory(solve_bytes(frames, shapes[0].n_vertices, shapes[0].n_edges),
                  f"interpolating {frames} frames of {shapes[0].n_vertices} vertices and {shapes[0].n_edges} edges",
                  max_memory)

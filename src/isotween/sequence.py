@@ -13,6 +13,7 @@ from typing import Any, overload
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._validate import check_int, is_int
 from .errors import ParameterError
 from .shape import Shape
 
@@ -95,7 +96,7 @@ class Sequence:
     def __getitem__(self, k: slice | ArrayLike) -> Sequence: ...
     def __getitem__(self, k: int | slice | ArrayLike) -> Shape | Sequence:
         """Frame ``k`` as a Shape, or the Sequence of the frames a slice or index array keeps."""
-        if isinstance(k, numbers.Integral) and not isinstance(k, bool):
+        if is_int(k):
             n = len(self)
             if not -n <= k < n:
                 raise IndexError(f"frame {k} out of range for a sequence of {n} frames")
@@ -260,8 +261,7 @@ class Sequence:
         if (frames is None) == (times is None):
             raise ParameterError("give either frames or times")
         if times is None:
-            if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
-                raise ParameterError(f"frames must be an integer >= 2, got {frames!r}")
+            check_int("frames", frames, 2)
             from .resources import check_memory
 
             # the edge arrays of every new frame (a dozen complex values per edge and vertex)

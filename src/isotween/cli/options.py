@@ -25,6 +25,7 @@ from pathlib import Path
 import click
 
 from .._defaults import DEFAULT_TOL
+from .._validate import is_int
 from ..errors import FileFormatError, IncompatibleShapesError, require
 from ..io import atomic_path
 from ..outputs import FORMATS, output_kind, with_paint, write_output
@@ -217,7 +218,7 @@ def check_outputs(output, fmt=None, texture=None, plot=None):
     if ctx is not None:
         ctx.meta.setdefault("isotween.kinds", {})[(str(output), fmt)] = kind
     frames = ctx.params.get("frames") if ctx is not None else None
-    if isinstance(frames, int) and not isinstance(frames, bool):
+    if is_int(frames):
         check_render_memory(output, fmt, frames)
     probe_writable(output if kind == "frames" and Path(output).is_dir() else Path(output).parent, output)
     if texture is not None:
