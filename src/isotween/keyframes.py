@@ -10,7 +10,7 @@ import numpy as np
 from ._heap import keep_heap_if_asked
 from ._validate import check_int, check_number
 from .correspondence.compatibility import as_shape, check_compatible
-from .easing import frame_times as eased_times
+from .easing import eased_times
 from .errors import ParameterError
 from .interpolate import interpolate
 from .optimisation.local_solver import ASSEMBLY

@@ -437,16 +437,23 @@ class Sequence:
 
         return write_output(self, path, **options)
 
-    def plot(self, ax: Any = None, frames: ArrayLike | int | None = None, **style: Any) -> Any:
+    def plot(self, ax: Any = None, frames: ArrayLike | int | None = None, *, indices: ArrayLike | None = None,
+             **style: Any) -> Any:
         """Draw frames over each other on matplotlib axes, darker with time.
+
+        As everywhere in isotween, ``frames`` is a count (the sequence's
+        ``frames`` attribute is its array) and ``indices`` picks frames.
 
         Parameters
         ----------
         ax : matplotlib.axes.Axes, optional
             Default: a new figure's axes.
-        frames : int or (k,) array_like of int, optional
-            The frames to draw (indices), or how many to pick evenly; default
-            all of them up to 9, else 9 evenly picked.
+        frames : int, optional
+            How many frames to pick evenly; default all of them up to 9, else
+            9 evenly picked. (Frame indices here are deprecated: give
+            ``indices``.)
+        indices : (k,) array_like of int, optional
+            The frames to draw (not with ``frames``).
         **style
             ``style`` and ``linewidth`` as in :func:`isotween.render.draw_frame`.
 
@@ -467,6 +474,15 @@ class Sequence:
         from .render import draw_frame
 
         n = len(self)
+        if indices is not None:
+            if frames is not None:
+                raise ParameterError("give frames (a count) or indices, not both")
+            frames = indices
+        elif frames is not None and not isinstance(frames, numbers.Integral):
+            import warnings
+
+            warnings.warn("Sequence.plot(frames=<indices>) is deprecated; give indices=", DeprecationWarning,
+                          stacklevel=2)
         if frames is None or isinstance(frames, numbers.Integral):
             count = min(n, 9) if frames is None else int(frames)
             if not 1 <= count:

@@ -7,7 +7,7 @@ from .options import check_outputs, emit, output_options, timer
 
 @click.command("edit")
 @click.argument("sequence")
-@click.option("--frame", "-k", "frames", type=int, multiple=True, required=True,
+@click.option("--frame", "-k", "indices", type=int, multiple=True, required=True,
               help="Index of an edited frame (repeat with --shape for several).")
 @click.option("--shape", "shapes", multiple=True, required=True,
               help="The edited frame's shape file, one per --frame.")
@@ -18,7 +18,7 @@ from .options import check_outputs, emit, output_options, timer
               help="auto: a --shape of other connectivity (a drawing) is brought onto the sequence's; "
                    "always; never (each --shape must be compatible with the sequence).")
 @output_options
-def edit_command(sequence, frames, shapes, free_ends, correspondence, output, fmt, texture, plot, quiet, **render):
+def edit_command(sequence, indices, shapes, free_ends, correspondence, output, fmt, texture, plot, quiet, **render):
     """Replace frames of SEQUENCE and carry the change through its motion (Sec. 5.2).
 
     SEQUENCE is a .npz/.json sequence file or a folder of frames. A --shape
@@ -31,10 +31,10 @@ def edit_command(sequence, frames, shapes, free_ends, correspondence, output, fm
     from ..io import load_sequence
 
     elapsed = timer()
-    if len(frames) != len(shapes):
-        raise ParameterError(f"give one --shape per --frame ({len(frames)} frames, {len(shapes)} shapes)")
+    if len(indices) != len(shapes):
+        raise ParameterError(f"give one --shape per --frame ({len(indices)} frames, {len(shapes)} shapes)")
     check_outputs(output, fmt, texture, plot)
     seq = load_sequence(sequence)
-    out = edit(seq, edits=dict(zip(frames, shapes, strict=True)), keep_ends=not free_ends,
+    out = edit(seq, edits=dict(zip(indices, shapes, strict=True)), keep_ends=not free_ends,
                correspondence=correspondence)
     emit(out, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())

@@ -187,14 +187,14 @@ output_options = _compose(
 def solver_kwargs(params):
     """The keyword arguments of `isotween.interpolate` among a command's parameters.
 
-    ``easing`` becomes the frame ``times`` (`isotween.easing.frame_times`).
+    ``easing`` becomes the frame ``times`` (`isotween.easing.eased_times`).
     """
     out = {k: params[k] for k in SOLVER_KEYS if k in params and params[k] is not None}
     easing = params.get("easing")
     if easing and easing != "linear" and "frames" in out:
-        from ..easing import frame_times
+        from ..easing import eased_times
 
-        out["times"] = frame_times(out["frames"], easing)
+        out["times"] = eased_times(out["frames"], easing)
     return out
 
 
