@@ -1,27 +1,28 @@
 """Checks of option values (counts, lengths, weights, choices): the one place that words their errors.
 
-Beside `errors` at the bottom of the layers (it imports only `errors` and
-numpy), so the model and every layer above can use it. Each check raises
+Beside `errors` at the bottom of the layers (it imports only `errors`), so
+the model and every layer above can use it. Each check raises
 `ParameterError` naming the option and the value given.
 """
 
 from __future__ import annotations
 
+import math
 import numbers
-
-import numpy as np
+from typing import TypeGuard
 
 from .errors import ParameterError
 
 __all__ = ["is_int", "check_int", "check_number", "check_choice"]
 
 
-def is_int(value) -> bool:
+def is_int(value: object) -> TypeGuard[int]:
     """Whether ``value`` is an integer (numpy's too), not a bool.
 
     Examples
     --------
     >>> from isotween._validate import is_int
+    >>> import numpy as np
     >>> is_int(3), is_int(np.int64(3)), is_int(True), is_int(3.0)
     (True, True, False, False)
     """
@@ -84,14 +85,16 @@ def check_number(name: str, value, *, low: float = 0.0, strict: bool = True, bou
         ...
     isotween.errors.ParameterError: smooth must be a finite number >= 0, got -1
     """
-    ok = (not isinstance(value, bool) and isinstance(value, numbers.Real) and bool(np.isfinite(value))
-          and (value > low if strict else value >= low))
+    ok = not isinstance(value, bool) and isinstance(value, numbers.Real)
+    if ok:
+        v = float(value)
+        ok = math.isfinite(v) and (v > low if strict else v >= low)
     if not ok:
         if bound is None:
             bound = ("a positive number" if strict and low == 0
                      else f"a finite number {'>' if strict else '>='} {low:g}")
         raise ParameterError(f"{name} must be {bound}, got {value!r}")
-    return float(value)
+    return v
 
 
 def check_choice(name: str, value, choices) -> None:

@@ -261,7 +261,7 @@ class Sequence:
         if (frames is None) == (times is None):
             raise ParameterError("give either frames or times")
         if times is None:
-            check_int("frames", frames, 2)
+            frames = check_int("frames", frames, 2)
             from .resources import check_memory
 
             # the edge arrays of every new frame (a dozen complex values per edge and vertex)
