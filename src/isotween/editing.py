@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -100,10 +99,10 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
         if not is_int(k) or not 0 <= k < F:
             raise ParameterError(f"frame index {k!r} is out of range for a sequence of {F} frames (0..{F - 1})")
     names = ["sequence"] + [f"edited frame {k}" for k in edits]
-    from .pipeline import needs_correspondence, onto_connectivity  # a layer above: reached at call time
+    from .pipeline import _is_path, needs_correspondence, onto_connectivity  # a layer above: at call time
 
     for k, s in edits.items():
-        if isinstance(s, (str, os.PathLike)):
+        if _is_path(s):
             from .io import load
 
             name, s = str(s), load(s)

@@ -53,11 +53,14 @@ class Prepared:
 
 
 def _is_drawing(item):
-    return isinstance(item, (str, os.PathLike)) and Path(item).suffix.lower() in DRAWING_SUFFIXES
+    return _is_path(item) and Path(item).suffix.lower() in DRAWING_SUFFIXES
 
 
 def _is_path(item):
-    return isinstance(item, (str, os.PathLike))
+    """A file to load: a path object, or a string with a file ending (or naming a file)."""
+    if isinstance(item, os.PathLike):
+        return True
+    return isinstance(item, str) and (bool(Path(item).suffix) or os.path.isfile(item))
 
 
 def _check_policy(correspondence):
@@ -114,7 +117,7 @@ def _load(item, name):
     from .correspondence.compatibility import as_shape
     from .io import load
 
-    return load(item) if isinstance(item, (str, os.PathLike)) else as_shape(item, name)
+    return load(item) if _is_path(item) else as_shape(item, name)
 
 
 def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=False, **options):

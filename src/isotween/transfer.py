@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -112,10 +111,10 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     inputs = [source_start, source_end, target_start]
     summary = None
     if needs_correspondence(*inputs, correspondence=correspondence, names=names, options=bool(correspond_options)):
-        from .pipeline import prepare_keys
+        from .pipeline import _is_path, prepare_keys
 
         prepared = prepare_keys(inputs, correspondence=correspondence, role="input",
-                                names=[str(x) if isinstance(x, (str, os.PathLike)) else n
+                                names=[str(x) if _is_path(x) else n
                                        for x, n in zip(inputs, names, strict=True)],
                                 **(correspond_options or {}))
         inputs, summary = prepared.shapes, prepared.summary()
