@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TypeGuard
 
 from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
@@ -56,7 +57,7 @@ def _is_drawing(item):
     return _is_path(item) and Path(item).suffix.lower() in DRAWING_SUFFIXES
 
 
-def _is_path(item):
+def _is_path(item: object) -> TypeGuard[str | os.PathLike]:
     """A file to load: a path object, or a string with a file ending (or naming a file)."""
     if isinstance(item, os.PathLike):
         return True
