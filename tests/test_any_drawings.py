@@ -167,3 +167,13 @@ def test_compare_takes_two_drawings(drawings):
     _, a, b, pa, pb = drawings
     rows = isotween.compare(pa, pb, methods=("aiap", "linear"), frames=3)
     assert [r["method"] for r in rows] == ["aiap", "linear"]
+
+
+def test_edit_refuses_a_shape_without_paths_of_other_connectivity_and_says_what_to_give(tmp_path):
+    from shapes import grid_mesh
+
+    bar = grid_mesh(5, 3)
+    seq = isotween.interpolate(bar, bar.rotate(0.5), frames=4)
+    isotween.save(grid_mesh(4, 3), tmp_path / "other.obj")
+    with pytest.raises(IncompatibleShapesError, match=r"other.obj \(edited frame 1\).*drawing with paths"):
+        isotween.edit(seq, edits={1: tmp_path / "other.obj"})

@@ -8,7 +8,7 @@ import numpy as np
 
 from ._validate import is_int
 from .correspondence.compatibility import as_shape, check_compatible
-from .errors import ParameterError
+from .errors import IncompatibleShapesError, ParameterError
 from .initialisation import edge_rotations
 from .metrics import isometric_energy
 from .problems import assemble, check_movable, held_problem
@@ -98,22 +98,29 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
     for k in edits:
         if not is_int(k) or not 0 <= k < F:
             raise ParameterError(f"frame index {k!r} is out of range for a sequence of {F} frames (0..{F - 1})")
-    names = ["sequence"] + [f"edited frame {k}" for k in edits]
     from .pipeline import _is_path, needs_correspondence, onto_connectivity  # a layer above: at call time
 
+    names = ["sequence"]
     for k, s in edits.items():
         if _is_path(s):
             from .io import load
 
-            name, s = str(s), load(s)
+            name, s = f"{s} (edited frame {k})", load(s)
         else:
             name = f"edited frame {k}"
+        names.append(name)
         if needs_correspondence(sequence.shape, s, correspondence=correspondence, names=["sequence", name],
                                 options=bool(correspond_options)):
             s = onto_connectivity(sequence[k], s, name=name, **(correspond_options or {}))
         edits[k] = s
     edits = {k: as_shape(s, f"edited frame {k}") for k, s in edits.items()}
-    check_compatible(sequence.shape, *edits.values(), names=names)
+    try:
+        check_compatible(sequence.shape, *edits.values(), names=names)
+    except IncompatibleShapesError as exc:
+        what = str(exc).split("; put them in correspondence")[0]
+        raise IncompatibleShapesError(
+            f"{what}; give the edited frame with the sequence's vertices and edges (an edited copy of the "
+            "frame), or as a drawing with paths, which correspondence='auto' brings onto them") from None
     base = sequence.shape
     z = sequence.z.T  # (n, F)
     e = base.edge_vectors(z.T).T  # (E, F)
