@@ -112,6 +112,10 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
         raise ParameterError(f"need at least two keyframes, got {len(keyframes)}")
     names = [f"keyframe {i}" for i in range(len(keyframes))]
     summary = None
+    check_choice("scheme", scheme, SCHEMES)
+    check_choice("assembly", assembly, ASSEMBLY)
+    check_stopping(tol, max_iter)
+    check_number("smooth", smooth, strict=False)
     from .pipeline import needs_correspondence  # the pipeline is a layer above: reached at call time
 
     if needs_correspondence(*keyframes, correspondence=correspondence, names=names,
@@ -123,10 +127,6 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
     shapes = [as_shape(s, f"keyframe {i}") for i, s in enumerate(keyframes)]
     check_movable(shapes[0], "keyframe 0")
     check_compatible(*shapes, names=[f"keyframe {i}" for i in range(len(shapes))])
-    check_choice("scheme", scheme, SCHEMES)
-    check_choice("assembly", assembly, ASSEMBLY)
-    check_stopping(tol, max_iter)
-    check_number("smooth", smooth, strict=False)
     K = len(shapes)
     frames = 8 * (K - 1) + 1 if frames is None else frames
     check_int("frames", frames, K, bound=f">= the number of keyframes ({K})")
