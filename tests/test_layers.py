@@ -19,8 +19,10 @@ import isotween
 
 PACKAGE = Path(isotween.__file__).parent
 
-#: the model: what every layer may import, and what imports no other layer
-MODEL = {"isotween.shape", "isotween.sequence", "isotween.paint", "isotween.times", "isotween.errors"}
+#: the model: what every layer may import, and what imports no other layer (the option checks of
+#: `_validate` sit beside the errors)
+MODEL = {"isotween.shape", "isotween.sequence", "isotween.paint", "isotween.times", "isotween.errors",
+         "isotween._validate"}
 
 #: what ``import isotween`` may load: the package, the model and the modules of lazy public names' bookkeeping
 ALLOWED_AT_IMPORT = {"isotween"} | MODEL

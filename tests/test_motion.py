@@ -173,3 +173,13 @@ def test_keyframes_with_another_method_or_solver_interpolate_each_segment():
     # a rigid first segment keeps every edge length with the global solver too
     lengths = np.linalg.norm(np.diff(glob.frames[: idx[1] + 1], axis=1), axis=-1)
     np.testing.assert_allclose(lengths, 1.0, atol=1e-6)
+
+
+def test_eased_times_is_the_one_name_of_the_easing_times():
+    """`easing.eased_times` spaces frames by a curve; `times.frame_times` checks given times (a different job)."""
+    from isotween import easing, times
+
+    np.testing.assert_array_equal(easing.eased_times(5), times.frame_times(5))
+    with pytest.warns(DeprecationWarning, match="eased_times"):
+        old = easing.frame_times(5, "ease-in")
+    np.testing.assert_array_equal(old, easing.eased_times(5, "ease-in"))

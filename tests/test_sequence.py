@@ -209,3 +209,15 @@ def test_repr_is_one_compact_line(curl):
     text = repr(curl)
     assert "\n" not in text and len(text) < 160
     assert "7 frames" in text and "30 vertices" in text
+
+
+def test_plot_takes_a_count_as_frames_and_picks_with_indices(curl):
+    """``frames`` is a count everywhere; picking frames by index is ``indices`` (an index list as frames warns)."""
+    picked = curl.plot(indices=[0, 3, -1]).get_lines()
+    with pytest.warns(DeprecationWarning, match="indices="):
+        old = curl.plot(frames=[0, 3, -1]).get_lines()
+    assert len(picked) == len(old) == 3
+    for a, b in zip(picked, old, strict=True):
+        np.testing.assert_array_equal(a.get_xydata(), b.get_xydata())
+    with pytest.raises(ParameterError, match="not both"):
+        curl.plot(frames=3, indices=[0])

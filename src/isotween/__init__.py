@@ -39,6 +39,7 @@ _NAMES = {
     "write_output": ".outputs",
     "morph": ".pipeline",
     "prepare_pair": ".pipeline",
+    "prepare_keys": ".pipeline",
     "RelativeVelocityField": ".velocity",
     "relative_velocity_field": ".velocity",
 }
@@ -49,8 +50,8 @@ _SUBMODULES = ("easing", "io", "metrics", "studio", "times")
 __all__ = [
     "IsotweenError", "RelativeVelocityField", "Sequence", "Shape", "ShapeLike", "batch", "check_compatible", "compare",
     "correspond", "easing", "edit", "interpolate", "interpolate_keyframes", "io", "load", "load_sequence", "mesh_pair",
-    "metrics", "morph", "prepare_pair", "relative_velocity_field", "resample", "save", "save_sequence", "studio",
-    "times", "transfer", "write_output",
+    "metrics", "morph", "prepare_keys", "prepare_pair", "relative_velocity_field", "resample", "save", "save_sequence",
+    "studio", "times", "transfer", "write_output",
 ]
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and editors
@@ -63,7 +64,7 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and editors
     from .io import load, load_sequence, save, save_sequence
     from .keyframes import interpolate_keyframes
     from .outputs import write_output
-    from .pipeline import morph, prepare_pair
+    from .pipeline import morph, prepare_keys, prepare_pair
     from .transfer import transfer
     from .velocity import RelativeVelocityField, relative_velocity_field
 

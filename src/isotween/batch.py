@@ -22,6 +22,7 @@ import time
 from pathlib import Path
 
 from ._callable import make_callable
+from ._validate import check_int, is_int
 from .errors import FileFormatError, IsotweenError, ParameterError
 
 __all__ = ["batch", "read_manifest", "check_jobs", "output_path", "run_job", "run_jobs", "run_jobs_one_thread",
@@ -569,8 +570,8 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
         total = len(jobs)
     if client is not None and scheduler is not None:
         raise ParameterError("give a Dask client or a scheduler address, not both")
-    if workers is not None and (not isinstance(workers, int) or workers < 1):
-        raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
+    if workers is not None:
+        check_int("workers", workers, 1)
     try:
         outdir.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -599,8 +600,7 @@ def batch(jobs, outdir=".", workers=None, client=None, scheduler=None, report=No
     window = window or 4 * slots
     chunk = chunk or (8 if client is not None else 1)
     for name, value in (("window", window), ("chunk", chunk)):
-        if not isinstance(value, int) or value < 1:
-            raise ParameterError(f"{name} must be an integer >= 1, got {value!r}")
+        check_int(name, value, 1)
     counts = {"done": 0, "skipped": 0, "failed": 0}
     failures = []
     bar = None
@@ -674,7 +674,7 @@ def _option_types(options, where):
     for key, value in options.items():
         kind = JOB_OPTIONS.get(key)
         if kind is int:
-            ok = isinstance(value, int) and not isinstance(value, bool)
+            ok = is_int(value)
         elif kind is float:
             ok = isinstance(value, int | float) and not isinstance(value, bool)
         elif kind is str:

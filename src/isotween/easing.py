@@ -11,7 +11,7 @@ from .errors import ParameterError
 if TYPE_CHECKING:
     from collections.abc import Callable
 
-__all__ = ["EASINGS", "frame_times"]
+__all__ = ["EASINGS", "eased_times", "frame_times"]
 
 EASINGS = {
     "linear": lambda s: s,
@@ -21,8 +21,10 @@ EASINGS = {
 }
 
 
-def frame_times(frames: int, easing: str | Callable[[np.ndarray], np.ndarray] = "linear") -> np.ndarray:
-    """Times t_k = u(k / (frames - 1)) of every frame.
+def eased_times(frames: int, easing: str | Callable[[np.ndarray], np.ndarray] = "linear") -> np.ndarray:
+    """Times t_k = u(k / (frames - 1)) of every frame, spaced by an easing curve.
+
+    (`isotween.times.frame_times` checks given times or makes uniform ones.)
 
     Parameters
     ----------
@@ -37,8 +39,8 @@ def frame_times(frames: int, easing: str | Callable[[np.ndarray], np.ndarray] = 
 
     Examples
     --------
-    >>> from isotween.easing import frame_times
-    >>> frame_times(5, "ease-in").tolist()
+    >>> from isotween.easing import eased_times
+    >>> eased_times(5, "ease-in").tolist()
     [0.0, 0.0625, 0.25, 0.5625, 1.0]
     """
     curve = EASINGS.get(easing) if isinstance(easing, str) else easing
@@ -52,3 +54,12 @@ def frame_times(frames: int, easing: str | Callable[[np.ndarray], np.ndarray] = 
         raise ParameterError("the easing curve must increase strictly from u(0) = 0 to u(1) = 1")
     t[0], t[-1] = 0.0, 1.0
     return t
+
+
+def frame_times(frames: int, easing: str | Callable[[np.ndarray], np.ndarray] = "linear") -> np.ndarray:
+    """Deprecated name of `eased_times` (it clashed with `isotween.times.frame_times`, which differs)."""
+    import warnings
+
+    warnings.warn("isotween.easing.frame_times is deprecated; call isotween.easing.eased_times",
+                  DeprecationWarning, stacklevel=2)
+    return eased_times(frames, easing)

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import numbers
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ._validate import is_int
 from .correspondence.compatibility import as_shape, check_compatible
-from .errors import ParameterError
+from .errors import IncompatibleShapesError, ParameterError
 from .initialisation import edge_rotations
 from .metrics import isometric_energy
 from .problems import assemble, check_movable, held_problem
@@ -25,7 +25,8 @@ __all__ = ["edit"]
 
 
 def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = None,
-         edits: Mapping[int, Shape] | None = None, keep_ends: bool = True) -> Sequence:
+         edits: Mapping[int, Shape] | None = None, keep_ends: bool = True,
+         correspondence: str = "auto", correspond_options: dict | None = None) -> Sequence:
     """Edit frames of a sequence and carry the change through its motion.
 
     Each edited frame k gives every edge a similarity S~_ij(t_k) with
@@ -46,12 +47,23 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
     sequence : Sequence
     frame : int, optional
         Index of the edited frame (with ``shape``).
-    shape : Shape, optional
-        The edited frame.
-    edits : dict {int: Shape}, optional
+    shape : Shape or path, optional
+        The edited frame: a shape with the sequence's connectivity, or a
+        drawing (a file, or a shape with paths) brought onto it.
+    edits : dict {int: Shape or path}, optional
         Several edited frames at once.
     keep_ends : bool
         Hold the first and last frames unless they are edited.
+    correspondence : {'auto', 'always', 'never'}
+        ``'auto'``: an edited frame with the sequence's connectivity is used
+        as it is (also a drawing file: a frame written by ``render`` loads
+        back so); a shape or drawing with paths of other connectivity is
+        brought onto the sequence's connectivity by
+        :func:`isotween.pipeline.onto_connectivity` (the frame corresponded
+        with the drawing as outlines, the frame's mesh kept). ``'always'``:
+        every edited frame so. ``'never'``: edited frames must be compatible.
+    correspond_options : dict, optional
+        Options of `isotween.correspond` for ``onto_connectivity``.
 
     Returns
     -------
@@ -84,11 +96,31 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
         raise ParameterError("nothing to edit: give frame= and shape=, or edits={frame: shape}")
     F = len(sequence)
     for k in edits:
-        if isinstance(k, bool) or not isinstance(k, numbers.Integral) or not 0 <= k < F:
+        if not is_int(k) or not 0 <= k < F:
             raise ParameterError(f"frame index {k!r} is out of range for a sequence of {F} frames (0..{F - 1})")
-    names = ["sequence"] + [f"edited frame {k}" for k in edits]
+    from .pipeline import _is_path, needs_correspondence, onto_connectivity  # a layer above: at call time
+
+    names = ["sequence"]
+    for k, s in edits.items():
+        if _is_path(s):
+            from .io import load
+
+            name, s = f"{s} (edited frame {k})", load(s)
+        else:
+            name = f"edited frame {k}"
+        names.append(name)
+        if needs_correspondence(sequence.shape, s, correspondence=correspondence, names=["sequence", name],
+                                options=bool(correspond_options)):
+            s = onto_connectivity(sequence[k], s, name=name, **(correspond_options or {}))
+        edits[k] = s
     edits = {k: as_shape(s, f"edited frame {k}") for k, s in edits.items()}
-    check_compatible(sequence.shape, *edits.values(), names=names)
+    try:
+        check_compatible(sequence.shape, *edits.values(), names=names)
+    except IncompatibleShapesError as exc:
+        what = str(exc).split("; put them in correspondence")[0]
+        raise IncompatibleShapesError(
+            f"{what}; give the edited frame with the sequence's vertices and edges (an edited copy of the "
+            "frame), or as a drawing with paths, which correspondence='auto' brings onto them") from None
     base = sequence.shape
     z = sequence.z.T  # (n, F)
     e = base.edge_vectors(z.T).T  # (E, F)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import numbers
 import time
 from typing import TYPE_CHECKING
 
@@ -12,6 +11,7 @@ import numpy as np
 from . import baselines
 from ._callable import make_callable
 from ._heap import keep_heap_if_asked
+from ._validate import is_int
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError
 from .initialisation import INITIALISERS
@@ -43,8 +43,9 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
                 callback: Callable[[int, float, float], object] | None = None, method: str = "aiap",
                 times: ArrayLike | None = None, assembly: str = "shared",
                 linear_solver: str = "cg", max_memory: float | None = None,
-                fold: str = "allow") -> Sequence:
-    """Interpolate two compatible shapes as-isometrically-as-possible.
+                fold: str | None = None, correspondence: str = "auto",
+                correspond_options: dict | None = None) -> Sequence:
+    """Interpolate two shapes as-isometrically-as-possible.
 
     The two-key case of :func:`isotween.interpolate_keyframes`: both solve a
     :class:`~isotween.optimisation.problem.Problem` built by
@@ -53,8 +54,12 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
 
     Parameters
     ----------
-    source, target : Shape
-        Same vertex count and connectivity.
+    source, target : Shape, (n, 2) array_like, or path
+        Two compatible shapes (same vertex count and connectivity) are
+        interpolated as they are. Any two drawings otherwise: files, or
+        shapes with paths that are not compatible, go through the pipeline
+        (:func:`isotween.pipeline.morph`: correspondence, this solve, the
+        fold check), as ``correspondence`` says.
     frames : int
         Number of frames, both inputs included (``frames=2`` returns the inputs).
     solver : {'local', 'global'}
@@ -89,18 +94,31 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         Bytes the run may use; default the memory available now. A run whose
         estimate (:func:`isotween.resources.solve_bytes`) exceeds it raises
         `ResourceError` before allocating.
-    fold : {'allow', 'fallback'}
-        'allow' keeps the result as it is (the paper's behaviour). 'fallback':
+    fold : {'allow', 'fallback'}, optional
+        Default: 'fallback' when correspondence built the meshes, else
+        'allow'. 'allow' keeps the result as it is (the paper's behaviour). 'fallback':
         when an in-between frame has a flipped triangle or an outline that
         crosses itself within a region, the ``method='injective'`` morph
         (never folds, nearly isometric; ``'convex'`` if it cannot be built) is
         returned instead; ``info['fallback']`` says why, or why neither could
         be built (the first result is then kept).
+    correspondence : {'auto', 'always', 'never'}
+        ``'auto'``: compatible shapes are used as they are; drawing files
+        (.svg) and shapes with paths that are not compatible are put in
+        correspondence (`isotween.correspond`). ``'always'``: correspond even
+        compatible inputs. ``'never'``: the inputs must be compatible
+        (`IncompatibleShapesError` otherwise).
+    correspond_options : dict, optional
+        Options of `isotween.correspond` (``points``, ``segment``,
+        ``mesh_size``, ...); giving them puts the inputs in correspondence.
 
     Returns
     -------
     Sequence
-        ``frames`` is a (frames, n, 2) float64 array.
+        ``frames`` is a (frames, n, 2) float64 array. After correspondence
+        ``info['correspondence']`` says what was done, and the sequence's
+        shape is the corresponded one (its first and last frames are the
+        inputs, resampled).
 
     Examples
     --------
@@ -113,11 +131,21 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     >>> bool(isotween.metrics.edge_length_deviation(seq) < 1e-9)  # a rigid motion stays rigid
     True
     """
+    from .pipeline import needs_correspondence  # the pipeline is a layer above: reached at call time
+
+    if needs_correspondence(source, target, correspondence=correspondence, options=bool(correspond_options)):
+        from .pipeline import morph
+
+        return morph(source, target, frames=frames, correspondence=correspondence, fold=fold,
+                     correspond_options=correspond_options, solver=solver, init=init, scheme=scheme, tol=tol,
+                     max_iter=max_iter, callback=callback, method=method, times=times, assembly=assembly,
+                     linear_solver=linear_solver, max_memory=max_memory)
+    fold = "allow" if fold is None else fold
     keep_heap_if_asked()
     start = time.perf_counter()
     source, target = as_shape(source, "source"), as_shape(target, "target")
     check_movable(source, "source")
-    if isinstance(frames, numbers.Integral) and not isinstance(frames, bool):  # before any allocation
+    if is_int(frames):  # before any allocation
         check_memory(solve_bytes(frames, source.n_vertices, source.n_edges),
                      f"interpolating {frames} frames of {source.n_vertices} vertices and {source.n_edges} edges",
                      max_memory)

@@ -2,15 +2,15 @@
 
 from __future__ import annotations
 
-import numbers
 import time
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ._heap import keep_heap_if_asked
+from ._validate import check_int, check_number
 from .correspondence.compatibility import as_shape, check_compatible
-from .easing import frame_times as eased_times
+from .easing import eased_times
 from .errors import ParameterError
 from .interpolate import interpolate
 from .optimisation.local_solver import ASSEMBLY
@@ -41,7 +41,8 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
                           smooth: float = 1.0, assembly: str = "shared",
                           callback: Callable[..., object] | None = None,
                           max_memory: float | None = None, solver: str = "local",
-                          method: str = "aiap") -> Sequence:
+                          method: str = "aiap", correspondence: str = "auto",
+                          correspond_options: dict | None = None) -> Sequence:
     """One AIAP sequence through every keyframe.
 
     All in-between frames are solved together by the local solver with the
@@ -56,8 +57,11 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
 
     Parameters
     ----------
-    keyframes : list of Shape
-        At least two, all with the same connectivity.
+    keyframes : list of Shape, (n, 2) array_like, or path
+        At least two. Compatible shapes are used as they are; files and
+        shapes with paths that are not compatible are first put in
+        correspondence together, as outlines
+        (:func:`isotween.pipeline.prepare_keys`), as ``correspondence`` says.
     times : (K,) array_like, optional
         Keyframe times, strictly increasing from 0 to 1 (default: uniform).
     frames : int, optional
@@ -76,11 +80,17 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
         interpolates each segment between consecutive keyframes on its own
         (the frames pass through every keyframe; ``smooth`` and ``assembly``
         do not apply).
+    correspondence : {'auto', 'always', 'never'}
+        As in :func:`isotween.interpolate`.
+    correspond_options : dict, optional
+        Options of `isotween.correspondence.correspond_keys` (``points``,
+        ``segment``, ``rotation``, ``unmatched``).
 
     Returns
     -------
     Sequence
-        ``info['keyframe_indices']`` gives the frame index of every keyframe.
+        ``info['keyframe_indices']`` gives the frame index of every keyframe;
+        after correspondence ``info['correspondence']`` says what was done.
 
     Examples
     --------
@@ -100,18 +110,26 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
         raise ParameterError(f"keyframes must be a list of shapes, got {type(keyframes).__name__}")
     if len(keyframes) < 2:
         raise ParameterError(f"need at least two keyframes, got {len(keyframes)}")
-    shapes = [as_shape(s, f"keyframe {i}") for i, s in enumerate(keyframes)]
-    check_movable(shapes[0], "keyframe 0")
-    check_compatible(*shapes, names=[f"keyframe {i}" for i in range(len(shapes))])
+    names = [f"keyframe {i}" for i in range(len(keyframes))]
+    summary = None
     check_choice("scheme", scheme, SCHEMES)
     check_choice("assembly", assembly, ASSEMBLY)
     check_stopping(tol, max_iter)
-    if isinstance(smooth, bool) or not (isinstance(smooth, numbers.Real) and np.isfinite(smooth) and smooth >= 0):
-        raise ParameterError(f"smooth must be a finite number >= 0, got {smooth!r}")
+    check_number("smooth", smooth, strict=False)
+    from .pipeline import needs_correspondence  # the pipeline is a layer above: reached at call time
+
+    if needs_correspondence(*keyframes, correspondence=correspondence, names=names,
+                            options=bool(correspond_options)):
+        from .pipeline import prepare_keys
+
+        prepared = prepare_keys(keyframes, correspondence=correspondence, **(correspond_options or {}))
+        keyframes, summary = prepared.shapes, prepared.summary()
+    shapes = [as_shape(s, f"keyframe {i}") for i, s in enumerate(keyframes)]
+    check_movable(shapes[0], "keyframe 0")
+    check_compatible(*shapes, names=[f"keyframe {i}" for i in range(len(shapes))])
     K = len(shapes)
     frames = 8 * (K - 1) + 1 if frames is None else frames
-    if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < K:
-        raise ParameterError(f"frames must be an integer >= the number of keyframes ({K}), got {frames!r}")
+    check_int("frames", frames, K, bound=f">= the number of keyframes ({K})")
     check_memory(solve_bytes(frames, shapes[0].n_vertices, shapes[0].n_edges),
                  f"interpolating {frames} frames of {shapes[0].n_vertices} vertices and {shapes[0].n_edges} edges",
                  max_memory)
@@ -124,16 +142,22 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
     if np.any(np.diff(t) <= 0):
         raise ParameterError("keyframe times collide with the eased frame times; use more frames")
     if solver != "local" or method != "aiap":
-        return _segments(shapes, t, idx, key_t, start, solver=solver, method=method, init=init, scheme=scheme,
-                         tol=tol, max_iter=max_iter, max_memory=max_memory)
+        seq = _segments(shapes, t, idx, key_t, start, solver=solver, method=method, init=init, scheme=scheme,
+                        tol=tol, max_iter=max_iter, max_memory=max_memory)
+        if summary is not None:
+            seq.info["correspondence"] = summary
+        return seq
     diag = bbox_diagonal(*(s.vertices for s in shapes))
     problem = keyed_problem(shapes, t, idx, init=init, scheme=scheme, tol=tol, max_iter=max_iter, diagonal=diag)
     result = solve(problem, assembly=assembly, smooth=smooth, callback=callback)
     del result.timings["solve"]
     result.timings["total"] = time.perf_counter() - start
-    return result.sequence(shapes[0], t, method="aiap-keyframes", scheme=scheme,
-                           info={"keyframe_indices": idx.tolist(), "max_move": result.max_move,
-                                 **paint_keys(shapes, key_t)})
+    seq = result.sequence(shapes[0], t, method="aiap-keyframes", scheme=scheme,
+                          info={"keyframe_indices": idx.tolist(), "max_move": result.max_move,
+                                **paint_keys(shapes, key_t)})
+    if summary is not None:
+        seq.info["correspondence"] = summary
+    return seq
 
 
 def _segments(shapes, t, idx, key_t, start, **options):
@@ -148,7 +172,7 @@ def _segments(shapes, t, idx, key_t, start, **options):
         a, b = idx[j], idx[j + 1]
         u = (t[a : b + 1] - t[a]) / (t[b] - t[a])
         u[0], u[-1] = 0.0, 1.0
-        seg = interpolate(shapes[j], shapes[j + 1], frames=b - a + 1, times=u, **options)
+        seg = interpolate(shapes[j], shapes[j + 1], frames=b - a + 1, times=u, correspondence="never", **options)
         z[a : b + 1] = seg.frames
         iterations += seg.iterations
         converged &= bool(seg.converged)

@@ -11,10 +11,12 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TypeGuard
 
 from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
-__all__ = ["Prepared", "prepare_pair", "morph", "collapse_vanishing", "CORRESPONDENCE", "DRAWING_SUFFIXES"]
+__all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_keys", "morph", "collapse_vanishing",
+           "needs_correspondence", "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES"]
 
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
 CORRESPONDENCE = ("auto", "always", "never")
@@ -23,6 +25,8 @@ DRAWING_SUFFIXES = (".svg",)
 
 #: options of `isotween.correspond` that `prepare_pair` passes on
 CORRESPOND_OPTIONS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched", "pairs", "landmarks")
+#: options of `isotween.correspondence.correspond_keys` that `prepare_keys` passes on
+KEYS_OPTIONS = ("points", "segment", "rotation", "unmatched")
 
 
 @dataclass
@@ -50,7 +54,63 @@ class Prepared:
 
 
 def _is_drawing(item):
-    return isinstance(item, (str, os.PathLike)) and Path(item).suffix.lower() in DRAWING_SUFFIXES
+    return _is_path(item) and Path(item).suffix.lower() in DRAWING_SUFFIXES
+
+
+def _is_path(item: object) -> TypeGuard[str | os.PathLike]:
+    """A file to load: a path object, or a string with a file ending (or naming a file)."""
+    if isinstance(item, os.PathLike):
+        return True
+    return isinstance(item, str) and (bool(Path(item).suffix) or os.path.isfile(item))
+
+
+def _check_policy(correspondence):
+    if correspondence not in CORRESPONDENCE:
+        raise ParameterError(f"correspondence must be one of {', '.join(CORRESPONDENCE)}, got {correspondence!r}")
+
+
+def needs_correspondence(*items, correspondence="auto", names=None, options=False):
+    """Whether inputs go through the pipeline's correspondence rather than straight to a solve.
+
+    The rule shared by `isotween.interpolate`, `interpolate_keyframes`,
+    `transfer` and `edit`: files (they need loading; drawings are always
+    corresponded under ``'auto'``), ``correspondence='always'`` and explicit
+    correspondence ``options`` go through it; under ``'auto'`` so do shapes
+    that are not compatible but have paths (drawings that correspondence can
+    pair). Compatible shapes, ``'never'``, and shapes without paths (bare
+    meshes, point sets) do not: the caller's own checks then raise as before.
+
+    Parameters
+    ----------
+    *items : Shape, (n, 2) array_like, or path
+    correspondence : {'auto', 'always', 'never'}
+    names : list of str, optional
+        How to call the inputs in `as_shape`'s messages.
+    options : bool
+        Correspondence options were given.
+
+    Returns
+    -------
+    bool
+    """
+    from .correspondence.compatibility import as_shape, check_compatible
+
+    _check_policy(correspondence)
+    if any(_is_path(x) for x in items):
+        return True
+    if correspondence == "never":
+        return False
+    if correspondence == "always" or options:
+        return True
+    names = names or ["source", "target"] + [f"shape {i}" for i in range(2, len(items))]
+    shapes = [as_shape(x, n) for x, n in zip(items, names, strict=False)]
+    try:
+        check_compatible(*shapes)
+    except IncompatibleShapesError:
+        return all(s.paths for s in shapes)
+    except ShapeError:  # compatible connectivity, a degenerate edge: the solve reports it
+        return False
+    return False
 
 
 def _load(item, name):
@@ -58,7 +118,7 @@ def _load(item, name):
     from .correspondence.compatibility import as_shape
     from .io import load
 
-    return load(item) if isinstance(item, (str, os.PathLike)) else as_shape(item, name)
+    return load(item) if _is_path(item) else as_shape(item, name)
 
 
 def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=False, **options):
@@ -95,15 +155,13 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
     """
     from .correspondence import check_compatible, correspond
 
-    if correspondence not in CORRESPONDENCE:
-        raise ParameterError(f"correspondence must be one of {', '.join(CORRESPONDENCE)}, got {correspondence!r}")
+    _check_policy(correspondence)
     unknown = sorted(set(options) - set(CORRESPOND_OPTIONS))
     if unknown:
         raise ParameterError(f"unknown correspondence option(s): {', '.join(unknown)}")
     drawing = _drawing or _is_drawing(source) or _is_drawing(target)
     if names is None:
-        names = [str(x) if isinstance(x, (str, os.PathLike)) else role
-                 for x, role in ((source, "source"), (target, "target"))]
+        names = [str(x) if _is_path(x) else role for x, role in ((source, "source"), (target, "target"))]
     a, b = _load(source, "source"), _load(target, "target")
     if correspondence == "never" or (correspondence == "auto" and not drawing and not options):
         try:
@@ -120,6 +178,145 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
     except (ShapeError, IncompatibleShapesError) as exc:
         raise type(exc)(f"{names[0]} (source) and {names[1]} (target): {exc}") from None
     return Prepared(src, tgt, report, built_meshes=not a.n_faces and src.n_faces > 0)
+
+
+@dataclass
+class PreparedKeys:
+    """Several compatible shapes (keyframes, transfer inputs) and how they were made.
+
+    Attributes
+    ----------
+    shapes : list of Shape
+    report : CorrespondenceReport or None
+        None when the inputs were used as they were.
+    """
+
+    shapes: list
+    report: object = None
+
+    def summary(self):
+        """One line on the correspondence, or '' when none ran (or it changed nothing)."""
+        return "" if self.report is None or self.report.unchanged else self.report.summary()
+
+
+def prepare_keys(items, *, correspondence="auto", names=None, role="keyframe", **options):
+    """Several inputs (keyframes, transfer inputs) made compatible together, as outlines.
+
+    Parameters
+    ----------
+    items : list of Shape, (n, 2) array_like, or path
+    correspondence : {'auto', 'always', 'never'}
+        As in `prepare_pair`; inputs that are not compatible go through
+        `isotween.correspondence.correspond_keys` (each paired with the first,
+        one point count per ring; an already compatible set comes back as it
+        is, also under ``'always'``).
+    names : list of str, optional
+        How to call the inputs in messages (default: their paths, or
+        ``'<role> k'``).
+    role : str
+        What the inputs are, for messages ('keyframe', 'input').
+    **options
+        Options of `correspond_keys` (``points``, ``segment``, ``rotation``,
+        ``unmatched``).
+
+    Returns
+    -------
+    PreparedKeys
+
+    Raises
+    ------
+    ParameterError
+        An unknown policy or option, or fewer than two inputs.
+    IncompatibleShapesError
+        ``correspondence='never'`` on inputs that are not compatible.
+    """
+    from .correspondence import check_compatible, correspond_keys
+
+    _check_policy(correspondence)
+    unknown = sorted(set(options) - set(KEYS_OPTIONS))
+    if unknown:
+        raise ParameterError(f"unknown correspondence option(s) for several inputs: {', '.join(unknown)}")
+    items = list(items)
+    if names is None:
+        names = [str(x) if _is_path(x) else f"{role} {k}" for k, x in enumerate(items)]
+    shapes = [_load(x, f"{role} {k}") for k, x in enumerate(items)]
+    if correspondence == "never":
+        try:
+            check_compatible(*shapes, names=list(names))
+        except IncompatibleShapesError as exc:
+            raise IncompatibleShapesError(f"{', '.join(map(str, names))} are not compatible: {exc}; "
+                                          "let correspondence run (correspondence='auto')") from None
+        return PreparedKeys(shapes)
+    try:
+        shapes, report = correspond_keys(shapes, **options)
+    except (ShapeError, IncompatibleShapesError) as exc:
+        named = ", ".join(f"{n} ({role} {k})" if str(n) != f"{role} {k}" else str(n) for k, n in enumerate(names))
+        raise type(exc)(f"{named}: {exc}") from None
+    check_compatible(*shapes, names=list(names))
+    return PreparedKeys(list(shapes), None if report.unchanged else report)
+
+
+def onto_connectivity(frame, drawing, *, name="drawing", **options):
+    """A drawing brought onto a frame's connectivity: the frame moved so that its outline is the drawing's.
+
+    The frame and the drawing are corresponded as outlines
+    (`isotween.correspond` with ``outline=True``, which keeps every vertex of
+    both inputs), every path vertex of the frame goes where its partner on
+    the drawing is, and the vertices on no path (a mesh's interior) follow by
+    the mean-value map of the frame's mesh (`geometry.convex_map`). A region
+    that only the drawing has is left out (the frame has nothing to carry
+    it); one that only the frame has shrinks to a small copy.
+
+    Parameters
+    ----------
+    frame : Shape
+        With paths (the connectivity kept).
+    drawing : Shape or path
+        With paths.
+    name : str
+        How to call the drawing in messages.
+    **options
+        Options of `isotween.correspond` (``points``, ``segment``,
+        ``unmatched``, ``landmarks``, ...; not ``outline``).
+
+    Returns
+    -------
+    Shape
+        ``frame.with_vertices(...)``: compatible with ``frame``.
+
+    Raises
+    ------
+    IncompatibleShapesError
+        The frame or the drawing has no paths, or a vertex of the frame is
+        not found in the correspondence.
+    """
+    import numpy as np
+    from scipy.spatial import cKDTree
+
+    from .correspondence import correspond
+    from .geometry import bbox_diagonal, convex_map
+
+    drawing = _load(drawing, name)
+    for shape, who in ((frame, "the sequence's frame"), (drawing, name)):
+        if not shape.paths:
+            raise IncompatibleShapesError(
+                f"{who} has no paths (outlines), so {name} cannot be brought onto the sequence's connectivity; "
+                "give a shape with the sequence's vertices and edges (e.g. an edited copy of the frame)")
+    options.pop("outline", None)
+    a, b, _ = correspond(frame, drawing, outline=True, always=True, **options)
+    on_path = np.unique(np.concatenate([idx for idx, _ in frame.paths]))
+    dist, where = cKDTree(a.vertices).query(frame.vertices[on_path])
+    tol = 1e-9 * max(bbox_diagonal(frame.vertices), 1e-300)
+    if np.any(dist > tol):
+        k = int(on_path[np.argmax(dist)])
+        raise IncompatibleShapesError(
+            f"vertex {k} of the sequence's frame is not kept by the correspondence with {name}; "
+            "give a shape with the sequence's vertices and edges")
+    z = frame.z.copy()
+    z[on_path] = b.z[where]
+    if frame.n_faces and len(on_path) < frame.n_vertices:
+        z = convex_map(frame.vertices, frame.faces, on_path, z[on_path])
+    return frame.with_vertices(np.c_[z.real, z.imag])
 
 
 def collapse_vanishing(seq, report):
@@ -187,7 +384,7 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
     prepared = prepare_pair(source, target, correspondence=correspondence, **(correspond_options or {}))
     if fold is None:
         fold = "fallback" if prepared.built_meshes else "allow"
-    seq = interpolate(prepared.source, prepared.target, frames=frames, fold=fold, **options)
+    seq = interpolate(prepared.source, prepared.target, frames=frames, fold=fold, correspondence="never", **options)
     seq.info["correspondence"] = prepared.summary()
     collapse_vanishing(seq, prepared.report)
     if output is not None:

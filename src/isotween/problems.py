@@ -11,11 +11,11 @@ and sequence editing build theirs from the edges of Eq. (15) and solve it by
 
 from __future__ import annotations
 
-import numbers
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ._validate import check_choice, check_int, check_number
 from .errors import ParameterError, ShapeError
 from .initialisation import INITIALISERS, edge_vector_init, linear_init
 from .optimisation.assembly import FrameAssembler, centroid_path
@@ -44,16 +44,8 @@ def check_movable(shape, name="source"):
 
 def check_stopping(tol, max_iter):
     """Refuse a ``tol`` that is not a finite positive number or a ``max_iter`` below 1."""
-    if isinstance(tol, bool) or not (isinstance(tol, numbers.Real) and np.isfinite(tol) and tol > 0):
-        raise ParameterError(f"tol must be a positive number, got {tol!r}")
-    if isinstance(max_iter, bool) or not (isinstance(max_iter, numbers.Integral) and max_iter >= 1):
-        raise ParameterError(f"max_iter must be an integer >= 1, got {max_iter!r}")
-
-
-def check_choice(name, value, choices):
-    """Refuse a ``value`` of option ``name`` that is not one of ``choices``."""
-    if value not in choices:
-        raise ParameterError(f"unknown {name} {value!r}; choose one of {', '.join(choices)}")
+    check_number("tol", tol)
+    check_int("max_iter", max_iter, 1)
 
 
 def held_problem(shape: Shape, t: np.ndarray, idx: np.ndarray, zk: np.ndarray, *, centroids: np.ndarray,

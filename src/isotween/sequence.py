@@ -13,6 +13,7 @@ from typing import Any, overload
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._validate import check_int, is_int
 from .errors import ParameterError
 from .shape import Shape
 
@@ -95,7 +96,7 @@ class Sequence:
     def __getitem__(self, k: slice | ArrayLike) -> Sequence: ...
     def __getitem__(self, k: int | slice | ArrayLike) -> Shape | Sequence:
         """Frame ``k`` as a Shape, or the Sequence of the frames a slice or index array keeps."""
-        if isinstance(k, numbers.Integral) and not isinstance(k, bool):
+        if is_int(k):
             n = len(self)
             if not -n <= k < n:
                 raise IndexError(f"frame {k} out of range for a sequence of {n} frames")
@@ -260,8 +261,7 @@ class Sequence:
         if (frames is None) == (times is None):
             raise ParameterError("give either frames or times")
         if times is None:
-            if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
-                raise ParameterError(f"frames must be an integer >= 2, got {frames!r}")
+            frames = check_int("frames", frames, 2)
             from .resources import check_memory
 
             # the edge arrays of every new frame (a dozen complex values per edge and vertex)
@@ -437,16 +437,23 @@ class Sequence:
 
         return write_output(self, path, **options)
 
-    def plot(self, ax: Any = None, frames: ArrayLike | int | None = None, **style: Any) -> Any:
+    def plot(self, ax: Any = None, frames: ArrayLike | int | None = None, *, indices: ArrayLike | None = None,
+             **style: Any) -> Any:
         """Draw frames over each other on matplotlib axes, darker with time.
+
+        As everywhere in isotween, ``frames`` is a count (the sequence's
+        ``frames`` attribute is its array) and ``indices`` picks frames.
 
         Parameters
         ----------
         ax : matplotlib.axes.Axes, optional
             Default: a new figure's axes.
-        frames : int or (k,) array_like of int, optional
-            The frames to draw (indices), or how many to pick evenly; default
-            all of them up to 9, else 9 evenly picked.
+        frames : int, optional
+            How many frames to pick evenly; default all of them up to 9, else
+            9 evenly picked. (Frame indices here are deprecated: give
+            ``indices``.)
+        indices : (k,) array_like of int, optional
+            The frames to draw (not with ``frames``).
         **style
             ``style`` and ``linewidth`` as in :func:`isotween.render.draw_frame`.
 
@@ -467,6 +474,15 @@ class Sequence:
         from .render import draw_frame
 
         n = len(self)
+        if indices is not None:
+            if frames is not None:
+                raise ParameterError("give frames (a count) or indices, not both")
+            frames = indices
+        elif frames is not None and not isinstance(frames, numbers.Integral):
+            import warnings
+
+            warnings.warn("Sequence.plot(frames=<indices>) is deprecated; give indices=", DeprecationWarning,
+                          stacklevel=2)
         if frames is None or isinstance(frames, numbers.Integral):
             count = min(n, 9) if frames is None else int(frames)
             if not 1 <= count:

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any, TypeAlias
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._validate import check_number
 from .errors import ParameterError, ShapeError
 
 if TYPE_CHECKING:
@@ -737,9 +738,8 @@ class Shape:
         >>> np.round(s.vertices, 12).tolist()
         [[0.0, 1.0], [0.0, 2.0]]
         """
-        if not isinstance(angle, numbers.Real) or not np.isfinite(angle):
-            raise ParameterError(f"angle must be a finite number, got {angle!r}")
-        a = np.deg2rad(angle) if degrees else float(angle)
+        angle = check_number("angle", angle, low=-np.inf, bound="a finite number")
+        a = np.deg2rad(angle) if degrees else angle
         c, s = np.cos(a), np.sin(a)
         return self._about(np.array([[c, -s], [s, c]]), origin)
 

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import functools
-import numbers
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._validate import check_int
 from .errors import ParameterError
 
 __all__ = ["frame_times", "uniform_times"]
@@ -46,8 +46,7 @@ def frame_times(frames: int, times: ArrayLike | None = None, *, per: str = "fram
     >>> frame_times(3, [0.0, 0.2, 1.0])
     array([0. , 0.2, 1. ])
     """
-    if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
-        raise ParameterError(f"frames must be an integer >= 2 (both inputs included), got {frames!r}")
+    check_int("frames", frames, 2, bound=">= 2 (both inputs included)")
     if times is None:
         return uniform_times(int(frames)).copy()
     try:

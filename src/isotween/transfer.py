@@ -49,8 +49,8 @@ def component_similarities(source: Shape, target: Shape) -> tuple[np.ndarray, np
     return a, ct - a * cs
 
 
-def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: ShapeLike, frames: int = 9,
-             **options: Any) -> Sequence:
+def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: ShapeLike, frames: int = 9, *,
+             correspondence: str = "auto", correspond_options: dict | None = None, **options: Any) -> Sequence:
     """Transfer the AIAP motion from source_start -> source_end onto target_start.
 
     1. AIAP-interpolate the source pair (Algorithm 2, ``options`` as in
@@ -73,9 +73,17 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
 
     Parameters
     ----------
-    source_start, source_end, target_start : Shape
-        All with the same connectivity.
+    source_start, source_end, target_start : Shape, (n, 2) array_like, or path
+        Compatible shapes are used as they are; files and shapes with paths
+        that are not compatible are first put in correspondence together, as
+        outlines (:func:`isotween.pipeline.prepare_keys`), as
+        ``correspondence`` says.
     frames : int
+    correspondence : {'auto', 'always', 'never'}
+        As in :func:`isotween.interpolate`.
+    correspond_options : dict, optional
+        Options of `isotween.correspondence.correspond_keys` (``points``,
+        ``segment``, ``rotation``, ``unmatched``).
     **options
         Passed to :func:`isotween.interpolate` for the source motion.
 
@@ -84,7 +92,8 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     Sequence
         The target's frames; ``energy`` holds one value, the isometric energy
         of these frames (not of the source run: ``info['source']`` holds the
-        source sequence with its own history).
+        source sequence with its own history). After correspondence
+        ``info['correspondence']`` says what was done.
 
     Examples
     --------
@@ -96,13 +105,24 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     >>> bool(np.allclose(seq.frames, 2.0 * source.frames))  # a similar copy moves alike
     True
     """
-    shapes = [as_shape(s, n) for s, n in ((source_start, "source_start"),
-                                          (source_end, "source_end"),
-                                          (target_start, "target_start"))]
+    from .pipeline import needs_correspondence  # the pipeline is a layer above: reached at call time
+
+    names = ["source_start", "source_end", "target_start"]
+    inputs = [source_start, source_end, target_start]
+    summary = None
+    if needs_correspondence(*inputs, correspondence=correspondence, names=names, options=bool(correspond_options)):
+        from .pipeline import _is_path, prepare_keys
+
+        prepared = prepare_keys(inputs, correspondence=correspondence, role="input",
+                                names=[str(x) if _is_path(x) else n
+                                       for x, n in zip(inputs, names, strict=True)],
+                                **(correspond_options or {}))
+        inputs, summary = prepared.shapes, prepared.summary()
+    shapes = [as_shape(s, n) for s, n in zip(inputs, names, strict=True)]
     check_movable(shapes[0], "source_start")
     check_compatible(*shapes, names=["source_start", "source_end", "target_start"])
     source_start, source_end, target_start = shapes
-    seq = interpolate(source_start, source_end, frames=frames, **options)
+    seq = interpolate(source_start, source_end, frames=frames, correspondence="never", **options)
     field = relative_velocity_field(seq)
     h = np.diff(field.times)
     S = target_start.edge_vectors() / source_start.edge_vectors()  # Eq. (12)
@@ -120,6 +140,8 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     done.iterations, done.converged, done.timings = seq.iterations, seq.converged, dict(seq.timings)
     out = done.sequence(target_start, problem.times, method="transfer", scheme=seq.scheme, info={"source": seq})
     out.energy = [isometric_energy(out)]  # of the frames returned, not of the source run
+    if summary is not None:
+        out.info["correspondence"] = summary
     return out
 
 

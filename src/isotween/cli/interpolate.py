@@ -45,14 +45,12 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, **par
     options = correspondence_kwargs(params)
     from ..pipeline import collapse_vanishing
 
-    a = load(source)
-    prepared = make_compatible(a, load(target), source, target, quiet=quiet, prepared=True, **options)
-    src, tgt = prepared.source, prepared.target
+    prepared = make_compatible(load(source), load(target), source, target, quiet=quiet, prepared=True, **options)
     kwargs = solver_kwargs(params)
-    if not a.n_faces and src.n_faces:  # meshes built here: a folding result falls back to the fold-free morph
+    if prepared.built_meshes:  # meshes built here: a folding result falls back to the fold-free morph
         kwargs.setdefault("fold", "fallback")
     with progress(quiet) as callback:
-        seq = interpolate(src, tgt, callback=callback, **kwargs)
+        seq = interpolate(prepared.source, prepared.target, callback=callback, correspondence="never", **kwargs)
     collapse_vanishing(seq, prepared.report)  # items that vanish are points at their ends, not specks
     if "fallback" in seq.info and not quiet:
         click.echo(f"fold check: {seq.info['fallback']}")

@@ -3,7 +3,7 @@
 import click
 
 from .options import check_outputs, emit, output_options, progress, solver_options_for, timer
-from .prepare import correspondence_kwargs, make_keys_compatible, outline_correspondence_options
+from .prepare import keys_options, outline_correspondence_options, report_correspondence
 
 
 @click.command("keyframes")
@@ -31,7 +31,6 @@ def keyframes_command(keyframes, frames, times, easing, smooth, solver, init, sc
     """
     from .. import interpolate_keyframes
     from ..errors import ParameterError
-    from ..io import load
 
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
@@ -40,10 +39,10 @@ def keyframes_command(keyframes, frames, times, easing, smooth, solver, init, sc
             times = [float(x) for x in times.split(",")]
         except ValueError:
             raise ParameterError(f"--times must be numbers separated by commas, got {times!r}") from None
-    shapes = make_keys_compatible([load(p) for p in keyframes], keyframes, quiet=quiet,
-                                  **correspondence_kwargs(params))
+    correspondence = keys_options(params)
     with progress(quiet) as callback:
-        seq = interpolate_keyframes(shapes, times=times, frames=frames, easing=easing, smooth=smooth,
+        seq = interpolate_keyframes(list(keyframes), times=times, frames=frames, easing=easing, smooth=smooth,
                                     init=init, scheme=scheme, tol=tol, max_iter=max_iter, callback=callback,
-                                    solver=solver, method=method)
+                                    solver=solver, method=method, **correspondence)
+    report_correspondence(seq, quiet)
     emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())

@@ -25,6 +25,7 @@ from pathlib import Path
 import click
 
 from .._defaults import DEFAULT_TOL
+from .._validate import is_int
 from ..errors import FileFormatError, IncompatibleShapesError, require
 from ..io import atomic_path
 from ..outputs import FORMATS, output_kind, with_paint, write_output
@@ -186,14 +187,14 @@ output_options = _compose(
 def solver_kwargs(params):
     """The keyword arguments of `isotween.interpolate` among a command's parameters.
 
-    ``easing`` becomes the frame ``times`` (`isotween.easing.frame_times`).
+    ``easing`` becomes the frame ``times`` (`isotween.easing.eased_times`).
     """
     out = {k: params[k] for k in SOLVER_KEYS if k in params and params[k] is not None}
     easing = params.get("easing")
     if easing and easing != "linear" and "frames" in out:
-        from ..easing import frame_times
+        from ..easing import eased_times
 
-        out["times"] = frame_times(out["frames"], easing)
+        out["times"] = eased_times(out["frames"], easing)
     return out
 
 
@@ -217,7 +218,7 @@ def check_outputs(output, fmt=None, texture=None, plot=None):
     if ctx is not None:
         ctx.meta.setdefault("isotween.kinds", {})[(str(output), fmt)] = kind
     frames = ctx.params.get("frames") if ctx is not None else None
-    if isinstance(frames, int) and not isinstance(frames, bool):
+    if is_int(frames):
         check_render_memory(output, fmt, frames)
     probe_writable(output if kind == "frames" and Path(output).is_dir() else Path(output).parent, output)
     if texture is not None:

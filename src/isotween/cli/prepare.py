@@ -7,11 +7,11 @@ import warnings
 
 import click
 
-from ..errors import IncompatibleShapesError, ParameterError, ShapeError
+from ..errors import ParameterError
 from .options import _compose, ensure_compatible
 
 __all__ = ["correspondence_options", "outline_correspondence_options", "correspondence_kwargs",
-           "make_compatible", "make_keys_compatible", "CORRESPONDENCE_KEYS"]
+           "make_compatible", "keys_options", "report_correspondence", "CORRESPONDENCE_KEYS"]
 
 #: names of the correspondence options among a command's parameters
 CORRESPONDENCE_KEYS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched",
@@ -143,43 +143,26 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
     return Prepared(src, tgt, built_meshes=mesh_area is not None) if want else (src, tgt)
 
 
-def make_keys_compatible(shapes, paths, quiet=False, points=None, segment=None, rotation=False,
-                         unmatched="grow", role="keyframe", correspondence="auto", landmarks=None):
-    """Several loaded shapes (keyframes, transfer inputs) made compatible together.
+def keys_options(params):
+    """Pop a keyframes or transfer command's correspondence options: ``correspondence=``, ``correspond_options=``.
 
-    They are corresponded as outlines by `isotween.correspondence.correspond_keys`
-    when they are not compatible; its one-line report is printed unless ``quiet``.
-    ``role`` names the inputs in messages ("keyframe 1", "input 2").
-
-    Returns
-    -------
-    list of Shape
+    What `interpolate_keyframes` and `transfer` take; they run
+    `isotween.pipeline.prepare_keys` themselves.
     """
-    from ..correspondence import correspond_keys
-    from ..correspondence.compatibility import check_compatible
-
-    if landmarks:
+    options = correspondence_kwargs(params)
+    if options.pop("landmarks", None):
         raise ParameterError("--landmark is for two drawings (interpolate, prepare)")
-    if correspondence == "never":
-        try:
-            check_compatible(*shapes, names=[str(p) for p in paths])
-        except IncompatibleShapesError as exc:
-            raise IncompatibleShapesError(f"{', '.join(str(p) for p in paths)} are not compatible: {exc}; "
-                                          "let correspondence run (--correspondence auto)") from None
-        return shapes
-    try:
-        shapes, report = correspond_keys(shapes, points=points, segment=segment, rotation=rotation,
-                                         unmatched=unmatched)
-    except (ShapeError, IncompatibleShapesError) as exc:
-        named = ", ".join(f"{p} ({role} {k})" for k, p in enumerate(paths))
-        raise type(exc)(f"{named}: {exc}") from None
-    if not report.unchanged and not quiet:
-        click.echo(report.summary())
-    try:
-        check_compatible(*shapes, names=[str(p) for p in paths])
-    except IncompatibleShapesError as exc:
-        raise IncompatibleShapesError(f"{', '.join(str(p) for p in paths)} are not compatible: {exc}") from None
-    return shapes
+    policy = options.pop("correspondence", "auto")
+    given = {k: v for k, v in options.items() if v not in (None, False) and not (k == "unmatched" and v == "grow")}
+    if "unmatched" in given:
+        given["unmatched"] = options["unmatched"]
+    return {"correspondence": policy, "correspond_options": given or None}
+
+
+def report_correspondence(seq, quiet=False):
+    """Print the one line on the correspondence that a library call ran (none when it ran none)."""
+    if seq.info.get("correspondence") and not quiet:
+        click.echo(seq.info["correspondence"])
 
 
 @click.command("prepare")

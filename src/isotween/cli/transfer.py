@@ -3,7 +3,7 @@
 import click
 
 from .options import check_outputs, emit, frames_option, output_options, progress, solver_kwargs, solver_options, timer
-from .prepare import correspondence_kwargs, make_keys_compatible, outline_correspondence_options
+from .prepare import keys_options, outline_correspondence_options, report_correspondence
 
 
 @click.command("transfer")
@@ -21,13 +21,12 @@ def transfer_command(source_start, source_end, target_start, output, fmt, textur
     together as outlines, and one line says what was done.
     """
     from .. import transfer
-    from ..io import load
 
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
-    paths = (source_start, source_end, target_start)
-    shapes = make_keys_compatible([load(p) for p in paths], paths, quiet=quiet, role="input",
-                                  **correspondence_kwargs(params))
+    correspondence = keys_options(params)
     with progress(quiet) as callback:
-        seq = transfer(*shapes, callback=callback, **solver_kwargs(params))
+        seq = transfer(source_start, source_end, target_start, callback=callback, **correspondence,
+                       **solver_kwargs(params))
+    report_correspondence(seq, quiet)
     emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())

@@ -15,7 +15,6 @@ pointing down (the viewBox and the width/height of the root are ignored).
 
 import functools
 import io
-import numbers
 import re
 import warnings
 import xml.etree.ElementTree as ET
@@ -23,6 +22,7 @@ from xml.parsers import expat
 
 import numpy as np
 
+from .._validate import check_int
 from ..errors import FileFormatError, ParameterError, ShapeError, require
 from ..geometry import bbox_diagonal, fill_regions, ring_area
 from ..paint import Paint, paint_groups, svg_paint_attributes
@@ -336,9 +336,7 @@ def _control_diagonal(segment_lists):
 
 def _check_curve_segments(curve_segments):
     """Refuse a ``curve_segments`` that is not an integer from 1 to 10,000."""
-    if isinstance(curve_segments, bool) or not isinstance(curve_segments, numbers.Integral) \
-            or not 1 <= curve_segments <= 10_000:
-        raise ParameterError(f"curve_segments must be an integer from 1 to 10000, got {curve_segments!r}")
+    check_int("curve_segments", curve_segments, 1, 10_000)
 
 
 def _check_numbers(path, label, k, points):
