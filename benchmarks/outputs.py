@@ -103,6 +103,8 @@ def old_writers():
                                   check=True, capture_output=True, text=True).stdout
         except (OSError, subprocess.CalledProcessError):
             return None
+        # names that have moved since (the same functions): `_decimals` is `_view.decimals` now
+        text = text.replace("from .html import _decimals", "from ._view import decimals as _decimals")
         folder = Path(tempfile.mkdtemp())
         (folder / f"{name}.py").write_text(text)
         spec = importlib.util.spec_from_file_location(f"isotween.render._before_{name}", folder / f"{name}.py")
