@@ -268,8 +268,10 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
         if len(wire) == 1:
             body.append(element(polylines([(w, False) for w in edge_chains(wire[0])]), f' fill="none" {edge_style}'))
         elif wire:  # edges that need different keys (a pivot turns less than a tip): one path each, one style
-            body.append(f'  <g fill="none" {edge_style}>')
-            body += [element(polylines([(w, False) for w in edge_chains(e)]), "", "    ") for e in wire]
+            inherited, own = edge_style.split(' vector-effect="')  # vector-effect is not inherited
+            body.append(f'  <g fill="none" {inherited}>')
+            body += [element(polylines([(w, False) for w in edge_chains(e)]), f' vector-effect="{own}', "    ")
+                     for e in wire]
             body.append("  </g>")
     else:
         data = PathData(seq, curves=curves, precision=digits, tolerance=tolerance, frames=frames, relative=lean)
