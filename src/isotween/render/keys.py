@@ -128,7 +128,7 @@ def reduce_keys(times, tracks, unit=False, reduce=True):
     return np.asarray(keys, dtype=np.int64), np.asarray(eases, dtype=np.float64)
 
 
-def key_counts(times, points, tolerance, unit=False, most=1000):
+def key_counts(times, points, tolerance, unit=False, most=500):
     """How many keys `reduce_keys` keeps for each point's path alone.
 
     A point that turns about a pivot near it, or moves along a line, needs

@@ -118,28 +118,34 @@ _ELEMENT_NUMBERS = 60
 
 
 def _wire_groups(edges, ticks, times, tolerance, reduce):
-    """The edges of a mesh split into groups that need different keys (list of (k, 2) int arrays).
+    """The edges of a mesh as paths that need different keys: a list of ``(runs, keys, eases)``.
 
     Each group is one path with its own keys: a wireframe that swings round a
     pivot needs a key every tick near the tip, far fewer near the pivot
     (`key_counts`, `split_by_keys`). One group when splitting saves nothing.
     """
     edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+
+    def keyed(part):
+        runs = polylines([(w, False) for w in edge_chains(part)])
+        return (runs, *reduce_keys(times, [_points_track(runs, ticks, tolerance)], unit=True, reduce=reduce))
+
+    def cost(runs, keys):  # numbers written: the points of every kept key, and the element
+        return 2 * len(keys) * sum(len(r.indices) for r in runs) + _ELEMENT_NUMBERS
+
     if not reduce or len(edges) < 2:
-        return [edges] if len(edges) else []
+        return [keyed(edges)] if len(edges) else []
     counts = key_counts(times, ticks, tolerance, unit=True)
     need = np.maximum(counts[edges[:, 0]], counts[edges[:, 1]])
     group = split_by_keys(need, np.full(len(edges), 2.0), _ELEMENT_NUMBERS)
-    parts = [edges[group == g] for g in np.unique(group)]
-    if len(parts) == 1:
-        return parts
-
-    def cost(part):  # numbers written: the keys the part's path keeps times its points, and the element
-        runs = polylines([(w, False) for w in edge_chains(part)])
-        keys, _ = reduce_keys(times, [_points_track(runs, ticks, tolerance)], unit=True)
-        return len(keys) * 2 * (len(part) + len(runs)) + _ELEMENT_NUMBERS
-
-    return parts if sum(cost(p) for p in parts) < cost(edges) else [edges]
+    if group.max() == 0:
+        return [keyed(edges)]
+    split = [keyed(edges[group == g]) for g in np.unique(group)]
+    together = 2 * need.max() * (len(edges) + 1) + _ELEMENT_NUMBERS  # the least one path could cost
+    if sum(cost(runs, keys) for runs, keys, _ in split) < together:
+        return split
+    whole = keyed(edges)
+    return split if sum(cost(runs, keys) for runs, keys, _ in split) < cost(*whole[:2]) else [whole]
 
 
 def write_svg_animation(seq, path, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=480, title=None,
@@ -231,15 +237,15 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
     timing = (f'dur="{duration:.6g}s" repeatCount="indefinite"' if loop else f'dur="{duration:.6g}s" fill="freeze"')
     body = []
 
-    def keyed(runs, extra=()):
+    def keyed(runs, extra=(), known=None):
         """Keys, eases and d strings of one element drawing ``runs`` (curves or polylines)."""
         strings = RunStrings(runs, digits, relative=lean)
-        keys, eases = reduce_keys(times, [_points_track(runs, ticks, key_tolerance), *extra], unit=True,
-                                  reduce=reduce)
+        keys, eases = known or reduce_keys(times, [_points_track(runs, ticks, key_tolerance), *extra], unit=True,
+                                           reduce=reduce)
         return keys, eases, strings.strings(ticks[keys])
 
-    def element(runs, style, indent="  "):
-        keys, eases, d = keyed(runs)
+    def element(runs, style, indent="  ", known=None):
+        keys, eases, d = keyed(runs, known=known)
         return (f'{indent}<path d="{d[0]}"{style}>' + _values("d", d, _timing(times, keys, eases, duration, reduce),
                                                               indent) + f"\n{indent}</path>")
 
@@ -266,12 +272,12 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
             fitted = fit_curves(frames, runs, tolerance=tolerance) if smooth else polylines(runs)
             body.append(element(fitted, " " + style))
         if len(wire) == 1:
-            body.append(element(polylines([(w, False) for w in edge_chains(wire[0])]), f' fill="none" {edge_style}'))
+            runs, *known = wire[0]
+            body.append(element(runs, f' fill="none" {edge_style}', known=known))
         elif wire:  # edges that need different keys (a pivot turns less than a tip): one path each, one style
             inherited, own = edge_style.split(' vector-effect="')  # vector-effect is not inherited
             body.append(f'  <g fill="none" {inherited}>')
-            body += [element(polylines([(w, False) for w in edge_chains(e)]), f' vector-effect="{own}', "    ")
-                     for e in wire]
+            body += [element(runs, f' vector-effect="{own}', "    ", known=known) for runs, *known in wire]
             body.append("  </g>")
     else:
         data = PathData(seq, curves=curves, precision=digits, tolerance=tolerance, frames=frames, relative=lean)
