@@ -12,6 +12,7 @@ from xml.sax.saxutils import escape
 import numpy as np
 
 from .._text import document_text
+from ..errors import ParameterError
 from ..geometry import bbox_diagonal
 from ..io import write_text
 from ..paint import sequence_paint, svg_paint_attributes
@@ -220,13 +221,16 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
     check_output_memory("svg", 0, 0, len(order), "an animated SVG", vertices=shape.n_vertices)
     regions, paints = sequence_paint(seq)
     box = view_box(frames)
-    diagonal = bbox_diagonal(frames.reshape(-1, 2))
+    for name, value in (("tolerance", tolerance), ("key_tolerance", key_tolerance)):
+        if value is not None and not (isinstance(value, (int, float, np.number)) and np.isfinite(value) and value > 0):
+            raise ParameterError(f"{name} must be a positive number of shape units, got {value!r}")
+    diagonal = bbox_diagonal(frames.reshape(-1, 2)) or 1.0  # a drawing of no size: any unit will do
     tolerance = TOLERANCE * diagonal if tolerance is None else tolerance
     key_tolerance = KEY_TOLERANCE * diagonal if key_tolerance is None else key_tolerance
     lean = curves or reduce
     # before: 1e-4 of the size; lean: whole numbers of a user unit of a quarter of the curve tolerance
-    # (rounding within an eighth of it, as `tolerance_digits`), with no decimal point to write
-    unit = tolerance / 4.0 if lean else 1.0
+    # (rounding within an eighth of it, as `tolerance_digits`), with no decimal point to write; at most 12 digits
+    unit = max(tolerance / 4.0, 1e-12 * max(diagonal, float(np.abs(frames).max(initial=0.0)))) if lean else 1.0
     digits = 0 if lean else max(decimals(frames) - 1, 0)
     frames, box = frames / unit, tuple(v / unit for v in box)
     tolerance, key_tolerance = tolerance / unit, key_tolerance / unit
