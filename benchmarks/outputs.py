@@ -7,10 +7,11 @@ sequence is written as the rendered outputs are by default (1 s of motion at
 24 fps, 0.25 s hold at both ends, 480 px): Lottie and animated SVG the old way
 (the writers of the last commit before issue 24, read from git; without git,
 ``curves=False, reduce=False``: a polyline keyframe per tick) and the new way
-(Bezier curves, reduced keys), and the CSS animation. Pixels: Chromium draws the
-new Lottie (lottie-web) and the new SVG (SMIL, paused) at a few ticks; the
-fraction of pixels that differ by more than 60 levels from isotween's own PNG
-render of the frame is compared with the bound of tests/test_lottie.py (2 %).
+(Bezier curves, reduced keys; the SVG's mesh edges grouped by the keys they
+need), and the CSS animation. Pixels: Chromium draws the new Lottie
+(lottie-web) and the new SVG (SMIL, paused) at a few ticks; the fraction of
+pixels that differ by more than 60 levels from isotween's own PNG render of
+the frame is compared with the bound of tests/test_lottie.py (2 %).
 
 Run: ``PYTHONPATH=src python benchmarks/outputs.py [--pairs 20] [--no-pixels]``
 """
@@ -103,6 +104,8 @@ def old_writers():
                                   check=True, capture_output=True, text=True).stdout
         except (OSError, subprocess.CalledProcessError):
             return None
+        # names that have moved since (the same functions): `_decimals` is `_view.decimals` now
+        text = text.replace("from .html import _decimals", "from ._view import decimals as _decimals")
         folder = Path(tempfile.mkdtemp())
         (folder / f"{name}.py").write_text(text)
         spec = importlib.util.spec_from_file_location(f"isotween.render._before_{name}", folder / f"{name}.py")
@@ -233,7 +236,9 @@ def main():
     before = (f"the Lottie and SVG writers of commit {BEFORE} (before issue 24), loaded from git" if OLD is not None
               else "`curves=False, reduce=False` (a polyline keyframe per tick)")
     body = (f"Before: {before}, on the same resampled sequence; after: the defaults (Bezier curves within 0.1 % "
-            "of the diagonal, keys kept only where easing misses a tick by 0.25 % of it). "
+            "of the diagonal, keys kept only where easing misses a tick by 0.25 % of it; the SVG in relative "
+            "commands and whole numbers of a quarter of the curve tolerance, a mesh's edges in paths grouped by "
+            "the keys they need). "
             f"{summary}\n\n" + _results.table(header, rows)
             + f"\n\nWall time: {time.perf_counter() - started:.0f} s.")
     print(summary)

@@ -67,6 +67,28 @@ def test_path_strings_read_back_to_the_frame_at_any_time(request, name, curves):
             assert sum(d.count("C") + d.count("L") for d in strings) < seq.shape.n_vertices / 2
 
 
+@pytest.mark.parametrize("name", ["holes", "curls"])
+@pytest.mark.parametrize("curves", [True, False])
+def test_relative_strings_read_back_as_the_absolute_ones(request, name, curves):
+    # what the animated SVG and CSS write: m between subpaths, a command letter only where it changes
+    seq = request.getfixturevalue(name)
+    from isotween.render.outline import edge_chains
+    from isotween.render.paths import PathData, RunStrings, polylines, svg_frames
+
+    relative = PathData(seq, curves=curves, precision=3, relative=True)
+    absolute = PathData(seq, curves=curves, precision=3)
+    for t in (0.0, 0.37, 1.0):
+        for r, a in zip(relative(t), absolute(t), strict=True):
+            assert r[0] == "M" and r.count("m") >= a.count("M") - 1
+            np.testing.assert_allclose(parsed_points(r, 5), parsed_points(a, 5), atol=2e-3)
+    # open chains of edges (the wireframe of the animated SVG)
+    chains = polylines([(w, False) for w in edge_chains(seq.shape.edges)])
+    frames = svg_frames(seq)[[0, -1]]
+    for r, a in zip(RunStrings(chains, 2, relative=True).strings(frames), RunStrings(chains, 2).strings(frames),
+                    strict=True):
+        np.testing.assert_allclose(parsed_points(r, 3), parsed_points(a, 3), atol=2e-2)
+
+
 def test_the_same_commands_at_every_time(curls):
     letters = [[("".join(c for c in d if c.isalpha())) for d in curls.path_data(t)] for t in (0.0, 0.37, 1.0)]
     assert letters[0] == letters[1] == letters[2]

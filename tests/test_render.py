@@ -370,6 +370,18 @@ def test_svg_animation_of_outlines_and_soups(tmp_path):
     np.testing.assert_allclose(_numbers(values[1]), (ring * 2 * [1, -1])[[0, 1, 2, 3]], atol=1e-4)
 
 
+def test_lean_svg_animation_of_a_point_and_bad_tolerances(tmp_path):
+    point = Shape.from_polyline([[1.0, 1.0], [1.0, 1.0], [1.0, 1.0]])
+    render.write_svg_animation(Sequence(np.ones((3, 3, 2)), point), tmp_path / "p.svg")  # no size: still written
+    assert "<path" in (tmp_path / "p.svg").read_text()
+    bar = Shape.from_polyline([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    seq = interpolate(bar, bar.rotate(1.0), frames=3)
+    for bad in ({"tolerance": 0.0}, {"tolerance": float("nan")}, {"key_tolerance": -1.0}):
+        with pytest.raises(ParameterError, match="positive number"):
+            render.write_svg_animation(seq, tmp_path / "x.svg", **bad)
+    assert not (tmp_path / "x.svg").exists()
+
+
 # ---------------------------------------------------------------- comparison figures
 def test_compared_frames_are_all_or_evenly_spaced():
     from isotween.render.comparison import compared_frames

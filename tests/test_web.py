@@ -183,3 +183,36 @@ def test_animated_svg_of_a_mesh_in_the_default_look_matches_our_render(tmp_path,
             compare(page, renderer, int(order[k]), "smil mesh")
     finally:
         page.close()
+
+
+def test_animated_svg_of_a_swinging_mesh_splits_its_edges_and_matches_our_render(tmp_path, browser):
+    import re
+
+    from isotween.outputs import timed
+    from isotween.render import write_svg_animation
+    from shapes import bend, grid_mesh
+
+    # a bar bent by 270 degrees: its tip needs a key every tick, its root few; the edges go into paths by need
+    fps = 24
+    bar = grid_mesh(16, 3, length=4.0, width=1.0)
+    mesh = timed(isotween.interpolate(bar, bar.with_vertices(bend(bar.vertices, 1.5 * np.pi)), frames=9), 1.0, fps)
+    path, old = tmp_path / "a.svg", tmp_path / "old.svg"
+    write_svg_animation(mesh, path, fps=fps, hold=HOLD, size=SIZE, background="white")
+    write_svg_animation(mesh, old, fps=fps, hold=HOLD, size=SIZE, background="white", curves=False, reduce=False)
+    text = path.read_text()
+    edges = text.split('<g fill="none"', 1)[1].split("</g>", 1)[0]
+    key_counts = [len(k.split(";")) for k in re.findall(r'keyTimes="([^"]*)"', edges)]
+    assert len(key_counts) >= 2 and min(key_counts) < max(key_counts)  # paths of edges with their own keys
+    assert "." not in text.split('d="', 1)[1].split('"', 1)[0]  # whole numbers of the file's unit
+    assert path.stat().st_size * 3 < old.stat().st_size
+    renderer = SequenceRenderer(mesh, SIZE, background="white")
+    order = playback_order(len(mesh), fps, HOLD)
+    page = browser.new_page(viewport={"width": renderer.width + 20, "height": renderer.height + 20})
+    try:
+        page.set_content(f'<body style="margin:0">{text.split("?>", 1)[1]}</body>')
+        for k in np.linspace(0, len(order) - 1, 7).round().astype(int).tolist():
+            page.evaluate("t => { const s = document.querySelector('svg'); s.pauseAnimations();"
+                          " s.setCurrentTime(t); }", k / fps)
+            compare(page, renderer, int(order[k]), "smil swinging mesh")
+    finally:
+        page.close()

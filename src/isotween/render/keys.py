@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["reduce_keys", "ease", "LINEAR", "X1", "X2", "TOLERANCE"]
+__all__ = ["reduce_keys", "key_counts", "split_by_keys", "ease", "LINEAR", "X1", "X2", "TOLERANCE"]
 
 #: default tolerance of the keys, as a fraction of the drawing's diagonal (looser than the curves': a
 #: skipped tick is on screen for 1 / fps seconds; tests/test_lottie.py's pixel bound holds with room)
@@ -126,3 +126,105 @@ def reduce_keys(times, tracks, unit=False, reduce=True):
         eases.append(best if b > a + 1 else LINEAR)
         a = b
     return np.asarray(keys, dtype=np.int64), np.asarray(eases, dtype=np.float64)
+
+
+def key_counts(times, points, tolerance, unit=False, most=500):
+    """How many keys `reduce_keys` keeps for each point's path alone.
+
+    A point that turns about a pivot near it, or moves along a line, needs
+    fewer keys than one that swings round on a long arm; items drawn
+    together share their keys, so writers group them by these counts
+    (`split_by_keys`).
+
+    Parameters
+    ----------
+    times : (P,) float array
+    points : (P, n, 2) float array
+        Positions of ``n`` points at every tick.
+    tolerance : float
+    unit : bool
+        As in `reduce_keys`.
+    most : int
+        Points reduced one by one at most; beyond, that many chosen with a
+        fixed seed, and every other point takes the count of the nearest
+        of them (first, middle and last tick).
+
+    Returns
+    -------
+    (n,) int array
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 1, 9)
+    >>> turn = np.array([0.0, 0.1, 1.0]) * np.exp(2j * t[:, None])  # radii 0, 0.1 and 1, by 2 radians
+    >>> xy = np.stack([turn.real, turn.imag], axis=2)
+    >>> key_counts(t, xy, 1e-2).tolist()
+    [2, 4, 9]
+    """
+    points = np.asarray(points, dtype=np.float64)
+    p, n = points.shape[:2]
+    chosen = np.arange(n)
+    if n > most:
+        chosen = np.sort(np.random.default_rng(0).choice(n, size=most, replace=False))
+    counts = np.array([len(reduce_keys(times, [(points[:, i], tolerance, True)], unit=unit)[0]) for i in chosen],
+                      dtype=np.int64)
+    if n <= most:
+        return counts
+    from scipy.spatial import cKDTree
+
+    where = points[[0, p // 2, p - 1]].transpose(1, 0, 2).reshape(n, -1)
+    return counts[cKDTree(where[chosen]).query(where)[1]]
+
+
+def split_by_keys(counts, weights, overhead, most=8):
+    """Split items into at most ``most`` groups, each drawn with its own keys, to write the fewest numbers.
+
+    A group costs its largest key count times its weight (the numbers of
+    one key), plus ``overhead`` (an element, its timing); groups are runs of
+    the items sorted by count, chosen by dynamic programming.
+
+    Parameters
+    ----------
+    counts : (m,) int array
+        Keys each item needs alone (`key_counts`).
+    weights : (m,) float array
+        Numbers each item writes per key.
+    overhead : float
+        Cost of one more group, in numbers.
+    most : int
+
+    Returns
+    -------
+    (m,) int array
+        Group of every item, 0 for the items that need the fewest keys.
+
+    Examples
+    --------
+    >>> split_by_keys([2, 30, 2, 3], [100, 100, 100, 100], overhead=300).tolist()
+    [0, 1, 0, 0]
+    """
+    counts = np.asarray(counts, dtype=np.int64)
+    weights = np.asarray(weights, dtype=np.float64)
+    if not len(counts):
+        return np.zeros(0, dtype=np.int64)
+    levels, level_of = np.unique(counts, return_inverse=True)
+    cumulative = np.concatenate([[0.0], np.cumsum(np.bincount(level_of, weights, minlength=len(levels)))])
+    n = len(levels)
+    # best[g, j]: least cost of levels 0..j-1 in g groups; cut[g, j]: where the last group starts
+    best = np.full((most + 1, n + 1), np.inf)
+    cut = np.zeros((most + 1, n + 1), dtype=np.int64)
+    best[0, 0] = 0.0
+    for g in range(1, most + 1):
+        for j in range(1, n + 1):
+            i = np.arange(j)
+            cost = best[g - 1, i] + levels[j - 1] * (cumulative[j] - cumulative[i]) + overhead
+            k = int(np.argmin(cost))
+            best[g, j], cut[g, j] = cost[k], k
+    g, j = int(np.argmin(best[:, n])), n
+    group_of_level = np.zeros(n, dtype=np.int64)
+    while g > 0:
+        i = cut[g, j]
+        group_of_level[i:j] = g - 1
+        g, j = g - 1, i
+    return group_of_level[level_of]

@@ -112,27 +112,34 @@ def outline_groups(shape, regions=None, paint=None):
     return ([[(np.asarray(e), False) for e in shape.edges]] if shape.n_edges else []), None
 
 
-def _number_order(curves, relative=False):
-    """Template and the indices into (S * 4) control points that fill it, for one run."""
+def _number_order(curves, relative=False, first=True):
+    """Template and the indices into (S * 4) control points that fill it, for one run.
+
+    Relative templates start with ``M`` for a path's first subpath, else ``m`` (an offset from the
+    current point), and write a command letter only where it changes (``m x y dx dy dx dy`` is a
+    moveto and two relative lines; ``c`` takes its numbers six at a time), numbers separated by
+    spaces (dropped before a minus by `compact_path`).
+    """
     if curves.n_segments == 0:
         return "", np.zeros(0, dtype=np.int64)
-    line_cmd, cubic, close = ("l{},{}", "c{},{} {},{} {},{}", "z") if relative else \
-        ("L{},{}", "C{},{} {},{} {},{}", "Z")
-    parts, index = ["M{},{}"], [0]
+    parts, index = ["{move}{} {}" if relative else "M{},{}"], [0]
+    previous = "l" if first is False else None  # after ``m``, pairs without a letter are relative lines
     straight = curves.straight
     last = curves.n_segments - 1
     for j, line in enumerate(straight.tolist()):
         if line and curves.closed and j == last:
             break  # Z draws the closing line
-        if line:
-            parts.append(line_cmd)
-            index.append(4 * j + 3)
+        if relative:
+            command = "l" if line else "c"
+            parts.append((" " if command == previous else command) + ("{} {}" if line else "{} {} {} {} {} {}"))
+            previous = command
         else:
-            parts.append(cubic)
-            index += [4 * j + 1, 4 * j + 2, 4 * j + 3]
+            parts.append("L{},{}" if line else "C{},{} {},{} {},{}")
+        index += [4 * j + 3] if line else [4 * j + 1, 4 * j + 2, 4 * j + 3]
     if curves.closed:
-        parts.append(close)
-    return "".join(parts), np.asarray(index, dtype=np.int64)
+        parts.append("z" if relative else "Z")
+    text = "".join(parts)
+    return text.replace("{move}", "M" if first else "m") if relative else text, np.asarray(index, dtype=np.int64)
 
 
 class _Polyline:
@@ -170,9 +177,11 @@ class RunStrings:
     digits : int
         Decimal places.
     relative : bool
-        Relative commands (``c``, ``l``: offsets from each segment's start,
-        shorter numbers); the offsets are differences of positions rounded
-        first, so that no rounding error builds up along a path.
+        Relative commands (``m``, ``c``, ``l``: offsets from each segment's
+        start, and each subpath's start from where the one before ended;
+        shorter numbers, a command letter only where it changes); the offsets
+        are differences of positions rounded first, so that no rounding
+        error builds up along a path.
     """
 
     def __init__(self, runs, digits, relative=False):
@@ -180,23 +189,28 @@ class RunStrings:
         self.digits = int(digits)
         self.relative = bool(relative)
         num = f"{{:.{self.digits}f}}"
-        self.orders = [_number_order(c, self.relative) for c in self.runs]
-        self.template = " ".join(t for t, _ in self.orders if t).replace("{}", num)
-
-    def _controls(self, curve, frames):
-        """(F, S * 4, 2) control points of one run, as the template's numbers (offsets when relative)."""
-        ctrl = curve.controls(frames)
-        if self.relative and ctrl.shape[1]:
-            ctrl = np.round(ctrl, self.digits)
-            start = ctrl[:, 0, 0].copy()
-            ctrl = ctrl - ctrl[:, :, :1]
-            ctrl[:, 0, 0] = start  # the moveto stays absolute
-        return ctrl.reshape(len(frames), -1, 2)
+        self.orders, first = [], True
+        for c in self.runs:
+            self.orders.append(_number_order(c, self.relative, first))
+            first = first and not c.n_segments
+        self.template = ("" if self.relative else " ").join(t for t, _ in self.orders if t).replace("{}", num)
 
     def values(self, frames):
         """(F, N) numbers that fill the template, per frame of (F, n, 2) positions."""
         f = len(frames)
-        numbers = [self._controls(c, frames)[:, idx] for c, (_, idx) in zip(self.runs, self.orders, strict=True)]
+        numbers, here = [], None
+        for c, (_, idx) in zip(self.runs, self.orders, strict=True):
+            if not len(idx):
+                continue
+            ctrl = c.controls(frames)  # (F, S, 4, 2)
+            if self.relative:
+                ctrl = np.round(ctrl, self.digits)
+                start, end = ctrl[:, 0, 0].copy(), ctrl[:, -1, 3].copy()
+                ctrl = ctrl - ctrl[:, :, :1]  # offsets from each segment's start
+                # the moveto: the first subpath's absolute, the others' from where the pen was left
+                ctrl[:, 0, 0] = start if here is None else start - here
+                here = start if c.closed else end  # z returns the pen to the subpath's start
+            numbers.append(ctrl.reshape(f, -1, 2)[:, idx])
         return np.concatenate(numbers, axis=1).reshape(f, -1) if numbers else np.zeros((f, 0))
 
     def strings(self, frames):
