@@ -595,6 +595,7 @@ def two_regions(tmp_path):
 def test_quick_outline_preview_then_meshes(tmp_path):
     a, b = two_regions(tmp_path)
     session = Session([a, b])
+    session.live_budget = 0  # every quick change of the correspondence answered by its outlines first
     client = client_for(session)
     state = client.post("/api/open", json={"paths": [str(a), str(b)], "quick": True}, headers=H).json()
     assert state["preview"] is True and session.solved.sequence.shape.n_faces == 0
@@ -620,6 +621,32 @@ def test_quick_outline_preview_then_meshes(tmp_path):
     assert state["preview"] is False
     state = client.post("/api/undo", headers=H).json()  # back to the crossed pairs, meshed
     assert state["preview"] is False and session.doc["pairs"] == [[0, 1]]
+
+
+def test_a_landmark_is_answered_meshed_reusing_the_regions_it_leaves_alone(tmp_path):
+    a, b = two_regions(tmp_path)
+    session = Session([a, b])
+    session.live_budget = 60.0  # as on a fast machine: the meshes within the budget
+    client = client_for(session)
+    client.post("/api/open", json={"paths": [str(a), str(b)]}, headers=H)
+    hits, misses = session.meshes.hits, session.meshes.misses
+    landmarks = [[[1.0, 0.5], [0.5, 3.0]]]  # on the left squares: the right pair's rings do not change
+    state = client.post("/api/hints", json={"landmarks": landmarks, "quick": True}, headers=H).json()
+    assert state["preview"] is False and session.solved.sequence.shape.n_faces > 0
+    assert session.meshes.hits == hits + 1 and session.meshes.misses == misses + 1
+    expected = isotween.morph(isotween.load(a), isotween.load(b), frames=13,
+                              correspond_options={"landmarks": landmarks})
+    assert session.solved.sequence.equals(expected, atol=1e-9)
+    session.live_budget = 0  # a slow machine: the outlines first, then the same meshes
+    state = client.post("/api/hints", json={"landmarks": [], "quick": True}, headers=H).json()
+    assert state["preview"] is False  # back to the opened correspondence: all of it known
+    landmarks = [[[1.0, 0.25], [0.75, 3.0]]]
+    state = client.post("/api/hints", json={"landmarks": landmarks, "quick": True}, headers=H).json()
+    assert state["preview"] is True
+    state = client.post("/api/refine", headers=H).json()
+    expected = isotween.morph(isotween.load(a), isotween.load(b), frames=13,
+                              correspond_options={"landmarks": landmarks})
+    assert state["preview"] is False and session.solved.sequence.equals(expected, atol=1e-9)
 
 
 def test_pairing_regions_by_clicking_in_chromium(browser, tmp_path):
