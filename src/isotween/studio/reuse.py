@@ -14,11 +14,16 @@ preview has already done the outline part; so the studio
   mesh size come again (the meshing is deterministic, so the answer is the
   one it would compute).
 
-The memo stands in for a hook the library does not have yet (a
-``mesh_region=`` or cache argument of ``_solids``); outside a studio solve
-(any other thread, any other caller) the wrapper calls the library's own
-function and keeps nothing. Tests check the result is bit for bit
-`isotween.correspond`'s.
+Sequence editing (Sec. 5.2) factorises the Eq. (10) Laplacian of the
+sequence's shape with weights from the unedited morph (``problems.assemble``
+in `isotween.edit`); the studio edits the same morph again and again, so
+`FactorMemo` keeps that factorisation (banded Cholesky) for the next edit.
+
+The memos stand in for hooks the library does not have yet (a mesh cache
+argument of ``_solids``, an assembler or factorisation cache for
+``assemble``); outside a studio solve (any other thread, any other caller)
+the wrappers call the library's own code and keep nothing. Tests check the
+results are bit for bit the library's (`isotween.correspond`, `isotween.edit`).
 """
 
 from __future__ import annotations
@@ -32,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MeshMemo", "meshed", "pending_vertices"]
+__all__ = ["MeshMemo", "FactorMemo", "meshed", "pending_vertices", "reusing"]
 
 #: region meshes kept per session
 MEMO_SIZE = 64
@@ -93,6 +98,82 @@ class MeshMemo:
     def clear(self) -> None:
         with self.lock:
             self.items.clear()
+
+
+class FactorMemo:
+    """Banded factorisations of Eq. (10) of recent (connectivity, weights), for `isotween.edit`."""
+
+    def __init__(self, size: int = 2):
+        self.size = size
+        self.items: OrderedDict = OrderedDict()
+        self.hits = self.misses = 0
+        self.lock = threading.Lock()
+
+    def get(self, shape: Any, weights: Any) -> tuple:
+        key = (id(shape.topology), _key([weights]))
+        with self.lock:
+            found = self.items.get(key)
+            if found is not None and found[0] is shape.topology:
+                self.items.move_to_end(key)
+                self.hits += 1
+                return key, found[1]
+            self.misses += 1
+            return key, None
+
+    def put(self, key: tuple, shape: Any, assembler: Any) -> None:
+        with self.lock:
+            self.items[key] = (shape.topology, assembler)
+            while len(self.items) > self.size:
+                self.items.popitem(last=False)
+
+
+class reusing:  # noqa: N801 (a context manager, used as ``with reusing(...)``)
+    """While the block runs in this thread, library calls are answered from these memos where they can be."""
+
+    def __init__(self, meshes: MeshMemo | None = None, factors: FactorMemo | None = None):
+        self.values = {"memo": meshes if meshes is not None and _install() else None,
+                       "factors": factors if factors is not None and _install_assembler() else None}
+
+    def __enter__(self) -> reusing:
+        self.previous = {k: getattr(_local, k, None) for k in self.values}
+        for k, v in self.values.items():
+            setattr(_local, k, v)
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        for k, v in self.previous.items():
+            setattr(_local, k, v)
+
+
+def _install_assembler() -> bool:
+    """Wrap ``problems.FrameAssembler`` once (a pass-through outside a studio edit); False if it is gone."""
+    import importlib
+
+    mod = importlib.import_module("isotween.problems")
+    with _install_lock:
+        current = getattr(mod, "FrameAssembler", None)
+        if current is None:
+            return False
+        if getattr(current, "_studio_memo", False):
+            return True
+        original = current
+
+        def frame_assembler(shape: Any, weights: Any = None, factorisation: str = "auto") -> Any:
+            memo = getattr(_local, "factors", None)
+            if memo is None or weights is None or factorisation != "auto":
+                return original(shape, weights, factorisation)
+            key, found = memo.get(shape, weights)
+            if found is not None:
+                return found
+            assembler = original(shape, weights, factorisation)
+            if assembler.method == "banded":  # its solves keep no state: safe to share between threads
+                memo.put(key, shape, assembler)
+            return assembler
+
+        frame_assembler._studio_memo = True  # type: ignore[attr-defined]
+        frame_assembler.__wrapped__ = original  # type: ignore[attr-defined]
+        mod.FrameAssembler = frame_assembler
+        return True
 
 
 def _install() -> bool:
@@ -168,13 +249,6 @@ def meshed(outline: Any, source: Any, memo: MeshMemo | None = None, *, fallback:
             raise RuntimeError("this isotween has no correspondence meshing stage to call")
         return fallback()
     report = copy.deepcopy(outline.report)  # _solids records the meshes in the report
-    use = memo is not None and _install()
-    previous = getattr(_local, "memo", None)
-    if use:
-        _local.memo = memo
-    try:
+    with reusing(meshes=memo):
         src, tgt = solids([outline.source, outline.target], report, None)
-    finally:
-        if use:
-            _local.memo = previous
     return Prepared(src, tgt, report, built_meshes=not source.n_faces and src.n_faces > 0)

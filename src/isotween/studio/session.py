@@ -227,9 +227,10 @@ class Session:
         self.lock = threading.Lock()
         self._cache: OrderedDict = OrderedDict()
         self._deform_cache: tuple | None = None
-        from .reuse import MeshMemo
+        from .reuse import FactorMemo, MeshMemo
 
         self.meshes = MeshMemo()  # region meshes kept between solves (see reuse.py)
+        self.factors = FactorMemo()  # the factorisation of Eq. (10) of the last edits' morph
         self.live_budget = LIVE_BUDGET
         self._morph_seconds = 0.0  # the last morph solve's time (for the estimate of `_in_time`)
 
@@ -338,6 +339,7 @@ class Session:
         from ..correspondence import correspond_keys
         from ..editing import edit
         from ..transfer import transfer
+        from .reuse import reusing
 
         started = time.perf_counter()
         check = (lambda: None) if generation is None else (lambda: self._check_generation(generation))
@@ -379,7 +381,8 @@ class Session:
             self._stage(generation, "edit")
             held = {int(k): base[int(k)] for k in base.info.get("keyframe_indices", [])}  # keyframes stay keys
             held.update({k: base.shape.with_vertices(v) for k, v in edits.items()})
-            seq = edit(base, edits=held)
+            with reusing(factors=self.factors):  # the factorisation of the last edit of this morph, again
+                seq = edit(base, edits=held)
             check()
         moved = None
         if doc.get("third"):
@@ -626,8 +629,14 @@ class Session:
             raise ParameterError(f"frame {frame!r} is out of range (0..{len(seq) - 1})")
         radius = self.doc["options"].get("roi")
         diag = float(np.linalg.norm(np.ptp(seq.frames[frame], axis=0)))
-        return arap_deform(seq.shape, seq.frames[frame], handles, anchor=anchor,
-                           radius=None if not radius else float(radius) * diag)
+        radius = None if not radius else float(radius) * diag
+        key = (frame, tuple(sorted((int(k), tuple(map(float, v))) for k, v in handles.items())), anchor, radius)
+        last = self._deform_cache  # a release sends the handles of the drag's last move: that answer again
+        if last is not None and last[0] is seq and last[1] == key:
+            return last[2].copy()
+        moved = arap_deform(seq.shape, seq.frames[frame], handles, anchor=anchor, radius=radius)
+        self._deform_cache = (seq, key, moved)
+        return moved.copy()
 
     def edit_frame(self, frame: int, handles: dict, anchor: int | None = None) -> Solved:
         """The frame deformed by the handles becomes a key; the sequence re-solves around it (`isotween.edit`)."""
