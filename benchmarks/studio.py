@@ -75,6 +75,48 @@ def drag(page, k, vertex, dx, dy):
     return page.evaluate("window.__studio.lastEditMs")
 
 
+SUPERSEDE = """async ([k, a, b]) => {
+  // two edits of frame k, the second sent 50 ms after the first (which it supersedes), while the page polls
+  // the server's progress every 20 ms: is the first dropped, how long until the second is drawn, and how long
+  // does a progress request wait meanwhile (the server's responsiveness)
+  const S = window.__studio, token = new URLSearchParams(location.search).get("token");
+  const lat = [], stages = new Set();
+  let done = false;
+  const poll = (async () => {
+    while (!done) {
+      const t = performance.now();
+      const p = await (await fetch("api/progress", { headers: { "X-Isotween-Token": token } })).json();
+      lat.push(performance.now() - t);
+      stages.add(p.stage);
+      await new Promise((r) => setTimeout(r, 20));
+    }
+  })();
+  const started = performance.now();
+  const first = S.act("api/edit", { frame: k, handles: [a], anchor: a[0] });
+  await new Promise((r) => setTimeout(r, 50));
+  const second = await S.act("api/edit", { frame: k, handles: [b], anchor: b[0] });
+  await new Promise((r) => requestAnimationFrame(() => r()));
+  const drawn = performance.now() - started;
+  const dropped = (await first) === null;
+  done = true;
+  await poll;
+  lat.sort((x, y) => x - y);
+  return { drawn, dropped, ok: second !== null, polls: lat.length, median: lat[lat.length >> 1],
+           max: lat[lat.length - 1], stages: [...stages] };
+}"""
+
+
+def supersede(page, server, k):
+    """Two edits, the second superseding the first, timed with the server's responsiveness (dict)."""
+    v = server.session.solved.sequence.frames[k]
+    a = [0, float(v[0, 0]) + 0.05, float(v[0, 1]) + 0.05]
+    b = [0, float(v[0, 0]) + 0.1, float(v[0, 1]) + 0.08]
+    out = page.evaluate(SUPERSEDE, [k, a, b])
+    page.click("#undo")
+    page.wait_for_function("window.__studio.seq.keys.length === 2")
+    return out
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--runs", type=int, default=7)
@@ -90,7 +132,7 @@ def main():
     from browser import CHROMIUM
     from isotween.studio import StudioServer
 
-    rows = []
+    rows, large = [], None
     with tempfile.TemporaryDirectory() as tmp, sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
         for (name, files, example), case in zip(inputs(Path(tmp)), ("icon", "glyph", "mesh"), strict=True):
@@ -150,6 +192,14 @@ def main():
                         hints.append(ms)
                 hint = f"{statistics.median(h['first'] for h in hints):.0f}"
                 final = f"{statistics.median(h['final'] for h in hints):.0f}"
+            if case == "mesh":
+                runs = [supersede(page, server, k) for _ in range(3)]
+                large = [name, n, "yes" if all(r["dropped"] and r["ok"] for r in runs) else "no",
+                         f"{statistics.median(r['drawn'] for r in runs):.0f}",
+                         f"{statistics.median(r['median'] for r in runs):.0f}",
+                         f"{max(r['max'] for r in runs):.0f}",
+                         ", ".join(sorted({st for r in runs for st in r["stages"]}))]
+                print(" | ".join(map(str, large)), flush=True)
             worst = max([med] + [float(x) for x in (lm_first, hint) if x != "-"])
             rows.append([name, n, seq.shape.n_faces, len(seq), f"{opened:.1f}", f"{med:.0f}",
                          f"{min(times):.0f}-{max(times):.0f}", lm_first, lm_final, hint, final,
@@ -176,6 +226,17 @@ def main():
              "and the first answers to hints with the target. 'open' is the wall time to start the server "
              "and show the first morph (correspondence, meshing and the AIAP solve). Headless Chromium with "
              "--disable-gpu; server and browser on the same machine, shared with other jobs.")
+    if large is not None:
+        body += "\n\n" + table(["input", "superseded edit dropped", "second edit drawn ms (median)",
+                               "progress answered ms (median)", "progress answered ms (max)",
+                               "stages shown"], [large])
+        body += ("\n\nA large drawing while it re-solves: two edits of the middle frame, the second sent 50 ms "
+                 "after the first, timed in the page from the first request to the second's morph drawn "
+                 "(3 runs); the first is dropped when its answer says it was superseded. Meanwhile the page "
+                 "asks the server for its progress every 20 ms (the stages it saw are listed): how long "
+                 "those requests wait says how responsive the server stays. `isotween.edit` has no callback, "
+                 "so a superseded edit runs to its end in its thread and its result is dropped; morph solves "
+                 "(`interpolate`) are stopped at their next iteration.")
     print(body)
     if not args.no_write:
         write_section("Studio", body, "python benchmarks/studio.py")

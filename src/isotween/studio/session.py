@@ -357,7 +357,7 @@ class Session:
             corr_kw["pairs"] = [tuple(int(v) for v in p) for p in doc["pairs"]]
         if doc.get("landmarks"):  # checked by `correspond` (a point off the drawing: its one-line message)
             corr_kw["landmarks"] = doc["landmarks"]
-        self._stage(generation, "correspondence")
+        self._stage(generation, "inputs")
 
         def progress(iteration: int, energy: float, move: float) -> None:
             self._stage(generation, "morph", iteration=iteration, energy=float(energy))
@@ -456,8 +456,11 @@ class Session:
             which = "as-is"
             prepared = self._cached(("as-is", ids), lambda: prepare_pair(a, b, names=names))
         else:
-            outline = self._cached(("outline", ids, tag), lambda: prepare_pair(
-                a, b, correspondence="always", names=names, **{**kw, "outline": True}))
+            def correspond_outlines() -> Any:
+                stage("correspondence")
+                return prepare_pair(a, b, correspondence="always", names=names, **{**kw, "outline": True})
+
+            outline = self._cached(("outline", ids, tag), correspond_outlines)
             check()
             which, prepared = "outline", outline
             if not kw.get("outline") and outline.source.regions:  # filled regions to mesh
@@ -466,24 +469,28 @@ class Session:
                         and not self._in_time(outline, started):
                     preview = True  # outlines now, the meshes in `refine`
                 else:
-                    stage("meshing")
                     which = "meshed"
-                    prepared = self._cached(mkey, lambda: meshed(
-                        outline, a, self.meshes,
-                        fallback=lambda: prepare_pair(a, b, correspondence="always", names=names, **kw)))
+
+                    def mesh() -> Any:
+                        stage("meshing")
+                        return meshed(outline, a, self.meshes, fallback=lambda: prepare_pair(
+                            a, b, correspondence="always", names=names, **kw))
+
+                    prepared = self._cached(mkey, mesh)
         check()
         frames = options["frames"]
         times = bezier_times(frames, curves[0])
-        stage("morph")
         kwargs: dict[str, Any] = {"method": options["method"], "times": times}
         if prepared.built_meshes:  # meshes built here: as the command line does
             kwargs["fold"] = "fallback"
         bkey = ("base", which, ids, tag, frames, json.dumps(curves), options["method"])
 
         def solve() -> Any:
+            stage("morph")
             started = time.perf_counter()
             seq = interpolate(prepared.source, prepared.target, frames, callback=progress, **kwargs)
-            self._morph_seconds = time.perf_counter() - started
+            if which == "meshed":  # the morph of meshes (with its fold check), for `_in_time`'s estimate
+                self._morph_seconds = time.perf_counter() - started
             return seq
 
         base = self._cached(bkey, solve)
@@ -521,12 +528,11 @@ class Session:
         if doc.get("pairs") or doc.get("landmarks"):
             notes.append("region pairs and landmarks apply to two drawings; they are not used with keyframes")
         key = ("keys", tuple(doc["inputs"]), options["points"], bool(options["rotation"]), options["unmatched"])
-        keys, report = self._cached(key, lambda: correspond_keys(
+        keys, report = self._cached(key, lambda: stage("correspondence") or correspond_keys(
             inputs, points=options["points"], rotation=bool(options["rotation"]), unmatched=options["unmatched"]))
         check()
-        stage("morph")
         bkey = ("base", key, options["frames"], json.dumps(curves), options["method"])
-        base = self._cached(bkey, lambda: interpolate_keyframes(
+        base = self._cached(bkey, lambda: stage("morph") or interpolate_keyframes(
             keys, frames=options["frames"], easing=eased(curves), method=options["method"], callback=progress))
         return inputs, keys[0], keys[1], report, keys, base, base.times, False
 
