@@ -655,6 +655,25 @@ def test_a_landmark_is_answered_meshed_reusing_the_regions_it_leaves_alone(tmp_p
     assert state["preview"] is False and session.solved.sequence.equals(expected, atol=1e-9)
 
 
+def test_two_drawings_are_morphed_as_isotween_morph_does(tmp_path):
+    a, b = tmp_path / "one.json", tmp_path / "two.json"  # the target has a region the source lacks
+    isotween.save(isotween.Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]]), a)
+    isotween.save(isotween.Shape.from_polygon([[[0, 0], [1, 0], [1, 1], [0, 1]],
+                                               [[3, 0], [4, 0], [4, 1], [3, 1]]]), b)
+    session = Session([a, b])
+    client = client_for(session)
+    client.post("/api/open", json={"paths": [str(a), str(b)]}, headers=H)
+    expected = isotween.morph(isotween.load(a), isotween.load(b), frames=13)  # the grown square: a point at 0
+    assert session.solved.report.vanishing[0] and session.solved.sequence.equals(expected, atol=1e-9)
+    k = 6
+    state = client.post("/api/edit", json={"frame": k, "handles": [[0, 0.2, -0.3]], "anchor": 0}, headers=H).json()
+    assert state["document"]["edited"] == [k]
+    raw = session.solved.base  # edits start from the morph before the collapse, which then applies again
+    edited = isotween.edit(raw, frame=k, shape=raw.shape.with_vertices(session.doc["edits"][str(k)]))
+    isotween.pipeline.collapse_vanishing(edited, session.solved.report)
+    assert np.all(np.isfinite(session.solved.sequence.frames)) and session.solved.sequence.equals(edited, atol=1e-9)
+
+
 def test_pairing_regions_by_clicking_in_chromium(browser, tmp_path):
     from isotween.studio import StudioServer
 
