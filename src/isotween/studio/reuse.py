@@ -72,13 +72,16 @@ class MeshMemo:
         self.lock = threading.Lock()
 
     def rings_key(self, source_rings: Any, target_rings: Any) -> tuple:
+        """The key of a region pair's rings (digests of their coordinates)."""
         return (_key(source_rings), _key(target_rings))
 
     def has_rings(self, key: tuple) -> bool:
+        """Whether meshes of these rings (any mesh size) are kept."""
         with self.lock:
             return any(k[:2] == key for k in self.items)
 
     def get(self, key: tuple) -> Any:
+        """The kept ``_mesh_region`` answer of ``key`` (rings and mesh size), or None."""
         with self.lock:
             if key in self.items:
                 self.items.move_to_end(key)
@@ -88,6 +91,7 @@ class MeshMemo:
             return None
 
     def put(self, key: tuple, value: Any, seconds: float, vertices: int) -> None:
+        """Keep an answer that took ``seconds`` for ``vertices`` ring vertices (and update `rate`)."""
         with self.lock:
             self.items[key] = value
             while len(self.items) > self.size:
@@ -96,6 +100,7 @@ class MeshMemo:
             self.rate = rate if self.rate is None else 0.5 * (self.rate + rate)
 
     def clear(self) -> None:
+        """Forget every kept mesh (the rate stays)."""
         with self.lock:
             self.items.clear()
 
@@ -110,6 +115,7 @@ class FactorMemo:
         self.lock = threading.Lock()
 
     def get(self, shape: Any, weights: Any) -> tuple:
+        """(key, the kept assembler of ``shape``'s connectivity with ``weights`` or None)."""
         key = (id(shape.topology), _key([weights]))
         with self.lock:
             found = self.items.get(key)
@@ -121,6 +127,7 @@ class FactorMemo:
             return key, None
 
     def put(self, key: tuple, shape: Any, assembler: Any) -> None:
+        """Keep an assembler under ``key`` (from `get`)."""
         with self.lock:
             self.items[key] = (shape.topology, assembler)
             while len(self.items) > self.size:
@@ -172,7 +179,7 @@ def _install_assembler() -> bool:
 
         frame_assembler._studio_memo = True  # type: ignore[attr-defined]
         frame_assembler.__wrapped__ = original  # type: ignore[attr-defined]
-        mod.FrameAssembler = frame_assembler
+        setattr(mod, "FrameAssembler", frame_assembler)  # noqa: B010 (a module attribute replaced)
         return True
 
 
