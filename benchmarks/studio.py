@@ -223,8 +223,8 @@ def main():
              "morph of the compatible meshes at once when the server expects them within its live budget "
              "(60 ms, from the meshing time measured so far; 'at once' counts those), else first by the outline "
              "morph ('first drawn') and then by the meshes ('meshes drawn'). 'region pair': a forced region "
-             "pair, alternately crossed and straight, with every correspondence, mesh and morph cache cleared first (only the "
-             "loaded inputs kept), for drawings with two regions. 'first answers within' compares the drag "
+             "pair, alternately crossed and straight, with every correspondence, mesh and morph cache cleared "
+             "first (only the loaded inputs kept), for drawings with two regions. 'first answers within' compares the drag "
              "and the first answers to hints with the target. 'open' is the wall time to start the server "
              "and show the first morph (correspondence, meshing and the AIAP solve). Headless Chromium with "
              "--disable-gpu; server and browser on the same machine, shared with other jobs.")
