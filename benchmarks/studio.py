@@ -224,9 +224,10 @@ def main():
              "(60 ms, from the meshing time measured so far; 'at once' counts those), else first by the outline "
              "morph ('first drawn') and then by the meshes ('meshes drawn'). 'region pair': a forced region "
              "pair, alternately crossed and straight, with every correspondence, mesh and morph cache cleared "
-             "first (only the loaded inputs kept), for drawings with two regions. 'first answers within' compares the drag "
-             "and the first answers to hints with the target. 'open' is the wall time to start the server "
-             "and show the first morph (correspondence, meshing and the AIAP solve). Headless Chromium with "
+             "first (only the loaded inputs kept), for drawings with two regions. 'first answers within' "
+             "compares the drag and the first answers to hints with the target. 'open' is the wall time to "
+             "start the server and show the first morph (correspondence, meshing and the AIAP solve). "
+             "Headless Chromium with "
              "--disable-gpu; server and browser on the same machine, shared with other jobs.")
     if large is not None:
         body += "\n\n" + table(["input", "superseded edit dropped", "second edit drawn ms (median)",
