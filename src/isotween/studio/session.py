@@ -357,7 +357,7 @@ class Session:
             corr_kw["pairs"] = [tuple(int(v) for v in p) for p in doc["pairs"]]
         if doc.get("landmarks"):  # checked by `correspond` (a point off the drawing: its one-line message)
             corr_kw["landmarks"] = doc["landmarks"]
-        self._stage(generation, "inputs")
+        self._stage(generation, "preparing")
 
         def progress(iteration: int, energy: float, move: float) -> None:
             self._stage(generation, "morph", iteration=iteration, energy=float(energy))
