@@ -201,6 +201,12 @@ def test_edit_undo_redo_and_options(opened):
     state = client.post("/api/redo", headers=H).json()
     assert state["document"]["edited"] == [k]
     assert np.max(np.abs(session.solved.sequence.frames - expected.frames)) < 1e-9
+    if session.factors.items:  # a banded factorisation (numba): the redo's edit reused the first one's
+        assert session.factors.hits >= 1
+    client.post("/api/edit", json={"frame": 3, "handles": [[0, 0.2, -0.9]], "anchor": 0}, headers=H)
+    both = {k: edited, 3: base.shape.with_vertices(session.doc["edits"]["3"])}
+    assert session.solved.sequence.equals(isotween.edit(base, edits=both), atol=0)  # bit for bit
+    client.post("/api/undo", headers=H)
     state = client.post("/api/options", json={"method": "linear", "easing": [0.42, 0, 0.58, 1]}, headers=H).json()
     assert state["document"]["edited"] == [k] and state["sequence"]["method"] == "edit"
     assert session.solved.base.method == "linear" and session.solved.base.times[1] < 1 / 12
@@ -595,6 +601,7 @@ def two_regions(tmp_path):
 def test_quick_outline_preview_then_meshes(tmp_path):
     a, b = two_regions(tmp_path)
     session = Session([a, b])
+    session.live_budget = 0  # every quick change of the correspondence answered by its outlines first
     client = client_for(session)
     state = client.post("/api/open", json={"paths": [str(a), str(b)], "quick": True}, headers=H).json()
     assert state["preview"] is True and session.solved.sequence.shape.n_faces == 0
@@ -620,6 +627,51 @@ def test_quick_outline_preview_then_meshes(tmp_path):
     assert state["preview"] is False
     state = client.post("/api/undo", headers=H).json()  # back to the crossed pairs, meshed
     assert state["preview"] is False and session.doc["pairs"] == [[0, 1]]
+
+
+def test_a_landmark_is_answered_meshed_reusing_the_regions_it_leaves_alone(tmp_path):
+    a, b = two_regions(tmp_path)
+    session = Session([a, b])
+    session.live_budget = 60.0  # as on a fast machine: the meshes within the budget
+    client = client_for(session)
+    client.post("/api/open", json={"paths": [str(a), str(b)]}, headers=H)
+    hits, misses = session.meshes.hits, session.meshes.misses
+    landmarks = [[[1.0, 0.5], [0.5, 3.0]]]  # on the left squares: the right pair's rings do not change
+    state = client.post("/api/hints", json={"landmarks": landmarks, "quick": True}, headers=H).json()
+    assert state["preview"] is False and session.solved.sequence.shape.n_faces > 0
+    assert session.meshes.hits == hits + 1 and session.meshes.misses == misses + 1
+    expected = isotween.morph(isotween.load(a), isotween.load(b), frames=13,
+                              correspond_options={"landmarks": landmarks})
+    assert session.solved.sequence.equals(expected, atol=1e-9)
+    session.live_budget = 0  # a slow machine: the outlines first, then the same meshes
+    state = client.post("/api/hints", json={"landmarks": [], "quick": True}, headers=H).json()
+    assert state["preview"] is False  # back to the opened correspondence: all of it known
+    landmarks = [[[1.0, 0.25], [0.75, 3.0]]]
+    state = client.post("/api/hints", json={"landmarks": landmarks, "quick": True}, headers=H).json()
+    assert state["preview"] is True
+    state = client.post("/api/refine", headers=H).json()
+    expected = isotween.morph(isotween.load(a), isotween.load(b), frames=13,
+                              correspond_options={"landmarks": landmarks})
+    assert state["preview"] is False and session.solved.sequence.equals(expected, atol=1e-9)
+
+
+def test_two_drawings_are_morphed_as_isotween_morph_does(tmp_path):
+    a, b = tmp_path / "one.json", tmp_path / "two.json"  # the target has a region the source lacks
+    isotween.save(isotween.Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]]), a)
+    isotween.save(isotween.Shape.from_polygon([[[0, 0], [1, 0], [1, 1], [0, 1]],
+                                               [[3, 0], [4, 0], [4, 1], [3, 1]]]), b)
+    session = Session([a, b])
+    client = client_for(session)
+    client.post("/api/open", json={"paths": [str(a), str(b)]}, headers=H)
+    expected = isotween.morph(isotween.load(a), isotween.load(b), frames=13)  # the grown square: a point at 0
+    assert session.solved.report.vanishing[0] and session.solved.sequence.equals(expected, atol=1e-9)
+    k = 6
+    state = client.post("/api/edit", json={"frame": k, "handles": [[0, 0.2, -0.3]], "anchor": 0}, headers=H).json()
+    assert state["document"]["edited"] == [k]
+    raw = session.solved.base  # edits start from the morph before the collapse, which then applies again
+    edited = isotween.edit(raw, frame=k, shape=raw.shape.with_vertices(session.doc["edits"][str(k)]))
+    isotween.pipeline.collapse_vanishing(edited, session.solved.report)
+    assert np.all(np.isfinite(session.solved.sequence.frames)) and session.solved.sequence.equals(edited, atol=1e-9)
 
 
 def test_pairing_regions_by_clicking_in_chromium(browser, tmp_path):

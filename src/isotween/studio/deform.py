@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import hashlib
+import threading
+from collections import OrderedDict
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -24,6 +27,44 @@ __all__ = ["arap_deform"]
 _REGULARISE = 1e-9
 
 
+class _System:
+    """The factorised global step of one frame with one set of held vertices (kept while a drag goes on)."""
+
+    def __init__(self, shape: Shape, fixed: NDArray[np.bool_]):
+        n = shape.n_vertices
+        top = shape.topology
+        self.i, self.j = np.asarray(top.first), np.asarray(top.second)
+        ones = np.ones(len(self.i))
+        adjacency = sp.coo_matrix((np.r_[ones, ones], (np.r_[self.i, self.j], np.r_[self.j, self.i])),
+                                  shape=(n, n)).tocsr()
+        degree = np.asarray(adjacency.sum(axis=1)).ravel()
+        lap = (sp.diags(degree) - adjacency).tocsr()
+        self.free = np.flatnonzero(~fixed)
+        self.eps = _REGULARISE * max(float(degree.mean()), 1.0)
+        self.lfc = lap[self.free][:, np.flatnonzero(fixed)]
+        self.lu = splu((lap[self.free][:, self.free] + self.eps * sp.identity(self.free.size)).tocsc())
+        self.lock = threading.Lock()  # one solve at a time on the factor
+
+
+_SYSTEMS: OrderedDict = OrderedDict()  # (topology, held set) -> _System, the last few
+_SYSTEMS_LOCK = threading.Lock()
+
+
+def _system(shape: Shape, fixed: NDArray[np.bool_]) -> _System:
+    key = (id(shape.topology), hashlib.blake2b(np.packbits(fixed).tobytes(), digest_size=16).digest(), len(fixed))
+    with _SYSTEMS_LOCK:
+        found = _SYSTEMS.get(key)
+        if found is not None and found[0] is shape.topology:
+            _SYSTEMS.move_to_end(key)
+            return found[1]
+    system = _System(shape, fixed)
+    with _SYSTEMS_LOCK:
+        _SYSTEMS[key] = (shape.topology, system)
+        while len(_SYSTEMS) > 4:
+            _SYSTEMS.popitem(last=False)
+    return system
+
+
 def arap_deform(shape: Shape, vertices: ArrayLike, handles: Mapping[int, ArrayLike], *,
                 radius: float | None = None, anchor: int | None = None, iterations: int = 12) -> NDArray[np.float64]:
     """A frame deformed as-rigidly-as-possible with its handles moved.
@@ -31,7 +72,8 @@ def arap_deform(shape: Shape, vertices: ArrayLike, handles: Mapping[int, ArrayLi
     The edge-based ARAP energy ``sum_ij |x_i - x_j - R_i (p_i - p_j)|^2`` over the
     shape's edges (uniform weights, one rotation R_i per vertex, a unit complex
     number) is minimised by alternating local rotation fits and one global
-    sparse solve, factorised once (Sorkine and Alexa 2007).
+    sparse solve, factorised once (Sorkine and Alexa 2007) and kept for the
+    next calls with the same connectivity and held vertices (the moves of one drag).
 
     Parameters
     ----------
@@ -88,19 +130,10 @@ def arap_deform(shape: Shape, vertices: ArrayLike, handles: Mapping[int, ArrayLi
     fixed[idx] = True
     x = z.copy()
     x[idx] = np.fromiter(held.values(), dtype=complex)
-    free = np.flatnonzero(~fixed)
-    if not free.size:
+    if fixed.all():
         return np.c_[x.real, x.imag]
-    top = shape.topology
-    i, j = np.asarray(top.first), np.asarray(top.second)
-    ones = np.ones(len(i))
-    adjacency = sp.coo_matrix((np.r_[ones, ones], (np.r_[i, j], np.r_[j, i])), shape=(n, n)).tocsr()
-    degree = np.asarray(adjacency.sum(axis=1)).ravel()
-    lap = (sp.diags(degree) - adjacency).tocsr()
-    eps = _REGULARISE * max(float(degree.mean()), 1.0)
-    lff = (lap[free][:, free] + eps * sp.identity(free.size)).tocsc()
-    lfc = lap[free][:, np.flatnonzero(fixed)]
-    lu = splu(lff)
+    system = _system(shape, fixed)
+    i, j, free, eps, lfc, lu = system.i, system.j, system.free, system.eps, system.lfc, system.lu
     d = z[i] - z[j]  # rest edge vectors
     rhs_fixed = lfc @ x[fixed]
     # first rotations: the rigid fit of the held vertices' moves (Procrustes), the same for every vertex
@@ -119,5 +152,6 @@ def arap_deform(shape: Shape, vertices: ArrayLike, handles: Mapping[int, ArrayLi
         b = np.bincount(i, half.real, n) + 1j * np.bincount(i, half.imag, n)
         b -= np.bincount(j, half.real, n) + 1j * np.bincount(j, half.imag, n)
         rhs = b[free] - rhs_fixed + eps * z[free]
-        x[free] = lu.solve(np.ascontiguousarray(rhs.real)) + 1j * lu.solve(np.ascontiguousarray(rhs.imag))
+        with system.lock:
+            x[free] = lu.solve(np.ascontiguousarray(rhs.real)) + 1j * lu.solve(np.ascontiguousarray(rhs.imag))
     return np.c_[x.real, x.imag]

@@ -15,6 +15,7 @@ import hmac
 import json
 import logging
 import tempfile
+import threading
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -151,12 +152,17 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
     from ..examples import describe, names
 
     seen: dict = {}  # the correspondence view of the last solve's correspondence (edits do not change it)
+    seen_lock = threading.Lock()
 
     def corr_view(solved: Any) -> dict:
         key = (id(solved.report), id(solved.source), tuple(map(id, solved.inputs)))
-        if seen.get("key") != key:
-            seen.update(key=key, view=correspondence_view(solved), keep=(solved.report, solved.source, solved.inputs))
-        return seen["view"]
+        with seen_lock:
+            if seen.get("key") == key:
+                return seen["view"]
+        view = correspondence_view(solved)
+        with seen_lock:
+            seen.update(key=key, view=view, keep=(solved.report, solved.source, solved.inputs))
+        return view
 
     def state(extra: dict | None = None) -> JSONResponse:
         doc, solved = session.doc, session.solved
@@ -183,11 +189,14 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
         return JSONResponse(out)
 
     async def run(fn: Any, *args: Any) -> JSONResponse:
+        def work() -> JSONResponse:  # the answer is packed and encoded here too, off the event loop
+            fn(*args)
+            return state()
+
         try:
-            await run_in_threadpool(fn, *args)
+            return await run_in_threadpool(work)
         except Superseded:
             return JSONResponse({"superseded": True, "generation": session.generation})
-        return state()
 
     async def index(request: Request) -> Response:
         page = resources.files("isotween.studio").joinpath("static/index.html").read_text(encoding="utf-8")

@@ -1,8 +1,12 @@
 """The studio's session: inputs, options, hints and edits, solved into a morph, with undo and redo.
 
 A *document* (a plain dict, JSON-able) says what the user asked for; the
-session solves it through the library (`correspond`, `interpolate` with
-``fold='fallback'``, `edit`, `transfer`) and keeps the last good one. A new
+session solves it through the library (two drawings as `isotween.morph` does:
+`pipeline.prepare_pair`, `interpolate` with ``fold='fallback'``,
+`pipeline.collapse_vanishing`; keyframes by `correspond_keys` and
+`interpolate_keyframes`; then `edit` and `transfer`) and keeps the last good one.
+What a change leaves alone is reused: loaded inputs, correspondences, morphs
+and the meshes of region pairs a hint does not touch (`reuse.py`). A new
 document is committed only when its solve succeeds and no newer request has
 superseded it, so a bad file or a failed solve leaves the session as it was.
 """
@@ -11,10 +15,12 @@ from __future__ import annotations
 
 import base64
 import copy
+import dataclasses
 import hashlib
 import json
 import tempfile
 import threading
+import time
 from collections import OrderedDict
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,7 +44,12 @@ DEFAULT_OPTIONS: dict[str, Any] = {
 }
 #: input file endings the studio opens
 SUFFIXES = (".svg", ".obj", ".off", ".json", ".npz")
-_CACHE = 12
+_CACHE = 24
+#: `isotween.correspond`'s defaults of the options the studio sets: only the others are passed on
+CORRESPOND_DEFAULTS = {"points": None, "rotation": False, "outline": False, "unmatched": "grow"}
+#: seconds from a hint to its meshed morph, solved on the server, within which a quick hint is answered
+#: with the meshes at once (else by an outline preview first)
+LIVE_BUDGET = 0.06
 
 
 class Superseded(Exception):
@@ -72,6 +83,17 @@ class Blob:
         except (KeyError, TypeError, ValueError):
             raise FileFormatError(f"project: input {entry['name']!r} has no base64 data") from None
         return cls(entry["name"], data)
+
+
+def _compatible(a: Any, b: Any) -> bool:
+    """Whether two shapes are compatible already (else correspondence runs, as `prepare_pair` decides)."""
+    from ..correspondence import check_compatible
+
+    try:
+        check_compatible(a, b)
+    except IsotweenError:
+        return False
+    return True
 
 
 def _suffix(name: str) -> str:
@@ -176,6 +198,11 @@ class Solved:
     notes: list = field(default_factory=list)
     keys: list = field(default_factory=list)  # the compatible inputs
     preview: bool = False  # outlines standing in for meshes not solved yet (see Session.refine)
+    raw: Any = None  # ``sequence`` before vanishing items collapse at its ends (what edits and drags start from)
+
+    def __post_init__(self) -> None:
+        if self.raw is None:
+            self.raw = self.sequence
 
 
 class Session:
@@ -200,6 +227,12 @@ class Session:
         self.lock = threading.Lock()
         self._cache: OrderedDict = OrderedDict()
         self._deform_cache: tuple | None = None
+        from .reuse import FactorMemo, MeshMemo
+
+        self.meshes = MeshMemo()  # region meshes kept between solves (see reuse.py)
+        self.factors = FactorMemo()  # the factorisation of Eq. (10) of the last edits' morph
+        self.live_budget = LIVE_BUDGET
+        self._morph_seconds = 0.0  # the last morph solve's time (for the estimate of `_in_time`)
 
     # ---------------------------------------------------------------- inputs
     def add_blob(self, name: str, data: bytes) -> str:
@@ -306,7 +339,9 @@ class Session:
         from ..correspondence import correspond_keys
         from ..editing import edit
         from ..transfer import transfer
+        from .reuse import reusing
 
+        started = time.perf_counter()
         check = (lambda: None) if generation is None else (lambda: self._check_generation(generation))
         options = {**DEFAULT_OPTIONS, **doc.get("options", {})}
         frames = options["frames"]
@@ -322,7 +357,7 @@ class Session:
             corr_kw["pairs"] = [tuple(int(v) for v in p) for p in doc["pairs"]]
         if doc.get("landmarks"):  # checked by `correspond` (a point off the drawing: its one-line message)
             corr_kw["landmarks"] = doc["landmarks"]
-        self._stage(generation, "correspondence")
+        self._stage(generation, "preparing")
 
         def progress(iteration: int, energy: float, move: float) -> None:
             self._stage(generation, "morph", iteration=iteration, energy=float(energy))
@@ -333,7 +368,7 @@ class Session:
         if len(inputs) == 1:
             morph = self._solve_saved(doc, inputs[0], options, curves, notes)
         elif len(inputs) == 2:
-            morph = self._solve_pair(doc, inputs, options, curves, corr_kw, quick, hooks)
+            morph = self._solve_pair(doc, inputs, options, curves, corr_kw, quick, hooks, started)
         else:
             morph = self._solve_keys(doc, inputs, options, curves, notes, hooks)
         inputs, src, tgt, report, keys, base, times, preview = morph
@@ -346,7 +381,8 @@ class Session:
             self._stage(generation, "edit")
             held = {int(k): base[int(k)] for k in base.info.get("keyframe_indices", [])}  # keyframes stay keys
             held.update({k: base.shape.with_vertices(v) for k, v in edits.items()})
-            seq = edit(base, edits=held)
+            with reusing(factors=self.factors):  # the factorisation of the last edit of this morph, again
+                seq = edit(base, edits=held)
             check()
         moved = None
         if doc.get("third"):
@@ -364,7 +400,14 @@ class Session:
 
             moved = self._cached(tkey, make_transfer)
             check()
-        return Solved(inputs, src, tgt, report, base, seq, moved, notes, keys, preview)
+        shown = seq
+        if len(doc["inputs"]) == 2 and getattr(report, "vanishing", None) and any(report.vanishing):
+            # as `isotween.morph`: an item one drawing lacks is one point in its end frame, no speck left
+            from ..pipeline import collapse_vanishing
+
+            shown = dataclasses.replace(seq, frames=seq.frames.copy(), info=dict(seq.info))
+            collapse_vanishing(shown, report)
+        return Solved(inputs, src, tgt, report, base, shown, moved, notes, keys, preview, raw=seq)
 
     def _solve_saved(self, doc: dict, saved: Any, options: dict, curves: list, notes: list) -> tuple:
         """A saved sequence, resampled when the frame count or the easing asks."""
@@ -384,36 +427,97 @@ class Session:
         return [src, tgt], src, tgt, CorrespondenceReport(unchanged=True), [src, tgt], base, times, False
 
     def _solve_pair(self, doc: dict, inputs: list, options: dict, curves: list, corr_kw: dict, quick: bool,
-                    hooks: tuple) -> tuple:
-        """Two drawings: `correspond` and `interpolate`, as ``isotween interpolate`` runs them.
+                    hooks: tuple, started: float) -> tuple:
+        """Two drawings through the library's pipeline, as `isotween.morph` runs them.
+
+        `isotween.pipeline.prepare_pair` makes them compatible (its ``'auto'``
+        policy: drawings and inputs given correspondence options or hints are
+        corresponded, compatible inputs kept), `isotween.interpolate` solves
+        (``fold='fallback'`` where meshes were built here) and vanishing items
+        collapse at their ends (`pipeline.collapse_vanishing`). The outline
+        correspondence is kept and meshed separately (`reuse.meshed`), so that
+        the outline preview and the meshes share it and region pairs that a
+        hint does not change keep their meshes.
 
         ``hooks``: (the solver's callback, the supersession check, the progress stage setter).
         """
-        from ..correspondence import correspond
         from ..interpolate import interpolate
+        from ..pipeline import prepare_pair
+        from .reuse import meshed
 
         progress, check, stage = hooks
-        key: tuple = ("corr", tuple(doc["inputs"]), json.dumps(corr_kw, sort_keys=True, default=list))
+        a, b = inputs
+        ids = tuple(doc["inputs"])
+        names = [self.blobs[k].name for k in ids]
+        kw = {k: v for k, v in corr_kw.items() if v != CORRESPOND_DEFAULTS.get(k)}
+        tag = json.dumps(kw, sort_keys=True, default=list)
         preview = False
-        if quick and not corr_kw["outline"] and not inputs[0].n_faces and not doc.get("edits") \
-                and not self._has(key):  # outlines now, the meshes in `refine`
-            outline_kw = {**corr_kw, "outline": True}
-            okey = ("corr", tuple(doc["inputs"]), json.dumps(outline_kw, sort_keys=True, default=list))
-            found = self._cached(okey, lambda: correspond(inputs[0], inputs[1], **outline_kw))
-            preview = any(found.report.regions.values())  # filled regions: meshing would follow
-            if preview:
-                key = okey
-        src, tgt, report = self._cached(key, lambda: correspond(inputs[0], inputs[1], **corr_kw))
+        if not (any(self._is_drawing(k) for k in ids) or kw or not _compatible(a, b)):
+            which = "as-is"
+            prepared = self._cached(("as-is", ids), lambda: prepare_pair(a, b, names=names))
+        else:
+            def correspond_outlines() -> Any:
+                stage("correspondence")
+                return prepare_pair(a, b, correspondence="always", names=names, **{**kw, "outline": True})
+
+            outline = self._cached(("outline", ids, tag), correspond_outlines)
+            check()
+            which, prepared = "outline", outline
+            if not kw.get("outline") and outline.source.regions:  # filled regions to mesh
+                mkey = ("meshed", ids, tag)
+                if quick and not a.n_faces and not doc.get("edits") and not self._has(mkey) \
+                        and not self._in_time(outline, started):
+                    preview = True  # outlines now, the meshes in `refine`
+                else:
+                    which = "meshed"
+
+                    def mesh() -> Any:
+                        stage("meshing")
+                        return meshed(outline, a, self.meshes, fallback=lambda: prepare_pair(
+                            a, b, correspondence="always", names=names, **kw))
+
+                    prepared = self._cached(mkey, mesh)
         check()
         frames = options["frames"]
         times = bezier_times(frames, curves[0])
-        stage("morph")
         kwargs: dict[str, Any] = {"method": options["method"], "times": times}
-        if not inputs[0].n_faces and src.n_faces:  # meshes built here: as the command line does
+        if prepared.built_meshes:  # meshes built here: as the command line does
             kwargs["fold"] = "fallback"
-        bkey = ("base", key, frames, json.dumps(curves), options["method"])
-        base = self._cached(bkey, lambda: interpolate(src, tgt, frames, callback=progress, **kwargs))
-        return inputs, src, tgt, report, [src, tgt], base, times, preview
+        bkey = ("base", which, ids, tag, frames, json.dumps(curves), options["method"])
+
+        def solve() -> Any:
+            stage("morph")
+            started = time.perf_counter()
+            seq = interpolate(prepared.source, prepared.target, frames, callback=progress, **kwargs)
+            if which == "meshed":  # the morph of meshes (with its fold check), for `_in_time`'s estimate
+                self._morph_seconds = time.perf_counter() - started
+            return seq
+
+        base = self._cached(bkey, solve)
+        report = prepared.report
+        if report is None:  # used as they were
+            from ..correspondence import CorrespondenceReport
+
+            report = CorrespondenceReport(unchanged=True, unmatched=options["unmatched"])
+        return inputs, prepared.source, prepared.target, report, [prepared.source, prepared.target], base, times, \
+            preview
+
+    def _in_time(self, outline: Any, started: float) -> bool:
+        """Whether the meshes of ``outline`` are expected within `live_budget` of the request (else: a preview)."""
+        from .reuse import pending_vertices
+
+        rate = self.meshes.rate
+        if rate is None:  # nothing meshed yet in this session: no estimate
+            return False
+        estimate = rate * pending_vertices(outline, self.meshes) + self._morph_seconds
+        return time.perf_counter() - started + estimate <= self.live_budget
+
+    def _is_drawing(self, key: str) -> bool:
+        """An SVG drawing (whose point order means nothing: always corresponded, as `prepare_pair` does)."""
+        blob = self.blobs[key]  # an example's drawings are corresponded as `load_example` does: when needed
+        if blob.example is not None:
+            return False
+        return blob.name.lower().endswith(".svg")
 
     def _solve_keys(self, doc: dict, inputs: list, options: dict, curves: list, notes: list, hooks: tuple) -> tuple:
         """Keyframes: made compatible together as outlines, one solve through all of them (``hooks`` as above)."""
@@ -424,12 +528,11 @@ class Session:
         if doc.get("pairs") or doc.get("landmarks"):
             notes.append("region pairs and landmarks apply to two drawings; they are not used with keyframes")
         key = ("keys", tuple(doc["inputs"]), options["points"], bool(options["rotation"]), options["unmatched"])
-        keys, report = self._cached(key, lambda: correspond_keys(
+        keys, report = self._cached(key, lambda: stage("correspondence") or correspond_keys(
             inputs, points=options["points"], rotation=bool(options["rotation"]), unmatched=options["unmatched"]))
         check()
-        stage("morph")
         bkey = ("base", key, options["frames"], json.dumps(curves), options["method"])
-        base = self._cached(bkey, lambda: interpolate_keyframes(
+        base = self._cached(bkey, lambda: stage("morph") or interpolate_keyframes(
             keys, frames=options["frames"], easing=eased(curves), method=options["method"], callback=progress))
         return inputs, keys[0], keys[1], report, keys, base, base.times, False
 
@@ -527,13 +630,19 @@ class Session:
             raise ParameterError("open two drawings first")
         if self.solved.preview:
             raise ParameterError("the morph is an outline preview while its meshes are solved; drag again in a moment")
-        seq = self.solved.sequence
+        seq = self.solved.raw
         if isinstance(frame, bool) or not isinstance(frame, int) or not 0 <= frame < len(seq):
             raise ParameterError(f"frame {frame!r} is out of range (0..{len(seq) - 1})")
         radius = self.doc["options"].get("roi")
         diag = float(np.linalg.norm(np.ptp(seq.frames[frame], axis=0)))
-        return arap_deform(seq.shape, seq.frames[frame], handles, anchor=anchor,
-                           radius=None if not radius else float(radius) * diag)
+        radius = None if not radius else float(radius) * diag
+        key = (frame, tuple(sorted((int(k), tuple(map(float, v))) for k, v in handles.items())), anchor, radius)
+        last = self._deform_cache  # a release sends the handles of the drag's last move: that answer again
+        if last is not None and last[0] is seq and last[1] == key:
+            return last[2].copy()
+        moved = arap_deform(seq.shape, seq.frames[frame], handles, anchor=anchor, radius=radius)
+        self._deform_cache = (seq, key, moved)
+        return moved.copy()
 
     def edit_frame(self, frame: int, handles: dict, anchor: int | None = None) -> Solved:
         """The frame deformed by the handles becomes a key; the sequence re-solves around it (`isotween.edit`)."""

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import base64
+import threading
+from collections import OrderedDict
 from typing import Any
 
 import numpy as np
@@ -21,6 +23,25 @@ def pack(array: Any, dtype: str = "<f8") -> str:
     return base64.b64encode(np.ascontiguousarray(array, dtype=dtype).tobytes()).decode("ascii")
 
 
+#: the drawn paths and packed edges of the last shapes viewed (an edit or a new frame count keeps the shape)
+_STATIC: OrderedDict = OrderedDict()
+_STATIC_SIZE = 4
+_STATIC_LOCK = threading.Lock()
+
+
+def _static(shape: Any) -> tuple:
+    """(paths, packed edges) of ``shape``, kept while it is viewed (a 10k-vertex mesh's boundary takes 50 ms)."""
+    with _STATIC_LOCK:
+        found = _STATIC.get(id(shape))
+    if found is None or found[0] is not shape:
+        found = (shape, _paths(shape), pack(np.c_[shape.topology.first, shape.topology.second], "<i4"))
+        with _STATIC_LOCK:
+            _STATIC[id(shape)] = found
+            while len(_STATIC) > _STATIC_SIZE:
+                _STATIC.popitem(last=False)
+    return found[1], found[2]
+
+
 def _paths(shape: Any) -> list:
     if shape.paths:
         return [[idx.tolist(), bool(closed)] for idx, closed in shape.paths]
@@ -35,7 +56,7 @@ def _groups(seq: Any) -> list:
     if groups is not None:
         return groups
     shape, F = seq.shape, len(seq)
-    paths = _paths(shape)
+    paths = _static(shape)[0]
     out = []
     regions = shape.regions
     used: set = set()
@@ -57,7 +78,7 @@ def sequence_view(seq: Any, keys: Any = ()) -> dict:
     return {
         "frames": pack(seq.frames), "count": len(seq), "n": shape.n_vertices,
         "times": np.asarray(seq.times).tolist(), "y_down": bool(seq.y_down), "groups": _groups(seq),
-        "edges": pack(np.c_[shape.topology.first, shape.topology.second], "<i4"),
+        "edges": _static(shape)[1],
         "faces": int(shape.n_faces), "keys": sorted({0, len(seq) - 1, *[int(k) for k in keys]}),
         "method": seq.method,
     }

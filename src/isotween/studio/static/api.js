@@ -29,9 +29,11 @@ export async function postJson(path, body) {
   return (await post(path, body)).json();
 }
 
-// base64 little-endian bytes -> typed array
+// base64 little-endian bytes -> typed array (a plain loop: a callback per byte takes 0.1 s on 10k-vertex frames)
 export function unpack(text, Kind = Float64Array) {
-  const bytes = Uint8Array.from(atob(text), (c) => c.charCodeAt(0));
+  const raw = atob(text);
+  const bytes = new Uint8Array(raw.length);
+  for (let i = 0; i < raw.length; i++) bytes[i] = raw.charCodeAt(i);
   return new Kind(bytes.buffer);
 }
 
