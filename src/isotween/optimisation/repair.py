@@ -55,7 +55,8 @@ def repair_folds(frames, faces):
     Raises
     ------
     MethodError
-        Frame 0 has a degenerate face, or a Newton system cannot be solved.
+        Frame 0 has a degenerate face, the last frame a flipped or degenerate
+        one, or a Newton system cannot be solved.
     """
     frames = np.asarray(frames, dtype=complex)
     f = np.asarray(faces, dtype=np.int64)
@@ -63,6 +64,8 @@ def repair_folds(frames, faces):
     if np.any(area0 == 0):
         raise MethodError("the first frame has a degenerate triangle; its folds cannot be told")
     f = np.where((area0 < 0)[:, None], f[:, ::-1], f)  # every face positive in frame 0
+    if np.any(triangle_areas(frames[-1], f) <= 0):
+        raise MethodError("the last frame itself has flipped triangles: no fold-free way leads to it")
     folded = [k for k in range(1, len(frames) - 1) if np.any(triangle_areas(frames[k], f) <= 0)]
     out = frames.copy()
     info = {"frames": [], "iterations": 0, "deviation": 0.0}
