@@ -325,3 +325,27 @@ def test_room_inside_a_region_made_valid_into_pieces():
     pieces = shapely.GeometryCollection([shapely.box(0, 0, 2, 2), shapely.box(3, 0, 4, 1)])
     assert _room(pieces, 1 + 1j) == pytest.approx(1.0)
     assert _room(pieces, 2.5 + 0.5j) == 0.0
+
+
+def test_a_mesh_cache_gives_the_same_meshes_and_is_used_again(tmp_path):
+    pytest.importorskip("svgelements")
+    from isotween.correspondence import mesh_outlines
+
+    a = isotween.load(svg(tmp_path / "heart.svg", HEART))
+    b = isotween.load(svg(tmp_path / "blocks.svg", BLOCKS))
+    plain = correspond(a, b)
+    kept = {}
+    first = correspond(a, b, meshes=kept)
+    assert len(kept) == len(plain.source.regions)  # one entry per region pair
+    calls = []
+
+    class Watch(dict):
+        def __getitem__(self, key):
+            calls.append(key)
+            return dict.__getitem__(self, key)
+
+    watched = Watch(kept)
+    again = mesh_outlines(*correspond(a, b, outline=True), meshes=watched)
+    assert len(calls) == len(kept) and len(watched) == len(kept)  # every region's meshes from the mapping
+    for shapes in (first, again):
+        assert shapes.source.equals(plain.source) and shapes.target.equals(plain.target)

@@ -144,7 +144,7 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
     centroids = c + _interp_rows(t, t[keys], shift)
     problem = held_problem(base, t, keys, np.stack([target[k] for k in keys], axis=1), centroids=centroids,
                            edges=new, scheme=sequence.scheme)
-    done = assemble(problem, 1.0 / np.abs(e).mean(axis=1))  # Eq. (10)
+    done = assemble(problem, 1.0 / np.abs(e).mean(axis=1), owner=sequence)  # Eq. (10), one factorisation per sequence
     result = done.sequence(base, t.copy(), method="edit", scheme=sequence.scheme,
                            info={"edited_frames": sorted(edits), "held_frames": keys.tolist(), "source": sequence})
     result.energy = [isometric_energy(result)]  # of the edited frames

@@ -15,7 +15,7 @@ from typing import TypeGuard
 
 from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
-__all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_keys", "morph", "collapse_vanishing",
+__all__ = ["Prepared", "PreparedKeys", "prepare_pair", "mesh_prepared", "prepare_keys", "morph", "collapse_vanishing",
            "needs_correspondence", "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES"]
 
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
@@ -24,7 +24,8 @@ CORRESPONDENCE = ("auto", "always", "never")
 DRAWING_SUFFIXES = (".svg",)
 
 #: options of `isotween.correspond` that `prepare_pair` passes on
-CORRESPOND_OPTIONS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched", "pairs", "landmarks")
+CORRESPOND_OPTIONS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched", "pairs", "landmarks",
+                      "meshes")
 #: options of `isotween.correspondence.correspond_keys` that `prepare_keys` passes on
 KEYS_OPTIONS = ("points", "segment", "rotation", "unmatched")
 
@@ -140,7 +141,7 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
     **options
         Options of `isotween.correspond` (``points``, ``segment``,
         ``rotation``, ``outline``, ``mesh_size``, ``unmatched``, ``pairs``,
-        ``landmarks``).
+        ``landmarks``, ``meshes``).
 
     Returns
     -------
@@ -163,7 +164,8 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
     if names is None:
         names = [str(x) if _is_path(x) else role for x, role in ((source, "source"), (target, "target"))]
     a, b = _load(source, "source"), _load(target, "target")
-    if correspondence == "never" or (correspondence == "auto" and not drawing and not options):
+    hints = {k for k in options if k != "meshes"}  # a mesh cache asks for nothing
+    if correspondence == "never" or (correspondence == "auto" and not drawing and not hints):
         try:
             check_compatible(a, b)
         except IncompatibleShapesError as exc:
@@ -178,6 +180,27 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
     except (ShapeError, IncompatibleShapesError) as exc:
         raise type(exc)(f"{names[0]} (source) and {names[1]} (target): {exc}") from None
     return Prepared(src, tgt, report, built_meshes=not a.n_faces and src.n_faces > 0)
+
+
+def mesh_prepared(outline, *, mesh_size=None, meshes=None):
+    """The meshes of an outline correspondence, as `prepare_pair` without ``outline`` makes them.
+
+    Parameters
+    ----------
+    outline : Prepared
+        From ``prepare_pair(..., outline=True)`` with a correspondence report; not changed.
+    mesh_size, meshes
+        As in `isotween.correspond`.
+
+    Returns
+    -------
+    Prepared
+    """
+    from .correspondence import mesh_outlines
+
+    src, tgt, report = mesh_outlines(outline.source, outline.target, outline.report, mesh_size=mesh_size,
+                                     meshes=meshes)
+    return Prepared(src, tgt, report, built_meshes=not outline.source.n_faces and src.n_faces > 0)
 
 
 @dataclass

@@ -18,7 +18,7 @@ import numpy as np
 from ._validate import check_choice, check_int, check_number
 from .errors import ParameterError, ShapeError
 from .initialisation import INITIALISERS, edge_vector_init, linear_init
-from .optimisation.assembly import FrameAssembler, centroid_path
+from .optimisation.assembly import FrameAssembler, assembler_for, centroid_path
 from .optimisation.problem import Problem, Result, bbox_diagonal
 
 if TYPE_CHECKING:
@@ -158,7 +158,7 @@ def keyed_problem(shapes: Seq[Shape], t: np.ndarray, idx: np.ndarray, *, init: s
                         max_iter=max_iter)
 
 
-def assemble(problem: Problem, weights: np.ndarray) -> Result:
+def assemble(problem: Problem, weights: np.ndarray, owner: object = None) -> Result:
     """Solve a problem whose edges are final: Eq. (10) at every free frame.
 
     Shape transfer and sequence editing find their edge vectors in closed
@@ -172,6 +172,10 @@ def assemble(problem: Problem, weights: np.ndarray) -> Result:
         With ``edges``; its ``z`` is filled in and returned.
     weights : (E,) float
         w_ij of Eq. (10).
+    owner : object, optional
+        Keeps the factorisation for the next solve with the same shape and
+        weights (`optimisation.assembly.assembler_for`), e.g. the sequence
+        that is edited again and again.
 
     Returns
     -------
@@ -187,6 +191,6 @@ def assemble(problem: Problem, weights: np.ndarray) -> Result:
         raise ParameterError("assembling frames needs the problem's edges; this problem has none")
     free = problem.free
     if not problem.held.all():
-        asm = FrameAssembler(problem.shape, weights)
+        asm = FrameAssembler(problem.shape, weights) if owner is None else assembler_for(owner, problem.shape, weights)
         problem.z[:, free] = asm.positions(problem.edges[:, free], problem.centroids[:, free])  # Eq. (10)
     return Result(problem.z)

@@ -19,9 +19,6 @@ from .shape import Shape
 
 __all__ = ["Sequence"]
 
-#: Sequence -> (shape, weights, FrameAssembler) of its last at() call (kept out of the
-#: instance, so that sequences still copy and pickle)
-_ASSEMBLERS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 #: Sequence -> (options, PathData) of its last path_data() call
 _PATH_DATA: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -283,7 +280,7 @@ class Sequence:
 
     def _positions(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
         """(T, n, 2) vertex positions at the times ``t`` (see :meth:`at`)."""
-        from .optimisation.assembly import FrameAssembler
+        from .optimisation.assembly import assembler_for
         from .optimisation.problem import pack
         from .optimisation.schemes import step_angle
 
@@ -315,10 +312,7 @@ class Sequence:
         centroids = (1.0 - s) * c[:, k] + s * c[:, k + 1]
         first, last = np.abs(e[:, 0]), np.abs(e[:, -1])
         weights = 2.0 / np.maximum(first + last, np.finfo(float).tiny)
-        cached = _ASSEMBLERS.get(self)  # one factorisation for repeated calls
-        if cached is None or cached[0] is not self.shape or not np.array_equal(cached[1], weights):
-            cached = _ASSEMBLERS[self] = (self.shape, weights, FrameAssembler(self.shape, weights))
-        out = cached[2].positions(edges, centroids)  # Eq. (10), (n, T)
+        out = assembler_for(self, self.shape, weights).positions(edges, centroids)  # Eq. (10), (n, T)
         for at_frame, frame in ((s == 0.0, k), (s == 1.0, k + 1)):  # the frames themselves, bit for bit
             out[:, at_frame] = z[frame[at_frame]].T
         return pack(out)

@@ -12,7 +12,14 @@ from typing import TYPE_CHECKING
 # names that are also submodules are bound here: importing the submodule would otherwise
 # replace a lazy name on the package (these modules need only numpy)
 from .compatibility import check_compatible
-from .correspond import Correspondence, CorrespondenceReport, correspond, correspond_keys
+from .correspond import (
+    Correspondence,
+    CorrespondenceReport,
+    correspond,
+    correspond_keys,
+    mesh_outlines,
+    region_key,
+)
 from .resample import resample
 
 #: public name -> submodule that defines it, imported on first use (PEP 562): the meshers
@@ -23,7 +30,7 @@ _NAMES = {
 }
 
 __all__ = ["Correspondence", "CorrespondenceReport", "MeshPair", "check_compatible", "correspond",
-           "correspond_keys", "mesh_pair", "resample"]
+           "correspond_keys", "mesh_outlines", "mesh_pair", "region_key", "resample"]
 
 if TYPE_CHECKING:
     from .meshing import MeshPair, mesh_pair

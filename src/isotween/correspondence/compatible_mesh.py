@@ -246,8 +246,11 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
 
 # ---------------------------------------------------------------- low-distortion map
 def _misfits(f, K, zt, rings):
-    """(C, 2) edges between two ring vertices that cannot stay edges in the target: not inside it, or a side of
-    a triangle of ring vertices that is not positive there. No map of the mesh keeps them; each gets a midpoint.
+    """(C, 2) edges between two ring vertices that cannot stay edges in the target; each gets a midpoint.
+
+    Such an edge lies outside the target polygon (or along its outline), or
+    is a side of a triangle of ring vertices that is not positive there: no
+    map of the mesh with the ring held keeps it.
     """
     chords = _chords(f, K)
     if not len(chords):

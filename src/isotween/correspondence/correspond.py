@@ -10,6 +10,8 @@ Stages (each swappable):
    (`_mesh_region`, the one place that names the mesher).
 """
 
+import copy
+import hashlib
 import numbers
 from dataclasses import dataclass, field, replace
 from typing import NamedTuple
@@ -25,7 +27,8 @@ from .compatibility import as_shape, check_compatible
 from .matching import match_rings, project
 from .resample import _counts, _Ring, resample
 
-__all__ = ["Correspondence", "CorrespondenceReport", "correspond", "correspond_keys", "MAX_TRIANGLES"]
+__all__ = ["Correspondence", "CorrespondenceReport", "correspond", "correspond_keys", "mesh_outlines", "region_key",
+           "MAX_TRIANGLES"]
 
 #: meshes estimated to need more triangles than this (all regions together) are refused
 
@@ -119,7 +122,7 @@ class Correspondence(NamedTuple):
 
 
 def correspond(source, target, *, points=None, segment=None, rotation=False, outline=False,
-               mesh_size=None, unmatched="grow", pairs=None, landmarks=None, always=False):
+               mesh_size=None, unmatched="grow", pairs=None, landmarks=None, always=False, meshes=None):
     """Make two drawings compatible: same vertices, connectivity and paths.
 
     Regions (outer ring and holes), unfilled rings and open polylines are
@@ -170,6 +173,11 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
     always : bool
         Correspond even inputs that are compatible already (drawings whose
         point order means nothing). Default: those come back unchanged.
+    meshes : MutableMapping, optional
+        Region meshes kept between calls (a dict, or a mapping that forgets
+        old entries): a region pair whose rings and mesh size come again
+        takes its meshes from it (`region_key`), new ones are put in. An
+        editor re-solving after a hint re-meshes only the regions it changed.
 
     Returns
     -------
@@ -200,8 +208,49 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
     shapes, report = _compatible_outlines([source, target], points, segment, rotation, unmatched, pairs,
                                           landmarks)
     if not outline:
-        shapes = _solids(shapes, report, mesh_size)
+        shapes = _solids(shapes, report, mesh_size, meshes)
     return Correspondence(shapes[0], shapes[1], report)
+
+
+def mesh_outlines(source, target, report, *, mesh_size=None, meshes=None):
+    """The meshing stage of `correspond`: an outline correspondence made into compatible meshes.
+
+    ``correspond(a, b, **options)`` is ``mesh_outlines(*correspond(a, b, outline=True, **options))``
+    with the same ``mesh_size`` and ``meshes``; an editor that shows the
+    outline morph first meshes the same correspondence afterwards.
+
+    Parameters
+    ----------
+    source, target : Shape
+        Compatible outlines from ``correspond(..., outline=True)``.
+    report : CorrespondenceReport
+        Its report; not changed (the result's is a copy with the meshes added).
+    mesh_size, meshes
+        As in `correspond`.
+
+    Returns
+    -------
+    Correspondence
+    """
+    report = copy.deepcopy(report)
+    shapes = _solids([source, target], report, mesh_size, meshes)
+    return Correspondence(shapes[0], shapes[1], report)
+
+
+def region_key(source_rings, target_rings, mesh_size):
+    """The key of a region pair's meshes in ``meshes`` of `correspond`: (digest of both rings, mesh size).
+
+    Parameters
+    ----------
+    source_rings, target_rings : list of (k_i, 2) array_like
+    mesh_size : float or None
+    """
+    digest = hashlib.blake2b(digest_size=16)
+    for ring in (*source_rings, *target_rings):
+        a = np.ascontiguousarray(ring, dtype=np.float64)
+        digest.update(repr(a.shape).encode())
+        digest.update(a.tobytes())
+    return digest.hexdigest(), None if mesh_size is None else float(mesh_size)
 
 
 def correspond_keys(shapes, *, points=None, segment=None, rotation=False, unmatched="grow"):
@@ -553,8 +602,8 @@ def _mesh_region(source_rings, target_rings, mesh_size):
     return src, tgt, int(np.count_nonzero(np.sign(src.face_areas()) != np.sign(tgt.face_areas())))
 
 
-def _solids(shapes, report, mesh_size):
-    """Replace every region pair of a compatible outline pair by compatible meshes."""
+def _solids(shapes, report, mesh_size, meshes=None):
+    """Replace every region pair of a compatible outline pair by compatible meshes (``meshes``: see `correspond`)."""
     src, tgt = shapes
     if not src.regions:
         return shapes
@@ -582,8 +631,14 @@ def _solids(shapes, report, mesh_size):
         if size is None:
             spacing = np.mean(np.concatenate([np.hypot(*(np.roll(x, -1, axis=0) - x).T) for x in rs]))
             size = max(float(spacing), coarsest)
+        key = None if meshes is None else region_key(rs, rt, size)
         try:
-            ms, mt, flipped = _mesh_region(rs, rt, size)
+            if key is not None and key in meshes:
+                ms, mt, flipped = meshes[key]
+            else:
+                ms, mt, flipped = _mesh_region(rs, rt, size)
+                if key is not None:
+                    meshes[key] = (ms, mt, flipped)
         except (ShapeError, IncompatibleShapesError) as exc:
             report.outlines.append(f"region {len(regions)}: {exc}")
             ms, mt, flipped = Shape.from_polygon(rs), Shape.from_polygon(rt), 0

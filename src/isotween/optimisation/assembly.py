@@ -37,7 +37,11 @@ from scipy.sparse.linalg import splu
 from ..errors import MissingDependencyError, ParameterError, require
 from . import backend
 
-__all__ = ["centroid_path", "FrameAssembler", "FACTORISATIONS", "HAVE_CHOLMOD"]
+__all__ = ["centroid_path", "FrameAssembler", "assembler_for", "FACTORISATIONS", "HAVE_CHOLMOD"]
+
+#: owner (e.g. a Sequence) -> (shape, weights, FrameAssembler) of its last factorisation (kept out of the owner,
+#: so that it still copies and pickles; dropped with it)
+_OWNED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 FACTORISATIONS = ("auto", "banded", "cholmod", "splu")
 
@@ -324,6 +328,19 @@ class FrameAssembler:
         shift = centroids - self._top.centroids(z)
         z += shift if self.n_components == 1 else shift[self.components]
         return z
+
+
+def assembler_for(owner, shape, weights):
+    """The `FrameAssembler` of ``shape`` and ``weights``, kept for ``owner`` until either changes.
+
+    Repeated solves on one sequence (``Sequence.at``, edit after edit of the
+    same morph) factorise Eq. (10) once. ``owner`` must be weakly referable
+    and hashed by identity; the factorisation is dropped with it.
+    """
+    kept = _OWNED.get(owner)
+    if kept is None or kept[0] is not shape or not np.array_equal(kept[1], weights):
+        kept = _OWNED[owner] = (shape, np.array(weights, dtype=float), FrameAssembler(shape, weights))
+    return kept[2]
 
 
 def _parent_columns(e):

@@ -227,10 +227,9 @@ class Session:
         self.lock = threading.Lock()
         self._cache: OrderedDict = OrderedDict()
         self._deform_cache: tuple | None = None
-        from .reuse import FactorMemo, MeshMemo
+        from .reuse import MeshMemo
 
         self.meshes = MeshMemo()  # region meshes kept between solves (see reuse.py)
-        self.factors = FactorMemo()  # the factorisation of Eq. (10) of the last edits' morph
         self.live_budget = LIVE_BUDGET
         self._morph_seconds = 0.0  # the last morph solve's time (for the estimate of `_in_time`)
 
@@ -339,8 +338,6 @@ class Session:
         from ..correspondence import correspond_keys
         from ..editing import edit
         from ..transfer import transfer
-        from .reuse import reusing
-
         started = time.perf_counter()
         check = (lambda: None) if generation is None else (lambda: self._check_generation(generation))
         options = {**DEFAULT_OPTIONS, **doc.get("options", {})}
@@ -381,8 +378,7 @@ class Session:
             self._stage(generation, "edit")
             held = {int(k): base[int(k)] for k in base.info.get("keyframe_indices", [])}  # keyframes stay keys
             held.update({k: base.shape.with_vertices(v) for k, v in edits.items()})
-            with reusing(factors=self.factors):  # the factorisation of the last edit of this morph, again
-                seq = edit(base, edits=held)
+            seq = edit(base, edits=held)  # the library keeps the factorisation of Eq. (10) per morph
             check()
         moved = None
         if doc.get("third"):
@@ -435,15 +431,15 @@ class Session:
         corresponded, compatible inputs kept), `isotween.interpolate` solves
         (``fold='fallback'`` where meshes were built here) and vanishing items
         collapse at their ends (`pipeline.collapse_vanishing`). The outline
-        correspondence is kept and meshed separately (`reuse.meshed`), so that
+        correspondence is kept and meshed separately (`pipeline.mesh_prepared`), so that
         the outline preview and the meshes share it and region pairs that a
         hint does not change keep their meshes.
 
         ``hooks``: (the solver's callback, the supersession check, the progress stage setter).
         """
         from ..interpolate import interpolate
-        from ..pipeline import prepare_pair
-        from .reuse import meshed
+        from ..pipeline import mesh_prepared, prepare_pair
+        from .reuse import pending_vertices
 
         progress, check, stage = hooks
         a, b = inputs
@@ -473,8 +469,11 @@ class Session:
 
                     def mesh() -> Any:
                         stage("meshing")
-                        return meshed(outline, a, self.meshes, fallback=lambda: prepare_pair(
-                            a, b, correspondence="always", names=names, **kw))
+                        pending = pending_vertices(outline, self.meshes)
+                        began = time.perf_counter()
+                        done = mesh_prepared(outline, meshes=self.meshes)
+                        self.meshes.learn(time.perf_counter() - began, pending)
+                        return done
 
                     prepared = self._cached(mkey, mesh)
         check()
