@@ -177,3 +177,16 @@ def test_edit_refuses_a_shape_without_paths_of_other_connectivity_and_says_what_
     isotween.save(grid_mesh(4, 3), tmp_path / "other.obj")
     with pytest.raises(IncompatibleShapesError, match=r"other.obj \(edited frame 1\).*drawing with paths"):
         isotween.edit(seq, edits={1: tmp_path / "other.obj"})
+
+
+def test_the_older_steps_live_in_the_library():
+    from isotween.pipeline import prepare_steps
+
+    theta = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    a = np.c_[np.cos(theta), np.sin(theta)]
+    b = np.c_[2 * np.cos(theta[::2]), np.sin(theta[::2])]
+    done = prepare_steps(a, b, resample=30)
+    isotween.check_compatible(done.source, done.target)
+    assert done.source.n_vertices == 30 and not done.built_meshes and done.notes == []
+    with pytest.raises(ParameterError):
+        prepare_steps(a, b)

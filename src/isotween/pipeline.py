@@ -9,14 +9,15 @@ output. The command line, the batch runner and the studio call these.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+import warnings
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TypeGuard
 
 from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
-__all__ = ["Prepared", "PreparedKeys", "prepare_pair", "mesh_prepared", "prepare_keys", "morph", "collapse_vanishing",
-           "needs_correspondence", "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES"]
+__all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_steps", "mesh_prepared", "prepare_keys", "morph",
+           "collapse_vanishing", "needs_correspondence", "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES"]
 
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
 CORRESPONDENCE = ("auto", "always", "never")
@@ -42,12 +43,16 @@ class Prepared:
     built_meshes : bool
         Correspondence built triangle meshes that the inputs did not have
         (their in-betweens are fold-checked by `morph`).
+    notes : list of str
+        Warnings for the user, one line each (e.g. flipped triangles of the
+        older `prepare_steps` mesh).
     """
 
     source: object
     target: object
     report: object = None
     built_meshes: bool = False
+    notes: list = field(default_factory=list)
 
     def summary(self):
         """One line on the correspondence, or '' when none ran."""
@@ -180,6 +185,61 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
     except (ShapeError, IncompatibleShapesError) as exc:
         raise type(exc)(f"{names[0]} (source) and {names[1]} (target): {exc}") from None
     return Prepared(src, tgt, report, built_meshes=not a.n_faces and src.n_faces > 0)
+
+
+def prepare_steps(source, target, *, resample=None, mesh=None, rotation=False):
+    """Two inputs made compatible by the older explicit steps, instead of correspondence.
+
+    Parameters
+    ----------
+    source, target : Shape, (n, 2) array_like, or path
+    resample : int, optional
+        Resample the outlines to this many vertices in all, rings paired in
+        order (`isotween.resample`; ``rotation`` as there).
+    mesh : float or 'auto', optional
+        Triangulate the source outline with Triangle (largest triangle area,
+        or ``'auto'``) and map it onto the target outline
+        (`isotween.correspondence.mesh_pair`); the target mesh may have
+        flipped triangles, which ``notes`` then names.
+    rotation : bool
+
+    Returns
+    -------
+    Prepared
+
+    Raises
+    ------
+    ParameterError
+        Neither step asked, or ``mesh`` is not a number or 'auto'.
+    IncompatibleShapesError
+        ``mesh`` on outlines that are not compatible (give ``resample`` too).
+    """
+    from .correspondence import check_compatible, mesh_pair
+    from .correspondence import resample as resample_pair
+
+    if resample is None and mesh is None:
+        raise ParameterError("give resample=N and/or mesh=MAX_AREA (or 'auto')")
+    a, b = _load(source, "source"), _load(target, "target")
+    if resample is not None:
+        a, b = resample_pair(a, b, points=resample, rotation=rotation)
+    notes = []
+    if mesh is not None:
+        if mesh == "auto":
+            max_area = None
+        else:
+            try:
+                max_area = float(mesh)
+            except (TypeError, ValueError):
+                raise ParameterError(f"mesh takes a largest triangle area (a number) or 'auto', got {mesh!r}") \
+                    from None
+        check_compatible(a, b)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            a, b, flipped = mesh_pair(a, b, max_area=max_area)
+        if flipped.size:
+            notes.append(f"warning: the target mesh has {flipped.size} flipped triangle(s) of {a.n_faces} "
+                         f"(first: triangle {flipped[0]})")
+    return Prepared(a, b, built_meshes=mesh is not None, notes=notes)
 
 
 def mesh_prepared(outline, *, mesh_size=None, meshes=None):

@@ -3,8 +3,6 @@
 A compatible pair written as files, and the correspondence options that `interpolate`, `keyframes` and `transfer` share.
 """
 
-import warnings
-
 import click
 
 from ..errors import ParameterError
@@ -87,30 +85,24 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
                     rotation=False, outline=False, mesh_size=None, unmatched="grow",
                     resample_points=None, mesh_area=None, correspondence="auto", landmarks=None,
                     prepared=False):
-    """Make a loaded pair compatible as the options ask, then check it.
+    """A loaded pair made compatible by the library as the options ask; its report printed, then checked.
 
-    Without ``--resample``/``--mesh``: a compatible pair is used as it is,
-    any other goes through `isotween.correspond`, whose one-line report is
-    printed (unless ``quiet``). With them: the older explicit steps
-    (`resample` with rings paired in order, `mesh_pair`), with a warning line
-    on stderr when the target mesh has flipped triangles.
+    Without ``--resample``/``--mesh``: `isotween.pipeline.prepare_pair`
+    (correspondence as its policy says), whose one-line report is printed
+    (unless ``quiet``). With them: `isotween.pipeline.prepare_steps` (the
+    older explicit steps), whose warnings go to stderr.
 
     Returns
     -------
     (Shape, Shape), or with ``prepared`` an `isotween.pipeline.Prepared`
     """
-    from ..correspondence import mesh_pair, resample
     from ..correspondence.resample import check_points
-    from ..pipeline import Prepared
-
-    want = prepared
+    from ..pipeline import prepare_pair, prepare_steps
 
     for value in (points, resample_points):  # refused before any geometry library allocates them
         if isinstance(value, int) and value > 0:
             check_points(value, 2, "putting in correspondence")
     if resample_points is None and mesh_area is None:
-        from ..pipeline import prepare_pair
-
         options = {k: v for k, v in (("points", points), ("segment", segment), ("rotation", rotation),
                                      ("outline", outline), ("mesh_size", mesh_size), ("landmarks", landmarks))
                    if v not in (None, False)}
@@ -120,27 +112,14 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
                               names=(source_path, target_path), _drawing=_drawing_paths(source_path, target_path))
         if result.report is not None and not quiet:
             click.echo(result.summary())
-        ensure_compatible(result.source, result.target, source_path, target_path)
-        return result if want else (result.source, result.target)
-    if resample_points is not None:
-        src, tgt = resample(src, tgt, points=resample_points, rotation=rotation)
-    if mesh_area is not None:
-        if mesh_area == "auto":
-            max_area = None
-        else:
-            try:
-                max_area = float(mesh_area)
-            except ValueError:
-                raise ParameterError(f"--mesh takes a largest triangle area (a number), got {mesh_area!r}") from None
-        ensure_compatible(src, tgt, source_path, target_path)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            src, tgt, flipped = mesh_pair(src, tgt, max_area=max_area)
-        if flipped.size:
-            click.echo(f"warning: the target mesh has {flipped.size} flipped triangle(s) of "
-                       f"{src.n_faces} (first: triangle {flipped[0]})", err=True)
-    ensure_compatible(src, tgt, source_path, target_path)
-    return Prepared(src, tgt, built_meshes=mesh_area is not None) if want else (src, tgt)
+    else:
+        if resample_points is None:
+            ensure_compatible(src, tgt, source_path, target_path)
+        result = prepare_steps(src, tgt, resample=resample_points, mesh=mesh_area, rotation=rotation)
+    for note in result.notes:
+        click.echo(note, err=True)
+    ensure_compatible(result.source, result.target, source_path, target_path)
+    return result if prepared else (result.source, result.target)
 
 
 def keys_options(params):
