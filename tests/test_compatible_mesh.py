@@ -331,3 +331,21 @@ def test_split_edges_keeps_orientation_and_area():
     sides = np.sort(f2[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
     assert not (np.isin(sides @ [1000, 1], cut @ [1000, 1])).any()
     assert np.all(np.bincount(f2.ravel(), minlength=len(z2))[len(z):] >= 2)
+
+
+def test_the_overlay_is_coarsened_and_stays_valid():
+    # grid icon -> clipboard needs the overlay: its intersection vertices mostly merge away, both meshes valid
+    from isotween.correspondence import compatible_mesh as cm
+
+    src, tgt = pair(grid_icon(), clipboard(), 150)
+    coarse = compatible_meshes(src, tgt)
+    assert coarse.info["overlay"]
+    check(coarse, src, tgt)
+    try:
+        cm.COARSEN = False
+        dense = compatible_meshes(src, tgt)
+    finally:
+        cm.COARSEN = True
+    check(dense, src, tgt)
+    assert coarse.info["vertices"] < 0.7 * dense.info["vertices"]
+    assert coarse.info["vertices"] < sum(len(r) for r in src) + coarse.info["crossings"] / 2

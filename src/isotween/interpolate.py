@@ -229,8 +229,13 @@ def _fallback(seq, source, target, t, options):
               f"in-between frames ({int(flips.sum())} flipped triangles, {int(crossings.sum())} outline crossings)")
     if seq.shape.faces is not None:
         started = time.perf_counter()
+        edges, group = metrics.outline_edges(seq.shape, scope="region")
+
+        def uncrossed(k, z):
+            return metrics.crossing_pairs(z, edges, group) == 0
+
         try:
-            frames, info = repair_folds(_complex_frames(seq.frames), seq.shape.faces)
+            frames, info = repair_folds(_complex_frames(seq.frames), seq.shape.faces, accept=uncrossed)
         except MethodError:
             frames = None
         if frames is not None:

@@ -20,7 +20,8 @@ if TYPE_CHECKING:
     from .sequence import Sequence
 
 __all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped", "flipped_faces",
-           "symmetry_error", "report", "loop_areas", "outline_crossings"]
+           "symmetry_error", "report", "loop_areas", "outline_crossings",
+           "outline_edges", "crossing_pairs"]
 
 
 def isometric_energy(seq: Sequence, scheme: str | None = None) -> float:
@@ -193,8 +194,8 @@ def _boundary_edges(shape):
     return shape.edges
 
 
-def _crossing_pairs(z, edges, group=None):
-    """Number of pairs of ``edges`` that cross properly at positions ``z`` (n,) complex.
+def crossing_pairs(z, edges, group=None):
+    """Number of pairs of ``edges`` that cross properly at positions ``z`` (n,) complex (in one ``group``).
 
     Candidate pairs come from a sweep over x (intervals sorted by their left
     end); edges that share a vertex are never counted, and touching or
@@ -239,20 +240,25 @@ def outline_crossings(seq, scope="all"):
         the regions, i.e. self-intersections of each item, not overlaps of
         separate items.
     """
-    if scope not in ("all", "region"):
-        raise ParameterError(f"unknown scope {scope!r}; choose 'all' or 'region'")
-    shape = seq.shape
-    edges = _boundary_edges(shape)
+    edges, group = outline_edges(seq.shape, scope)
     if not len(edges):
         return np.zeros(len(seq), dtype=np.int64)
+    return np.array([crossing_pairs(z, edges, group) for z in seq.z], dtype=np.int64)
+
+
+def outline_edges(shape, scope="all"):
+    """The outline edges (B, 2) of `outline_crossings` and their groups ((B,) int, or None for 'all')."""
+    if scope not in ("all", "region"):
+        raise ParameterError(f"unknown scope {scope!r}; choose 'all' or 'region'")
+    edges = _boundary_edges(shape)
     group = None
-    if scope == "region" and shape.paths:
+    if scope == "region" and shape.paths and len(edges):
         owner = np.arange(len(shape.paths))
         for r, ring_ids in enumerate(shape.regions or []):
             owner[ring_ids] = len(shape.paths) + r
         drawn = [k for k, (p, _) in enumerate(shape.paths) if len(p) > 1]
         group = np.repeat(owner[drawn], [len(shape.paths[k][0]) - (0 if shape.paths[k][1] else 1) for k in drawn])
-    return np.array([_crossing_pairs(z, edges, group) for z in seq.z], dtype=np.int64)
+    return edges, group
 
 
 def symmetry_error(seq: Sequence, backward: Sequence | None = None) -> float:

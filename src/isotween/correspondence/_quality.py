@@ -197,7 +197,6 @@ def _collapse(z, w, f, K, eps, limit):
     -------
     (F', 3) faces (removed vertices are no longer referenced), number of collapses
     """
-    N = len(z)
     q = _quality(z, w, f)
     bad = np.flatnonzero(q < limit)
     if not len(bad):
@@ -212,36 +211,86 @@ def _collapse(z, w, f, K, eps, limit):
     x = np.r_[a[a >= K], b[b >= K]]
     y = np.r_[b[a >= K], a[b >= K]]
     score = np.r_[q[bad][a >= K], q[bad][b >= K]]
+    return _merge(z, w, f, x, y, score, eps, q, 1.0)
+
+
+def _coarsen(z, w, f, K, sizes, eps, floor, rounds=40):
+    """Collapse interior edges shorter than ``sizes`` (source, target) in both meshes, shortest first.
+
+    An interior vertex x merges into its nearest neighbour y (in edge length
+    over the mesh's size, the larger of the two meshes') when that is below
+    1, the link condition holds, every new face keeps a positive area in both
+    meshes and the smallest angle around x stays above ``floor`` (a sine) or
+    does not get smaller. The overlay of two triangulations has thousands of
+    intersection vertices where one outline's chords cross the other's
+    fans; most can go.
+
+    Returns
+    -------
+    (F', 3) faces (removed vertices are no longer referenced)
+    """
+    for _ in range(rounds):
+        e = np.stack([f, np.roll(f, -1, axis=1)], axis=-1).reshape(-1, 2)
+        e = np.r_[e, e[:, ::-1]]
+        e = e[e[:, 0] >= K]
+        L = np.maximum(np.abs(z[e[:, 0]] - z[e[:, 1]]) / sizes[0], np.abs(w[e[:, 0]] - w[e[:, 1]]) / sizes[1])
+        short = L < 1.0
+        e, L = e[short], L[short]
+        if not len(e):
+            break
+        _, keep = np.unique(e[:, 0] * len(z) + e[:, 1], return_index=True)  # each directed edge once
+        f, done = _merge(z, w, f, e[keep, 0], e[keep, 1], L[keep], eps, _quality(z, w, f), floor)
+        if done < 0.01 * len(np.unique(e[keep, 0])):
+            break
+    return f
+
+
+def _merge(z, w, f, x, y, score, eps, q, floor):
+    """Merge vertices x into y (lowest ``score`` first, faces claimed once), where that is safe.
+
+    Safe: the link condition holds, every new face keeps a positive area in
+    both meshes, and the smallest quality ``q`` (sine of the smallest angle)
+    around x grows, or stays at least ``floor``.
+    """
     if not len(x):
         return f, 0
-    o = np.lexsort((score, x))
-    x, y, score = x[o], y[o], score[o]
-    keep = np.r_[True, x[1:] != x[:-1]]
-    x, y, score = x[keep], y[keep], score[keep]
-    nF = len(f)
+    N, nF = len(z), len(f)
     vf = coo_matrix((np.ones(3 * nF), (f.ravel(), np.repeat(np.arange(nF), 3))), shape=(N, nF)).tocsr()
     A = coo_matrix((np.ones(3 * nF), (f.ravel(), np.roll(f, -1, axis=1).ravel())), shape=(N, N)).tocsr()
     A = ((A + A.T) > 0).astype(np.int64).tocsr()
     link = np.asarray(A[x].multiply(A[y]).sum(axis=1)).ravel() == 2
     cx, fx = vf[x].nonzero()  # faces around x
     cy, fy = vf[y].nonzero()
-    rank = np.empty(len(x), dtype=np.int64)
-    rank[np.argsort(score, kind="stable")] = np.arange(len(x))
-    cc, ff = np.r_[cx, cy], np.r_[fx, fy]
-    claim = np.full(nF, len(x), dtype=np.int64)
-    np.minimum.at(claim, ff, rank[cc])
-    win = np.ones(len(x), dtype=bool)
-    np.logical_and.at(win, cc, claim[ff] == rank[cc])
     old = np.full(len(x), np.inf)
     np.minimum.at(old, cx, q[fx])
     stay = ~np.any(f[fx] == y[cx][:, None], axis=1)
     cs, fs = cx[stay], fx[stay]
     nf = np.where(f[fs] == x[cs][:, None], y[cs][:, None], f[fs])
-    ok = np.ones(len(x), dtype=bool)
-    np.logical_and.at(ok, cs, _valid(z, w, nf, eps))
+    ok = np.bincount(cs[~_valid(z, w, nf, eps)], minlength=len(x)) == 0
     new = np.full(len(x), np.inf)
     np.minimum.at(new, cs, _quality(z, w, nf))
-    take = win & link & ok & (new > old)
+    left = link & ok & ((new > old) | (new >= floor))
+    o = np.lexsort((score, ~left, x))  # per x, its safe merge of lowest score
+    first = np.zeros(len(x), dtype=bool)
+    first[o[np.r_[True, x[o][1:] != x[o][:-1]]]] = True
+    left &= first
+    # a maximal set of merges whose faces (those of x and of y) are disjoint, lowest score first (Luby):
+    # a merge wins when it has the lowest rank on all its faces; its faces are taken, its rivals drop out
+    rank = np.empty(len(x), dtype=np.int64)
+    rank[np.argsort(score, kind="stable")] = np.arange(len(x))
+    cc, ff = np.r_[cx, cy], np.r_[fx, fy]
+    take = np.zeros(len(x), dtype=bool)
+    taken = np.zeros(nF, dtype=bool)
+    n = len(x)
+    while left.any():
+        live = left[cc]
+        cl, fl = cc[live], ff[live]
+        claim = np.full(nF, n, dtype=np.int64)
+        np.minimum.at(claim, fl, rank[cl])
+        win = left & (np.bincount(cl[claim[fl] != rank[cl]], minlength=n) == 0)
+        take |= win
+        taken[ff[win[cc]]] = True
+        left &= np.bincount(cl[taken[fl]], minlength=n) == 0
     if not take.any():
         return f, 0
     vmap = np.arange(N)

@@ -75,7 +75,7 @@ from ._disc import (
     _triangulate,
 )
 from ._overlay import _overlay
-from ._quality import _improve, _joint_refine, _smooth
+from ._quality import _coarsen, _improve, _joint_refine, _smooth
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
 
@@ -83,9 +83,11 @@ MAP_ITER = 15  # Newton iterations of the low-distortion map at most
 MAP_TOL = 1e-2  # the map's Newton stops when an iteration lowers the energy's excess by less than this
 PULL_ITER = 15  # Newton iterations per pull weight
 PULL_WEIGHTS = (0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4, 1e5)  # the ring's pull, in units of the least energy
-IMPROVE = False
+COARSEN = True
+COARSE_ANGLE = 15.0  # the overlay's collapses keep the smallest angle above this (degrees) or make it no smaller
 SMOOTH_ROUNDS = 3  # smoothing rounds of the source mesh after its chords are cut
 SNAP_ROUNDS = 12  # rounds that move the pulled ring onto the target outline
+SNAP_STALL = 1e-3  # three rounds in a row that move the ring less than this fraction of the way: stuck
 SNAP_CUT = 0.1  # a round that moves the ring less than this fraction of the way cuts the triangles in the way
 
 
@@ -211,9 +213,6 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     if not overlay:
         before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
         w_tgt = _least_distorted(z1, w_tgt, f1, K)
-        if IMPROVE:
-            z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, False)
-            w_tgt = _least_distorted(z1, w_tgt, f1, K)
     else:  # the two triangulations overlaid, then refined in both at once
         # the target keeps every source diagonal that is a diagonal of the target too: fewer crossings
         shared = _shared_diagonals(f_src, zt, _polygon(zt, rings), cut_edges)
@@ -222,6 +221,10 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
         z1, w_tgt, f1 = _overlay(z1, f1, zt, f_tgt, rings, cuts, K) if refine_first else \
             _overlay(zs, f_src, zt, f_tgt, rings, cuts, K)
         crossings = len(z1) - K - steiner
+        if COARSEN:
+            ratio = np.sqrt(abs(ring_area(zt[rings[0]]) / ring_area(zs[rings[0]])))
+            f1 = _coarsen(z1, w_tgt, f1, K, (mesh_size, mesh_size * ratio),
+                          (1e-14 * _scale2(z1), 1e-14 * _scale2(w_tgt)), np.sin(np.radians(COARSE_ANGLE)))
         z1, w_tgt, f1 = _joint_refine(z1, w_tgt, f1, float(mesh_size))
         before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
         z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, False)
@@ -317,6 +320,7 @@ def _pulled(z, f, K, zt):
             w, _ = minimise(energy, w, PULL_ITER, tol=1e-2)
             if np.abs(w[:K] - zt).max() < 1e-9 * np.sqrt(h2):
                 break
+        stalled = 0
         for _ in range(SNAP_ROUNDS):
             step = np.zeros_like(w)
             step[:K] = zt - w[:K]
@@ -325,6 +329,9 @@ def _pulled(z, f, K, zt):
                 w = w + step
                 w[:K] = zt
                 return z, f, w
+            stalled = stalled + 1 if s < SNAP_STALL else 0
+            if stalled == 3:  # cutting does not free the ring: the overlay it is
+                break
             w = w + 0.8 * s * step
             if s < SNAP_CUT:  # the triangles that stop the ring from moving on get their sides cut
                 blocked = face_steps(w, step, f) < 1.0

@@ -25,14 +25,15 @@ from ..errors import MethodError
 from ..geometry import triangle_areas
 from .barrier import SymmetricDirichlet, max_step, minimise
 
-__all__ = ["repair_folds", "PULL", "MAX_ITER", "TOL"]
+__all__ = ["repair_folds", "PULL", "MAX_ITER", "TOL", "WORK"]
 
 PULL = 1.0  # weight of the pull to the folding frame, in units of the least energy per vertex and squared edge
 MAX_ITER = 30  # Newton iterations per frame at most
 TOL = 1e-3  # stop when an iteration lowers the energy above its least value by less than this fraction
+WORK = 2_000_000  # Newton iterations x vertices for the whole repair; beyond it the repair gives up
 
 
-def repair_folds(frames, faces):
+def repair_folds(frames, faces, accept=None):
     """Frames with no flipped triangle, each as close to the given frame as that allows.
 
     Parameters
@@ -41,6 +42,10 @@ def repair_folds(frames, faces):
         Vertex positions per frame; frame 0 (the source) has no degenerate
         face, and its orientation of every face is the one kept.
     faces : (F, 3) int
+    accept : callable, optional
+        ``accept(k, x)`` with a repaired frame ``x`` (N,) complex: False
+        stops the repair (`MethodError`), e.g. when the frame's outline
+        crosses itself, which no repair of flips mends.
 
     Returns
     -------
@@ -56,7 +61,8 @@ def repair_folds(frames, faces):
     ------
     MethodError
         Frame 0 has a degenerate face, the last frame a flipped or degenerate
-        one, or a Newton system cannot be solved.
+        one, a Newton system cannot be solved, ``accept`` refused a frame, or
+        the repair needs more than `WORK` (Newton iterations times vertices).
     """
     frames = np.asarray(frames, dtype=complex)
     f = np.asarray(faces, dtype=np.int64)
@@ -84,6 +90,10 @@ def repair_folds(frames, faces):
         x, used = minimise(energy, x, MAX_ITER, tol=TOL)
         out[k] = x
         info["iterations"] += used
+        if info["iterations"] * len(a) > WORK:
+            raise MethodError(f"repairing the folds needs more than {WORK} Newton iterations x vertices")
+        if accept is not None and not accept(k, x):
+            raise MethodError(f"repaired frame {k} is not accepted")
         info["deviation"] = max(info["deviation"], float(np.abs(x - a).max()))
     info["frames"] = list(range(folded[0], folded[-1] + 1))
     return out, info
