@@ -86,6 +86,7 @@ PULL_WEIGHTS = (0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4, 1e5)  # the ring's pull, 
 COARSEN = True
 COARSE_ANGLE = 15.0  # the overlay's collapses keep the smallest angle above this (degrees) or make it no smaller
 SMOOTH_ROUNDS = 3  # smoothing rounds of the source mesh after its chords are cut
+PULL_GIVE_UP = (1e3, 0.5)  # a ring still this far (in mean edges) from the target at this weight is stuck
 SNAP_ROUNDS = 12  # rounds that move the pulled ring onto the target outline
 SNAP_STALL = 1e-3  # three rounds in a row that move the ring less than this fraction of the way: stuck
 SNAP_CUT = 0.1  # a round that moves the ring less than this fraction of the way cuts the triangles in the way
@@ -318,8 +319,11 @@ def _pulled(z, f, K, zt):
         for mu in PULL_WEIGHTS:
             energy.pull_towards(ring, zt, mu * unit)
             w, _ = minimise(energy, w, PULL_ITER, tol=1e-2)
-            if np.abs(w[:K] - zt).max() < 1e-9 * np.sqrt(h2):
+            gap = np.abs(w[:K] - zt).max() / np.sqrt(h2)
+            if gap < 1e-9:
                 break
+            if mu >= PULL_GIVE_UP[0] and gap > PULL_GIVE_UP[1]:  # held far off: no snap will reach the outline
+                return z, f, None
         stalled = 0
         for _ in range(SNAP_ROUNDS):
             step = np.zeros_like(w)
