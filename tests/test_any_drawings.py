@@ -190,3 +190,30 @@ def test_the_older_steps_live_in_the_library():
     assert done.source.n_vertices == 30 and not done.built_meshes and done.notes == []
     with pytest.raises(ParameterError):
         prepare_steps(a, b)
+
+
+def test_loaded_drawings_with_matching_counts_are_still_corresponded(tmp_path):
+    # two SVG drawings whose rings happen to have the same point count: their point order means nothing,
+    # loaded or not (a circle turned a quarter, its path starting elsewhere, must not be morphed point by point)
+    pytest.importorskip("svgelements")
+    theta = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    ring = np.c_[10 + 5 * np.cos(theta), 10 + 3 * np.sin(theta)]
+    turned = 10 + (ring - 10) @ [[0, 1], [-1, 0]]
+    files = []
+    for name, pts in (("a", ring), ("b", np.roll(turned, 7, axis=0))):
+        d = "M" + " L".join(f"{x:.6f} {y:.6f}" for x, y in pts) + " Z"
+        f = tmp_path / f"{name}.svg"
+        f.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 20 20"><path d="{d}"/></svg>')
+        files.append(f)
+    a, b = isotween.load(files[0]), isotween.load(files[1])
+    assert a.drawing and b.drawing and a.with_vertices(a.vertices).drawing
+    isotween.check_compatible(a, b)  # the counts match ...
+    seq = isotween.morph(a, b, frames=5)
+    assert seq.info["correspondence"]  # ... and correspondence ran all the same
+    mid = seq.frames[2][seq.shape.paths[0][0]]
+    # a quarter turn halfway is an eighth turn: the middle frame's outline is the same ellipse, turned
+    centre = mid.mean(axis=0)
+    r = np.hypot(*(mid - centre).T)
+    assert r.max() < 5.05 and r.min() > 2.95
+    plain = Shape.from_polygon(ring)
+    assert not plain.drawing

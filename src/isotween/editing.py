@@ -110,7 +110,7 @@ def edit(sequence: Sequence, *, frame: int | None = None, shape: Shape | None = 
             name = f"edited frame {k}"
         names.append(name)
         if needs_correspondence(sequence.shape, s, correspondence=correspondence, names=["sequence", name],
-                                options=bool(correspond_options)):
+                                options=bool(correspond_options), drawings=False):
             s = onto_connectivity(sequence[k], s, name=name, **(correspond_options or {}))
         edits[k] = s
     edits = {k: as_shape(s, f"edited frame {k}") for k, s in edits.items()}

@@ -60,7 +60,10 @@ class Prepared:
 
 
 def _is_drawing(item):
-    return _is_path(item) and Path(item).suffix.lower() in DRAWING_SUFFIXES
+    """An SVG file, or a shape read from one (`Shape.drawing`)."""
+    if _is_path(item):
+        return Path(item).suffix.lower() in DRAWING_SUFFIXES
+    return bool(getattr(item, "drawing", False))
 
 
 def _is_path(item: object) -> TypeGuard[str | os.PathLike]:
@@ -75,7 +78,7 @@ def _check_policy(correspondence):
         raise ParameterError(f"correspondence must be one of {', '.join(CORRESPONDENCE)}, got {correspondence!r}")
 
 
-def needs_correspondence(*items, correspondence="auto", names=None, options=False):
+def needs_correspondence(*items, correspondence="auto", names=None, options=False, drawings=True):
     """Whether inputs go through the pipeline's correspondence rather than straight to a solve.
 
     The rule shared by `isotween.interpolate`, `interpolate_keyframes`,
@@ -94,6 +97,10 @@ def needs_correspondence(*items, correspondence="auto", names=None, options=Fals
         How to call the inputs in `as_shape`'s messages.
     options : bool
         Correspondence options were given.
+    drawings : bool
+        Under ``'auto'``, shapes read from drawings (`Shape.drawing`) go
+        through it even when compatible. ``False`` for an edited frame that
+        keeps the sequence's connectivity (a rendered frame read back).
 
     Returns
     -------
@@ -103,6 +110,8 @@ def needs_correspondence(*items, correspondence="auto", names=None, options=Fals
 
     _check_policy(correspondence)
     if any(_is_path(x) for x in items):
+        return True
+    if drawings and correspondence == "auto" and any(_is_drawing(x) for x in items):
         return True
     if correspondence == "never":
         return False
@@ -135,8 +144,9 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
     source, target : Shape, (n, 2) array_like, or path
         Shapes, polygons, or files (.svg .obj .off .json .npz).
     correspondence : {'auto', 'always', 'never'}
-        ``'auto'``: drawings (SVG files) always go through `isotween.correspond`
-        (their point order means nothing); other inputs are used as they are
+        ``'auto'``: drawings (SVG files, and shapes read from them:
+        `Shape.drawing`) always go through `isotween.correspond` (their
+        point order means nothing); other inputs are used as they are
         when compatible and corresponded otherwise. ``'always'``: correspond
         even compatible inputs. ``'never'``: use the inputs as they are
         (`IncompatibleShapesError` if they are not compatible).

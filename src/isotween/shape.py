@@ -194,6 +194,11 @@ class Shape:
         Connected-component label of every vertex (isolated vertices are their own
         component).
     n_components : int
+    drawing : bool
+        Read from a drawing (SVG), whose point order means nothing: the
+        pipeline always puts drawings in correspondence, even when their
+        counts happen to match (`isotween.prepare_pair`). Kept by
+        :meth:`with_vertices`; not part of the shape's value.
 
     Examples
     --------
@@ -250,6 +255,7 @@ class Shape:
         self.uv = None if uv is None else _as_uv(uv, n)
         self.paths = None if paths is None else _as_paths(paths, n)
         self.y_down = bool(y_down)
+        self.drawing = False
         self.regions, self.paint = _check_regions_paint(self.paths, regions, paint)
         from scipy.sparse import coo_matrix  # here: scipy.sparse takes 0.1 s to import
         from scipy.sparse.csgraph import connected_components

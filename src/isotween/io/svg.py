@@ -525,10 +525,12 @@ def _ring_length(points):
 def _shape_of_rings(path, rings, regions=None, paints=None, y_down=True):
     """One Shape from (points, closed) subpaths, in order."""
     try:
-        return Shape.from_paths([p for p, _ in rings], [c for _, c in rings], y_down=y_down,
-                                regions=regions, paint=paints)
+        shape = Shape.from_paths([p for p, _ in rings], [c for _, c in rings], y_down=y_down,
+                                 regions=regions, paint=paints)
     except ShapeError as exc:
         raise FileFormatError(f"{path}: {exc}") from exc
+    shape.drawing = True  # its point order means nothing: always put in correspondence
+    return shape
 
 
 def _subpath_data(points, closed):
