@@ -229,46 +229,58 @@ def icons_main(args, ap):
     unknown = [r for r in runners if r not in ("local", "dask", "one")]
     if unknown:
         ap.error(f"unknown runner(s) {', '.join(unknown)}; choose from local, dask, one")
-    bound_jobs(args.timeout)
-    pairs, pool = icon_pairs(args.jobs, args.seed)
-    folder = Path(tempfile.mkdtemp(prefix="isotween-icons-"))
-    results = {}
-    try:
-        manifest = write_manifest(folder / "jobs.csv", pairs, args.frames)
-        warm = write_manifest(folder / "warm.csv", pairs[:2], args.frames)
-        import isotween.batch as ib
+    if args.replay:  # the runs of an earlier invocation, reported again
+        saved = json.loads(Path(args.replay).read_text())
+        results = {k: (w, [tuple(r) for r in runs]) for k, (w, runs) in saved["results"].items()}
+        load0, load1, pool = saved["load0"], saved["load1"], saved["pool"]
+    else:
+        results = {}
 
-        for name in runners:
-            if name == "local":
-                # forked from this process (no job has run here yet), as the command line starts them;
-                # a fork server would not carry the job bound
-                if ib._start_method().get_start_method() != "fork":
-                    raise SystemExit("local workers would start from a fork server; run 'local' first")
-                if args.warmup:
-                    run_manifest(warm, workers=cores)  # numba's on-disk cache
-                runs = [run_manifest(manifest, workers=cores, budget=args.budget) for _ in range(args.runs)]
-                results[f"local processes (all {cores} cores)"] = (cores, runs)
-            elif name == "dask":
-                from distributed import Client, LocalCluster
+        def save():  # after every runner: the records survive a failure of the report below
+            Path(args.save).write_text(json.dumps({"results": results, "load0": load0, "load1": os.getloadavg()[0],
+                                                   "pool": pool}))
 
-                with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, Client(cluster) as client:
-                    client.run(bound_jobs, args.timeout)  # the same bound in the Dask workers
+        bound_jobs(args.timeout)
+        pairs, pool = icon_pairs(args.jobs, args.seed)
+        folder = Path(tempfile.mkdtemp(prefix="isotween-icons-"))
+        try:
+            manifest = write_manifest(folder / "jobs.csv", pairs, args.frames)
+            warm = write_manifest(folder / "warm.csv", pairs[:2], args.frames)
+            import isotween.batch as ib
+
+            for name in runners:
+                if name == "local":
+                    # forked from this process (no job has run here yet), as the command line starts them;
+                    # a fork server would not carry the job bound
+                    if ib._start_method().get_start_method() != "fork":
+                        raise SystemExit("local workers would start from a fork server; run 'local' first")
                     if args.warmup:
-                        run_manifest(warm, client=client)
-                    runs = [run_manifest(manifest, client=client, budget=args.budget) for _ in range(args.runs)]
-                results["Dask LocalCluster (2 workers x 1 thread)"] = (2, runs)
-            else:
-                from isotween.batch import single_threaded
+                        run_manifest(warm, workers=cores)  # numba's on-disk cache
+                    runs = [run_manifest(manifest, workers=cores, budget=args.budget) for _ in range(args.runs)]
+                    results[f"local processes (all {cores} cores)"] = (cores, runs)
+                elif name == "dask":
+                    from distributed import Client, LocalCluster
 
-                single_threaded()  # one thread, as every worker runs
-                if args.warmup:
-                    run_manifest(warm, workers=1)
-                runs = [run_manifest(manifest, workers=1, budget=args.budget) for _ in range(args.runs)]
-                results["1 process"] = (1, runs)
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
+                    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                      dashboard_address=None) as cluster, Client(cluster) as client:
+                        client.run(bound_jobs, args.timeout)  # the same bound in the Dask workers
+                        if args.warmup:
+                            run_manifest(warm, client=client)
+                        runs = [run_manifest(manifest, client=client, budget=args.budget) for _ in range(args.runs)]
+                    results["Dask LocalCluster (2 workers x 1 thread)"] = (2, runs)
+                else:
+                    from isotween.batch import single_threaded
 
+                    single_threaded()  # one thread, as every worker runs
+                    if args.warmup:
+                        run_manifest(warm, workers=1)
+                    runs = [run_manifest(manifest, workers=1, budget=args.budget) for _ in range(args.runs)]
+                    results["1 process"] = (1, runs)
+                save()
+        finally:
+            shutil.rmtree(folder, ignore_errors=True)
+
+        load1 = os.getloadavg()[0]
     rows, failures, notes = [], {}, []
     one_rate = None
     if "1 process" in results:
@@ -303,7 +315,7 @@ def icons_main(args, ap):
 
     cmd = "python benchmarks/batch.py --set icons" + "".join(
         f" --{k.replace('_', '-')} {v}" for k, v in vars(args).items()
-        if k not in ("set", "points", "warmup") and v != ap.get_default(k))
+        if k not in ("set", "points", "warmup", "save", "replay") and v != ap.get_default(k))
     lines = [f"{args.jobs} jobs: random ordered pairs of two different icons among Bootstrap Icons' {pool} "
              f"filled icons (`*-fill.svg`, bootstrap-icons 1.13.2; seed {args.seed}), in a CSV manifest "
              f"(source, target, output .npz, frames {args.frames}; no other option), so that every job runs "
@@ -335,7 +347,7 @@ def icons_main(args, ap):
                                                 "(job number-source-target of one):")]
         lines += [f"- {n} x {why} (e.g. {example})" for n, why, example in items]
     lines += [""] + [f"Note: {n}." for n in notes]
-    lines += ["", f"Load average (1 min) at the start and the end: {load0:.1f}, {os.getloadavg()[0]:.1f} on "
+    lines += ["", f"Load average (1 min) at the start and the end: {load0:.1f}, {load1:.1f} on "
               f"{cores} cores (the machine is shared; timings under load)."]
     body = "\n".join(lines).replace("\n\n\n", "\n\n")
     print(body)
@@ -393,7 +405,10 @@ def main():
                     help="icons: seconds per run after which no new job is handed out")
     ap.add_argument("--seed", type=int, default=20261124, help="icons: seed of the random pairs")
     ap.add_argument("--warmup", type=int, default=1, help="icons: 1 runs 2 jobs first, untimed (numba's cache)")
-    ap.add_argument("--no-write", dest="write", action="store_false", help="print only; RESULTS.md untouched [write]")
+    ap.add_argument("--save", default=os.path.join(tempfile.gettempdir(), "isotween-batch-icons.json"),
+                    help="icons: the runs' records are saved here after every runner")
+    ap.add_argument("--replay", default=None, metavar="FILE", help="icons: report the runs saved in FILE again")
+    ap.add_argument("--no-write", dest="write", action="store_false", help="print only; RESULTS.md untouched")
     args = ap.parse_args()
     if args.set == "icons":
         return icons_main(args, ap)
