@@ -344,7 +344,7 @@ def icons_main(args, ap):
                   "jobs / s, not a measurement."]
     for name, items in failures.items():
         lines += ["", f"Failures ({name}): " + ("none." if not items else f"{sum(n for n, _, _ in items)}, by reason "
-                                                "(job number-source-target of one):")]
+                                                "(job number-source-target of one):\n")]
         lines += [f"- {n} x {why} (e.g. {example})" for n, why, example in items]
     lines += [""] + [f"Note: {n}." for n in notes]
     lines += ["", f"Load average (1 min) at the start and the end: {load0:.1f}, {load1:.1f} on "
@@ -384,7 +384,7 @@ def write_icons_section(body, command, machine_line):
         end = "<!-- end Batches -->"
         if end not in text:
             raise SystemExit(f"{RESULTS}: no Batches section to add the icon pairs to (run the glyphs first)")
-        text = text.replace(end, block + "\n" + end, 1)
+        text = text.replace(end, "\n" + block + "\n" + end, 1)
     RESULTS.write_text(text)
 
 
