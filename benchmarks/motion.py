@@ -558,8 +558,9 @@ def _fit(src, frame_tree, frame, a, b, scale, iterations=15):
     return a, b
 
 
-#: turns added to the exact answer's angle when starting the fit (ICP finds the nearest local optimum)
-START_TURNS = np.radians([0, 30, -30, 90, -90, 180])
+#: turns added to the exact answer's angle when starting the fit (ICP finds the nearest local optimum, and a
+#: 180-degree motion may turn either way): every 15 degrees, so that some start is near the global optimum
+START_TURNS = np.radians(np.arange(0, 360, 15))
 
 
 def stray(case, frame_polys, t, src_fine, src_coarse):
