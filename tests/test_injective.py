@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import isotween
-from isotween.baselines import injective
+from isotween.foldfree import injective
 from isotween.geometry import triangle_areas
 from isotween.metrics import edge_length_deviation, flipped_faces, outline_crossings
 from isotween.optimisation import barrier

@@ -168,7 +168,8 @@ def test_public_names_resolve():
 
 #: layers above the readers and writers of `isotween.io`
 IO_MUST_NOT_IMPORT = ("isotween.correspondence", "isotween.optimisation", "isotween.render", "isotween.cli",
-                      "isotween.baselines", "isotween.outputs", "isotween.batch", "isotween.interpolate")
+                      "isotween.baselines", "isotween.foldfree", "isotween.outputs", "isotween.batch",
+                      "isotween.interpolate")
 
 
 def test_readers_and_writers_import_no_layer_above():
@@ -211,7 +212,8 @@ def test_cli_command_loads_only_its_module():
 def test_cli_render_loads_no_solver():
     loaded = _loaded_after("from isotween.cli import main; main(['render', '--help'])")
     solver = sorted(m for m in loaded if m.startswith(("isotween.optimisation", "isotween.interpolate",
-                                                       "isotween.baselines", "scipy.sparse.linalg", "numba")))
+                                                       "isotween.baselines", "isotween.foldfree", "scipy.sparse.linalg",
+                                                       "numba")))
     assert not solver, f"isotween render imports {solver}"
 
 

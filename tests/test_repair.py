@@ -2,8 +2,8 @@
 
 import numpy as np
 
+from isotween.foldfree.repair import repair_folds
 from isotween.geometry import triangle_areas
-from isotween.optimisation.repair import repair_folds
 
 
 def grid(n=6):

@@ -2,7 +2,6 @@
 
 import ast
 import dataclasses
-import importlib
 import pathlib
 import subprocess
 import sys
@@ -267,7 +266,7 @@ def test_baselines_run_builds_one_problem_and_equals_the_method_on_it(bar, built
     np.testing.assert_array_equal(problem.z[:, [0, 5]], np.c_[src.z, tgt.z])
     np.testing.assert_array_equal(problem.times, t)
     np.testing.assert_array_equal(seq.times, t)
-    module = importlib.import_module(f"isotween.baselines.{method.replace('-', '_')}")
+    module = baselines.method_module(method)
     again = keyed_problem([src, tgt], t, np.array([0, 5]), init=None, scheme="midpoint", tol=1e-4, max_iter=30)
     direct = module.solve(again).z
     size = src.bbox_diagonal()
@@ -279,7 +278,7 @@ def test_baselines_refuse_a_problem_with_a_held_interior_frame(bar, method):
     src, tgt = _pair(method, bar)
     problem = keyed_problem([src, tgt, src], np.linspace(0, 1, 5), np.array([0, 2, 4]), init=None,
                             scheme="midpoint", tol=1e-4, max_iter=5)
-    module = importlib.import_module(f"isotween.baselines.{method.replace('-', '_')}")
+    module = baselines.method_module(method)
     with pytest.raises(ParameterError, match="holds only the first and the last frame"):
         module.solve(problem)
 

@@ -211,13 +211,13 @@ def _baseline(method, source, target, t, options, callback):
 def _fallback(seq, source, target, t, options):
     """``seq``; where an in-between frame folds, its folding frames repaired, else the fold-free morph.
 
-    First `isotween.optimisation.repair.repair_folds` (the frames that fold
+    First `isotween.foldfree.repair.repair_folds` (the frames that fold
     moved as little as no flipped triangle allows); if a repaired frame still
     has crossing outline edges, the fold-free 'injective' morph (else
     'convex') replaces the whole sequence. ``info['fallback']`` says which.
     """
     from . import metrics
-    from .optimisation.repair import repair_folds
+    from .foldfree.repair import repair_folds
 
     if seq.method in ("convex", "injective") or len(t) < 3:
         return seq

@@ -1,4 +1,4 @@
-"""The methods the paper compares with, under one interface.
+"""The methods the paper compares with, and the fold-free morphs (`isotween.foldfree`), under one interface.
 
 ``run(method, source, target, frames)`` returns a :class:`~isotween.Sequence`
 like :func:`isotween.interpolate` does, so every method is measured by the same
@@ -38,17 +38,18 @@ from ..errors import MethodError
 from ..optimisation.problem import DEFAULT_TOL
 from ..times import frame_times
 
-__all__ = ["METHODS", "run"]
+__all__ = ["METHODS", "run", "method_module"]
 
-#: method name -> module with ``solve(problem, **options) -> Result``, imported when the method runs
+#: method name -> module with ``solve(problem, **options) -> Result``, imported when the method runs: the paper's
+#: comparison methods here, the fold-free morphs that the pipeline falls back to in `isotween.foldfree`
 _MODULES = {
-    "linear": "linear",
-    "intrinsic": "intrinsic",
-    "arap": "arap",
-    "arap-baxter": "arap_baxter",
-    "shapespace": "shapespace",
-    "convex": "convex",
-    "injective": "injective",
+    "linear": ".linear",
+    "intrinsic": ".intrinsic",
+    "arap": ".arap",
+    "arap-baxter": ".arap_baxter",
+    "shapespace": ".shapespace",
+    "convex": "isotween.foldfree.convex",
+    "injective": "isotween.foldfree.injective",
 }
 METHODS = tuple(_MODULES)
 
@@ -113,16 +114,21 @@ def run(method, source, target, n_frames, *, times=None, **options):
     check_stopping(options["tol"], options["max_iter"])
     problem = keyed_problem([source, target], t, np.array([0, len(t) - 1]), init=None, scheme="midpoint",
                             tol=options["tol"], max_iter=options["max_iter"])
-    module = importlib.import_module(f".{_MODULES[method]}", __name__)
+    module = method_module(method)
     result = module.solve(problem, **_accepted(module, options))
     total = time.perf_counter() - start
     result.timings = {"solve": total, "total": total}
     return result.sequence(problem.shape, problem.times, method=method)
 
 
+def method_module(method):
+    """The module of a method of :data:`METHODS` (its ``solve``), imported on first use."""
+    return importlib.import_module(_MODULES[method], __name__)
+
+
 def __getattr__(name):
-    """A method's module (``isotween.baselines.convex``, ...), imported on first use."""
-    if name in _MODULES.values():
+    """A comparison method's module (``isotween.baselines.arap``, ...), imported on first use."""
+    if f".{name}" in _MODULES.values():
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 

@@ -7,7 +7,7 @@ the closed-form projection of Smith, de Goes and Kim 2019), one sparse
 Cholesky (CHOLMOD) or LU solve per iteration, with a line search that never
 passes 0.9 of the first step at which a triangle's signed area reaches zero
 (`max_step`, Smith and Schaefer 2015, Sec. 4.1): every iterate keeps every
-triangle positive. Used by the fold-free morph (`isotween.baselines.injective`)
+triangle positive. Used by the fold-free morph (`isotween.foldfree.injective`)
 and by the compatible meshes' low-distortion map (`isotween.correspondence`).
 """
 

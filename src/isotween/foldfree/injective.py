@@ -1,7 +1,7 @@
 """Fold-free, nearly isometric morph: the convex morph refined by a barrier energy.
 
 Every in-between frame is an embedding of a triangulated disc, as in method
-'convex' (`isotween.baselines.convex`: each component completed to a disc
+'convex' (`isotween.foldfree.convex`: each component completed to a disc
 inside a fixed 32-gon, its exterior and holes meshed compatibly), and then
 made as isometric as the embedding allows:
 
@@ -76,7 +76,7 @@ def solve(problem):
     Raises
     ------
     MethodError
-        As method 'convex' does (`isotween.baselines.convex.solve`).
+        As method 'convex' does (`isotween.foldfree.convex.solve`).
     """
     result = convex.per_component(problem, "injective", _component)
     result.iterations = sum(c["iterations"] for c in result.info["components"])

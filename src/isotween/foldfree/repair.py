@@ -23,7 +23,7 @@ import numpy as np
 
 from ..errors import MethodError
 from ..geometry import triangle_areas
-from .barrier import SymmetricDirichlet, max_step, minimise
+from ..optimisation.barrier import SymmetricDirichlet, max_step, minimise
 
 __all__ = ["repair_folds", "PULL", "MAX_ITER", "TOL", "WORK"]
 
