@@ -246,14 +246,13 @@ def main():
     body += (" Where the time goes (profiled in the server process): a landmark's first answer is its outline "
              "correspondence (`prepare_pair(..., outline=True)`, 20-30 ms on the icon, half of it aligning "
              "the drawings, which a landmark does not change) and the outline morph; its meshes are "
-             "`compatible_meshes` of the one region pair the landmark is on (the other pair's meshes are "
-             "reused), mostly its quality stage (about 175 of 240 ms on these stars: the landmark turns the "
-             "match so that the first mesh folds), then the morph with its fold check (the fold-free "
-             "fallback when the AIAP morph of the new meshes folds: seconds on the glyph, whose landmark makes "
-             "1-2k-vertex meshes). A forced region pair meshes both pairs afresh (about 30 ms each). A 10k "
-             "drag's release is `isotween.edit` (its factorisation of Eq. (10) reused from the morph's last "
-             "edit; its positions, edge rotations and the isometric energy of the result remain), the ARAP "
-             "drag (its factorisation kept through the drag, the last move's answer reused) and 3 MB of frames "
+             "`compatible_meshes` of the one region pair the landmark is on (the other pair's meshes come "
+             "from the session's mapping, `correspond(meshes=...)`), then the morph with its fold check (its "
+             "folding frames repaired, or the fold-free fallback where a repaired frame crosses itself; the "
+             "glyph's landmark makes its AIAP morph fold). A forced region pair meshes both pairs afresh "
+             "(about 30 ms each). A 10k drag's release is `isotween.edit` (its factorisation of Eq. (10) kept "
+             "per morph by the library from the last edit; its positions, edge rotations and the isometric "
+             "energy of the result remain), the ARAP drag (its factorisation kept through the drag, the last move's answer reused) and 3 MB of frames "
              f"to the page. Load average (1 min) of the machine at start and end: {load[0]:.1f}, {load[1]:.1f}.")
     if large is not None:
         body += "\n\n" + table(["input", "vertices", "superseded edits dropped", "second edit drawn ms (median)",
