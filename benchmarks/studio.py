@@ -252,7 +252,8 @@ def main():
              "glyph's landmark makes its AIAP morph fold). A forced region pair meshes both pairs afresh "
              "(about 30 ms each). A 10k drag's release is `isotween.edit` (its factorisation of Eq. (10) kept "
              "per morph by the library from the last edit; its positions, edge rotations and the isometric "
-             "energy of the result remain), the ARAP drag (its factorisation kept through the drag, the last move's answer reused) and 3 MB of frames "
+             "energy of the result remain), the ARAP drag (its factorisation kept through the drag, the last "
+             "move's answer reused) and 3 MB of frames "
              f"to the page. Load average (1 min) of the machine at start and end: {load[0]:.1f}, {load[1]:.1f}.")
     if large is not None:
         body += "\n\n" + table(["input", "vertices", "superseded edits dropped", "second edit drawn ms (median)",
