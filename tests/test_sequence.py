@@ -175,7 +175,7 @@ def test_plot_draws_the_chosen_frames(curl):
         assert np.allclose(np.unique(xy, axis=0), np.unique(curl.frames[k], axis=0))
     assert len(curl.plot(frames=4).get_lines()) == 4
     with pytest.raises(ParameterError):
-        curl.plot(frames=[99])
+        curl.plot(indices=[99])
 
 
 class _Tags(html.parser.HTMLParser):
