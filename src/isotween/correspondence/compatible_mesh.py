@@ -11,9 +11,13 @@ The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
    are triangulated piecewise, so the cuts are edges of both meshes; the
    first cut of every hole is then opened (its two vertices duplicated).
 2. First try: the source mesh, refined with interior Steiner points (centroid
-   insertion and Lawson flips down to the edge length ``mesh_size``), mapped
-   onto the target outline by mean-value weights (which reproduce affine
-   maps). If no target triangle is flipped, that is the result.
+   insertion and Lawson flips down to the edge length ``mesh_size``), its
+   chords that cannot fit the target (edges between two ring vertices outside
+   the target polygon or along its outline, sides of ring triangles turned
+   over there) cut at their midpoints, mapped onto the target outline by
+   mean-value weights (which reproduce affine maps). If no target triangle is
+   flipped, that is the result; else the mesh is pulled onto the target
+   outline with no flip (`_pulled`), and the map made least distorted.
 3. Otherwise both triangulations are mapped onto the unit circle with their
    boundary vertices at the same places (the mean of the two normalised arc
    lengths); interior vertices (``refine_first=True`` only) by mean-value
@@ -25,8 +29,9 @@ The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
    cyclic order of the boundary vertices (exact); an interior vertex within
    ``tol`` of a chord is first moved off it inside its star. Cells are
    fan-triangulated and mapped back affinely through their source and their
-   target triangle. Faces larger than ``mesh_size`` (in either mesh) are then
-   split at their centroid in both meshes.
+   target triangle. Intersection vertices are then merged away where both
+   meshes stay valid (`_quality._coarsen`), and faces larger than
+   ``mesh_size`` (in either mesh) split at their centroid in both meshes.
 4. Quality: edge collapses, edge flips (both meshes at once, as they share
    connectivity) and smoothing of interior vertices (each mesh on its own,
    one colour class of vertices, an independent set, at a time), every
@@ -83,7 +88,7 @@ MAP_ITER = 15  # Newton iterations of the low-distortion map at most
 MAP_TOL = 1e-2  # the map's Newton stops when an iteration lowers the energy's excess by less than this
 PULL_ITER = 15  # Newton iterations per pull weight
 PULL_WEIGHTS = (0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4, 1e5)  # the ring's pull, in units of the least energy
-COARSEN = True
+COARSEN = True  # the overlay's intersection vertices merged away where both meshes stay valid (`_coarsen`)
 COARSE_ANGLE = 15.0  # the overlay's collapses keep the smallest angle above this (degrees) or make it no smaller
 SMOOTH_ROUNDS = 3  # smoothing rounds of the source mesh after its chords are cut
 PULL_GIVE_UP = (1e3, 0.5)  # a ring still this far (in mean edges) from the target at this weight is stuck
