@@ -78,6 +78,14 @@ def _check_policy(correspondence):
         raise ParameterError(f"correspondence must be one of {', '.join(CORRESPONDENCE)}, got {correspondence!r}")
 
 
+def _check_request(correspondence, options, allowed, which):
+    """The policy and the option names of a request, else `ParameterError` naming what is unknown."""
+    _check_policy(correspondence)
+    unknown = sorted(set(options) - set(allowed))
+    if unknown:
+        raise ParameterError(f"unknown correspondence option(s){which}: {', '.join(unknown)}")
+
+
 def needs_correspondence(*items, correspondence="auto", names=None, options=False, drawings=True):
     """Whether inputs go through the pipeline's correspondence rather than straight to a solve.
 
@@ -171,10 +179,7 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
     """
     from .correspondence import check_compatible, correspond
 
-    _check_policy(correspondence)
-    unknown = sorted(set(options) - set(CORRESPOND_OPTIONS))
-    if unknown:
-        raise ParameterError(f"unknown correspondence option(s): {', '.join(unknown)}")
+    _check_request(correspondence, options, CORRESPOND_OPTIONS, "")
     drawing = _drawing or _is_drawing(source) or _is_drawing(target)
     if names is None:
         names = [str(x) if _is_path(x) else role for x, role in ((source, "source"), (target, "target"))]
@@ -325,10 +330,7 @@ def prepare_keys(items, *, correspondence="auto", names=None, role="keyframe", *
     """
     from .correspondence import check_compatible, correspond_keys
 
-    _check_policy(correspondence)
-    unknown = sorted(set(options) - set(KEYS_OPTIONS))
-    if unknown:
-        raise ParameterError(f"unknown correspondence option(s) for several inputs: {', '.join(unknown)}")
+    _check_request(correspondence, options, KEYS_OPTIONS, " for several inputs")
     items = list(items)
     if names is None:
         names = [str(x) if _is_path(x) else f"{role} {k}" for k, x in enumerate(items)]
