@@ -135,6 +135,23 @@ def test_edge_init_propagates_angles_beyond_pi():
     assert theta.max() > 2.5 * np.pi
 
 
+def test_mesh_edges_turn_with_their_triangles_under_a_strong_shear():
+    # an affine map R(170 deg) S, S stretching 8x along a diagonal and shrinking 8x across it: each
+    # triangle turns by the polar angle 170 deg, but edges turn by anything within 90 deg of it, so
+    # neighbouring edges can differ by more than pi; every edge must take the turn nearest its triangle's
+    from shapes import grid_mesh
+
+    src = grid_mesh(6, 6, length=1.0)
+    c, s_ = np.cos(np.pi / 4), np.sin(np.pi / 4)
+    axes = np.array([[c, -s_], [s_, c]])
+    stretch = axes @ np.diag([8.0, 1 / 8]) @ axes.T
+    turn = np.radians(170.0)
+    A = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]]) @ stretch
+    tgt = src.with_vertices(src.vertices @ A.T)
+    _, theta = isotween.initialisation.edge_rotations(src, src.edge_vectors(), tgt.edge_vectors())
+    assert np.all(np.abs(theta - turn) < np.pi / 2)
+
+
 # ---------------------------------------------------------------- bad input
 TRI = np.array([[0, 0], [1, 0], [0, 1]], float)
 

@@ -28,7 +28,7 @@ import numpy as np
 from scipy.linalg.lapack import dpbtrf
 
 __all__ = ["PARALLEL_SIZE", "midpoint_edge_pass", "band_cholesky", "banded_positions",
-           "edge_init"]
+           "edge_frames", "edge_init"]
 
 #: below this many edge-frames one thread does the pass (thread start-up costs more)
 PARALLEL_SIZE = 4_000_000
@@ -266,6 +266,16 @@ def _place(y, rows, anchors, comp, inv_count, centroids, z):
                 z[v, f], z[v, f + 1] = re, im
         moves[p] = move
     return moves.max() if n else 0.0
+
+
+def edge_frames(e0, s, theta, t):
+    """Eq. (13) from given scales ``s`` and angles ``theta`` (E,): (E, F) complex, as `reference.edge_frames`."""
+    _compile()
+    t = np.asarray(t, dtype=float)
+    out = np.empty((len(e0), len(t)), dtype=complex)
+    kernel = _edge_frames_parallel if out.size >= PARALLEL_SIZE else _edge_frames_serial
+    kernel(np.asarray(e0, dtype=complex), np.asarray(theta, dtype=float), np.asarray(s, dtype=float), t, out)
+    return out
 
 
 def _edge_angles(e0, e1, parent, order):

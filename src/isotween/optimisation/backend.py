@@ -1,6 +1,6 @@
 """Compute backends of the solver's hot loops, and the one place that picks one.
 
-Two backends do the same arithmetic behind one interface (``edge_init``,
+Two backends do the same arithmetic behind one interface (``edge_init``, ``edge_frames``,
 ``edge_pass``, ``banded``):
 
 'numpy'
@@ -75,6 +75,10 @@ class NumpyBackend:
         s, theta = reference.edge_angles(top, e0, e1)
         return reference.edge_frames(e0, s, theta, t)
 
+    def edge_frames(self, e0, s, theta, t):
+        """Eq. (13) from given scales and angles (:func:`~isotween.optimisation.reference.edge_frames`)."""
+        return reference.edge_frames(e0, s, theta, t)
+
     def edge_pass(self, top, t, scheme, fixed, smooth):
         """The edge work of one iteration of Algorithm 2 (Eqs. 8, 6, 9).
 
@@ -99,6 +103,10 @@ class NumbaBackend(NumpyBackend):
     def edge_init(self, top, e0, e1, t):
         """As :meth:`NumpyBackend.edge_init`."""
         return accelerated.edge_init(top, e0, e1, t)
+
+    def edge_frames(self, e0, s, theta, t):
+        """As :meth:`NumpyBackend.edge_frames`."""
+        return accelerated.edge_frames(e0, s, theta, t)
 
     def edge_pass(self, top, t, scheme, fixed, smooth):
         """As :meth:`NumpyBackend.edge_pass`; fused for the midpoint scheme with only the ends held."""
