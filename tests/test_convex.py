@@ -71,10 +71,21 @@ def test_convex_never_folds_and_ends_are_the_inputs(name):
     assert np.array_equal(seq.frames[-1], tgt.vertices)
 
 
-def test_folding_aiap_falls_back_to_the_injective_morph():
+def test_folding_aiap_is_repaired_inside_its_scaffold():
     src, tgt = pair("W->T")
     aiap = isotween.interpolate(src, tgt, frames=9)
     assert flipped_faces(aiap) > 0  # the premise: AIAP folds on this pair
+    seq = isotween.interpolate(src, tgt, frames=9, fold="fallback")
+    assert seq.method == "aiap" and "repaired" in seq.info["fallback"]
+    assert flipped_faces(seq) == 0 and not outline_crossings(seq).any()
+    assert np.array_equal(seq.frames[0], src.vertices) and np.array_equal(seq.frames[-1], tgt.vertices)
+
+
+def test_folding_aiap_that_cannot_be_repaired_falls_back_to_the_injective_morph(monkeypatch):
+    from isotween.foldfree import repair
+
+    monkeypatch.setattr(repair, "WORK", 0)  # every repair gives up at once
+    src, tgt = pair("W->T")
     seq = isotween.interpolate(src, tgt, frames=9, fold="fallback")
     assert seq.method == "injective"
     assert "folded" in seq.info["fallback"] and "injective" in seq.info["fallback"]
@@ -140,9 +151,9 @@ def test_cli_falls_back_and_says_so(tmp_path):
     result = CliRunner().invoke(main, ["interpolate", svg(glyph("W"), "w.svg"), svg(glyph("T"), "t.svg"),
                                        "-o", str(out)])
     assert result.exit_code == 0, result.output
-    assert "fold check" in result.output and "injective" in result.output
+    assert "fold check" in result.output and "repaired with no flip" in result.output
     seq = isotween.io.load_sequence(str(out))
-    assert seq.method == "injective" and flipped_faces(seq) == 0
+    assert seq.method == "aiap" and flipped_faces(seq) == 0
 
 
 def test_components_move_independently():

@@ -209,11 +209,16 @@ def _baseline(method, source, target, t, options, callback):
 
 
 def _fallback(seq, source, target, t, options):
-    """``seq``; where an in-between frame folds, its folding frames repaired, else the fold-free morph.
+    """``seq``; where an in-between frame folds or collides, its folding frames repaired, else the fold-free morph.
 
-    First `isotween.foldfree.repair.repair_folds` (the frames that fold
-    moved as little as no flipped triangle allows); if a repaired frame still
-    has crossing outline edges, the fold-free 'injective' morph (else
+    A frame folds where a triangle flips or a region's outline crosses
+    itself, and collides where two pieces that last cross each other
+    (`_crossed`). First `isotween.foldfree.repair.repair_folds` with the
+    scaffold around the pieces (`isotween.foldfree.scaffold`): the frames
+    moved as little as no flip in the regions or in the empty space around
+    them allows. Where that cannot follow the motion: collisions alone are
+    kept; folds are repaired in the regions only, and if a repaired frame
+    still has crossing outline edges, the fold-free 'injective' morph (else
     'convex') replaces the whole sequence. ``info['fallback']`` says which.
     """
     from . import metrics
@@ -222,33 +227,41 @@ def _fallback(seq, source, target, t, options):
     if seq.method in ("convex", "injective") or len(t) < 3:
         return seq
     flips = metrics.flipped_faces(seq, None)[1:-1]
-    crossings = metrics.outline_crossings(seq, scope="region")[1:-1]
-    if not (flips.any() or crossings.any()):
+    z = _complex_frames(seq.frames)
+    within, across = _crossed(seq.shape, z[[0, -1]])
+    crossings = np.array([within(frame) for frame in z[1:-1]], dtype=np.int64)
+    collisions = np.array([across(frame) for frame in z[1:-1]], dtype=np.int64)
+    if not (flips.any() or crossings.any() or collisions.any()):
         return seq
-    folded = (f"{seq.method} folded in {int(np.count_nonzero(flips | crossings))} of {len(t) - 2} "
-              f"in-between frames ({int(flips.sum())} flipped triangles, {int(crossings.sum())} outline crossings)")
-    if seq.shape.faces is not None:
-        started = time.perf_counter()
-        edges, group = metrics.outline_edges(seq.shape, scope="region")
-
-        def uncrossed(k, z):
-            return metrics.crossing_pairs(z, edges, group) == 0
-
+    bad = flips | crossings | collisions
+    folded = (f"{seq.method} folded in {int(np.count_nonzero(bad))} of {len(t) - 2} in-between frames "
+              f"({int(flips.sum())} flipped triangles, {int(crossings.sum() + collisions.sum())} outline crossings)")
+    attempts = []  # (scaffold, accept): with the scaffold around the pieces, then the regions alone
+    if seq.shape.faces is not None and seq.shape.regions:
+        attempts.append((_scaffold(seq.shape, z), lambda k, x: not (within(x) or across(x))))
+    if seq.shape.faces is not None and (flips.any() or crossings.any()):
+        attempts.append((None, lambda k, x: not within(x)))
+    started = time.perf_counter()
+    for scaffold, accept in attempts:
         try:
-            frames, info = repair_folds(_complex_frames(seq.frames), seq.shape.faces, accept=uncrossed)
+            frames, info = repair_folds(z, seq.shape.faces, accept=accept, scaffold=scaffold)
         except MethodError:
-            frames = None
-        if frames is not None:
-            repaired = dataclasses.replace(seq, frames=np.stack([frames.real, frames.imag], axis=-1),
-                                           info=dict(seq.info), timings=dict(seq.timings))
-            if not metrics.outline_crossings(repaired, scope="region")[1:-1].any():
-                diag = bbox_diagonal(seq.frames[0])
-                repaired.info["fallback"] = (
-                    f"{folded}; frames {info['frames'][0]}-{info['frames'][-1]} repaired with no flip "
-                    f"(within {100 * info['deviation'] / diag:.2g} % of the diagonal of {seq.method}'s)")
-                repaired.info["repair"] = info
-                repaired.timings["repair"] = time.perf_counter() - started
-                return repaired
+            continue
+        if not info["frames"]:
+            continue
+        repaired = dataclasses.replace(seq, frames=np.stack([frames.real, frames.imag], axis=-1),
+                                       info=dict(seq.info), timings=dict(seq.timings))
+        diag = bbox_diagonal(seq.frames[0])
+        repaired.info["fallback"] = (
+            f"{folded}; frames {info['frames'][0]}-{info['frames'][-1]} repaired with no flip "
+            f"(within {100 * info['deviation'] / diag:.2g} % of the diagonal of {seq.method}'s)")
+        repaired.info["repair"] = info
+        repaired.timings["repair"] = time.perf_counter() - started
+        return repaired
+    if not (flips.any() or crossings.any()):  # pieces meet, but no fold: the method's frames kept
+        seq.info["collisions"] = (f"{int(collisions.sum())} crossings between pieces in "
+                                  f"{int(np.count_nonzero(collisions))} frames; no scaffold could hold them apart")
+        return seq
     try:
         free = _baseline("injective", source, target, t, options, None)
         free.info["fallback"] = f"{folded}; replaced by the fold-free injective morph"
@@ -261,6 +274,43 @@ def _fallback(seq, source, target, t, options):
         free.info["fallback"] = f"{folded}; replaced by the fold-free convex morph (injective failed: {exc})"
     free.timings["total"] = free.timings.get("total", 0.0) + seq.timings.get("total", 0.0)
     return free
+
+
+def _crossed(shape, ends):
+    """``(within, across)``: functions of positions ``z`` (N,) complex counting outline crossings.
+
+    ``within(z)``: crossings within every region (outer ring and holes) and
+    path; ``across(z)``: crossings between the outlines of different filled
+    regions that lie on no other at either end, ``ends`` (2, N) complex
+    (`isotween.foldfree.scaffold.separate_regions`: a piece that splits
+    off from another may overlap it), always 0 where an end already has such
+    a crossing (layered pieces, as in an emoji).
+    """
+    from . import metrics
+    from .foldfree.scaffold import separate_regions
+
+    edges, group = metrics.outline_edges(shape, scope="region")
+    if group is None:
+        return (lambda z: metrics.crossing_pairs(z, edges, None)), (lambda z: 0)
+    solid = np.isin(group, len(shape.paths) + np.array(separate_regions(shape, ends), dtype=np.int64))
+    pieces = edges[solid]
+    owner = group[solid]
+
+    def across(z):
+        return metrics.crossing_pairs(z, pieces) - metrics.crossing_pairs(z, pieces, owner)
+
+    if not len(pieces) or any(across(z) for z in ends):
+        return (lambda z: metrics.crossing_pairs(z, edges, group)), (lambda z: 0)
+    return (lambda z: metrics.crossing_pairs(z, edges, group)), across
+
+
+def _scaffold(shape, z):
+    """``scaffold(x)``: the space around ``shape``'s separate pieces at ``x``, in a box around frames ``z``."""
+    from .foldfree.scaffold import box_around, scaffold, separate_regions
+
+    keep = separate_regions(shape, z[[0, -1]])
+    box = box_around(z)
+    return lambda x: scaffold(shape, x, box, keep)
 
 
 # `isotween.interpolate(...)` calls `interpolate`; `import isotween.interpolate` still gives this module

@@ -13,27 +13,32 @@ vertex to its place in ``a`` (`PULL`, in units of the least energy per
 vertex and squared edge). The symmetric Dirichlet term is infinite on a
 degenerate triangle, and the projected Newton of
 `isotween.optimisation.barrier` keeps every iterate flip-free, so the start
-must be: it is the repaired frame before, moved along the frame-to-frame
-motion of the sequence as far as no triangle degenerates. Frames from the
-first folding one to the last folding one are repaired (so the motion has no
-jump inside that range); the others are kept bit for bit.
+must be: it is the repaired frame before, moved towards ``a`` as far as no
+triangle degenerates. With a scaffold (`isotween.foldfree.scaffold`) the
+empty space around the pieces, triangulated afresh before every frame,
+joins the energy, so pieces cannot pass through each other either. Frames
+from the first folding one to the last folding one are repaired (so the
+motion has no jump inside that range); the others are kept bit for bit.
 """
 
 import numpy as np
 
-from ..errors import MethodError
+from ..errors import MethodError, ShapeError
 from ..geometry import triangle_areas
 from ..optimisation.barrier import SymmetricDirichlet, max_step, minimise
 
-__all__ = ["repair_folds", "PULL", "MAX_ITER", "TOL", "WORK"]
+__all__ = ["repair_folds", "GAP", "JUMP", "PULL", "MAX_ITER", "SCAFFOLD_WEIGHT", "TOL", "WORK"]
 
 PULL = 1.0  # weight of the pull to the folding frame, in units of the least energy per vertex and squared edge
 MAX_ITER = 30  # Newton iterations per frame at most
 TOL = 1e-3  # stop when an iteration lowers the energy above its least value by less than this fraction
+SCAFFOLD_WEIGHT = 0.1  # the scaffold's symmetric Dirichlet per unit area, against the regions'
+GAP = 0.25  # the scaffold's triangles rest no smaller than equilateral with this fraction of the mean edge
+JUMP = 2.0  # the last repaired frame ends at most this many of the sequence's largest steps from the next
 WORK = 2_000_000  # Newton iterations x vertices for the whole repair; beyond it the repair gives up
 
 
-def repair_folds(frames, faces, accept=None):
+def repair_folds(frames, faces, accept=None, scaffold=None):
     """Frames with no flipped triangle, each as close to the given frame as that allows.
 
     Parameters
@@ -46,6 +51,16 @@ def repair_folds(frames, faces, accept=None):
         ``accept(k, x)`` with a repaired frame ``x`` (N,) complex: False
         stops the repair (`MethodError`), e.g. when the frame's outline
         crosses itself, which no repair of flips mends.
+    scaffold : callable, optional
+        ``scaffold(z)``: the empty space around the regions at positions
+        ``z`` (N,) complex, triangulated (a
+        `isotween.foldfree.scaffold.Scaffold`). Rebuilt before every
+        repaired frame where the pieces are then, its triangles join the
+        repair at weight `SCAFFOLD_WEIGHT` (per unit area, against the
+        regions'), each resting as the equilateral triangle of its area: a
+        barrier that resists squeezing, so a repaired frame is an embedding
+        and no two pieces overlap, while pieces can still slide past each
+        other from frame to frame.
 
     Returns
     -------
@@ -61,39 +76,64 @@ def repair_folds(frames, faces, accept=None):
     ------
     MethodError
         Frame 0 has a degenerate face, the last frame a flipped or degenerate
-        one, a Newton system cannot be solved, ``accept`` refused a frame, or
-        the repair needs more than `WORK` (Newton iterations times vertices).
+        one, a Newton system cannot be solved, ``accept`` refused a frame,
+        the repair needs more than `WORK` (Newton iterations times
+        vertices), or the last repaired frame ends more than `JUMP` times
+        the sequence's largest frame-to-frame step away from the next frame
+        (the repair could not follow the motion).
     """
     frames = np.asarray(frames, dtype=complex)
     f = np.asarray(faces, dtype=np.int64)
+    n = frames.shape[1]
     area0 = triangle_areas(frames[0], f)
     if np.any(area0 == 0):
         raise MethodError("the first frame has a degenerate triangle; its folds cannot be told")
     f = np.where((area0 < 0)[:, None], f[:, ::-1], f)  # every face positive in frame 0
     if np.any(triangle_areas(frames[-1], f) <= 0):
         raise MethodError("the last frame itself has flipped triangles: no fold-free way leads to it")
-    folded = [k for k in range(1, len(frames) - 1) if np.any(triangle_areas(frames[k], f) <= 0)]
+    folded = [k for k in range(1, len(frames) - 1) if np.any(triangle_areas(frames[k], f) <= 0)
+              or (accept is not None and not accept(k, frames[k]))]
     out = frames.copy()
     info = {"frames": [], "iterations": 0, "deviation": 0.0}
     if not folded:
         return out, info
-    energy = SymmetricDirichlet(frames[0], frames[0], f, np.zeros(frames.shape[1], dtype=bool))
-    everyone = np.arange(frames.shape[1])
+    share = np.abs(area0).sum()
+    energy = None if scaffold is not None else SymmetricDirichlet(frames[0], frames[0], f, np.zeros(n, bool))
+    state = frames[folded[0] - 1]
     for k in range(folded[0], folded[-1] + 1):
-        a = frames[k]
-        sides = a[np.roll(f, -1, axis=1)] - a[f]
-        energy.rest_lengths(np.abs(sides))
-        h2 = float(np.mean(np.abs(sides) ** 2))
-        energy.pull_towards(everyone, a, PULL * energy.least / (len(a) * h2))
-        step = a - frames[k - 1]
-        x = out[k - 1] + min(1.0, 0.9 * max_step(out[k - 1], step, f)) * step
+        a, joint = frames[k], f
+        if scaffold is not None:  # the space around the pieces, triangulated where they are now
+            try:
+                sc = scaffold(state)
+            except ShapeError as exc:
+                raise MethodError(f"no scaffold around frame {k - 1}: {exc}") from None
+            g = np.asarray(sc.faces, dtype=np.int64)
+            state = np.r_[state, sc.source]
+            a = np.r_[a, sc.follow(np.stack([state[:n], a]))[1]]
+            joint = np.r_[f, g]
+            weight = np.r_[np.ones(len(f)), np.full(len(g), SCAFFOLD_WEIGHT * share / triangle_areas(state, g).sum())]
+            energy = SymmetricDirichlet(state, state, joint, np.r_[np.zeros(n, bool), sc.fixed], weight)
+        sides = np.abs(a[np.roll(joint, -1, axis=1)] - a[joint])
+        h2 = float(np.mean(sides[:len(f)] ** 2))
+        # the scaffold rests as equilateral triangles of their area now, and no smaller than a fraction of
+        # the regions' edges: a barrier that resists squeezing, so pieces keep a little apart
+        sides[len(f):] = np.maximum(np.sqrt(4 / np.sqrt(3) * triangle_areas(state, joint[len(f):])),
+                                    GAP * np.sqrt(h2))[:, None]
+        energy.rest_lengths(sides)
+        energy.pull_towards(np.arange(n), a[:n], PULL * energy.least / (n * h2))
+        step = a - state
+        x = state + min(1.0, 0.9 * max_step(state, step, joint)) * step
         x, used = minimise(energy, x, MAX_ITER, tol=TOL)
-        out[k] = x
+        state = out[k] = x[:n]
         info["iterations"] += used
-        if info["iterations"] * len(a) > WORK:
+        if info["iterations"] * len(x) > WORK:
             raise MethodError(f"repairing the folds needs more than {WORK} Newton iterations x vertices")
-        if accept is not None and not accept(k, x):
+        if accept is not None and not accept(k, state):
             raise MethodError(f"repaired frame {k} is not accepted")
-        info["deviation"] = max(info["deviation"], float(np.abs(x - a).max()))
-    info["frames"] = list(range(folded[0], folded[-1] + 1))
+        info["deviation"] = max(info["deviation"], float(np.abs(state - frames[k]).max()))
+        info["frames"].append(k)
+    jump, stride = np.abs(frames[folded[-1] + 1] - state).max(), np.abs(np.diff(frames, axis=0)).max()
+    if jump > JUMP * stride:
+        raise MethodError(f"the repaired frames end {jump / stride:.2g} times the sequence's largest step "
+                          f"away from the next frame")
     return out, info
