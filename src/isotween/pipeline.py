@@ -419,7 +419,8 @@ def collapse_vanishing(seq, report):
 
     An item or hole that one drawing lacks grows from (shrinks to) a small
     copy; at its end it becomes one point (its centroid), so that the end
-    frame is the drawing exactly, with no speck.
+    frame is the drawing exactly, with no speck. A slit that opened a hole
+    into a notch is closed at its end (`correspondence.notches.close_slits`).
 
     Parameters
     ----------
@@ -427,11 +428,19 @@ def collapse_vanishing(seq, report):
         Changed in place.
     report : CorrespondenceReport or None
     """
-    if report is None or not getattr(report, "vanishing", None):
+    if report is None:
         return
-    for key, frame in zip(report.vanishing, (0, -1), strict=False):
+    import numpy as np
+
+    from .correspondence.notches import close_slits
+
+    for key, frame in zip(getattr(report, "vanishing", None) or [], (0, -1), strict=False):
         for idx in key:
             seq.frames[frame, idx] = seq.frames[frame, idx].mean(axis=0)
+    for slits, frame in zip(getattr(report, "slits", None) or [], (0, -1), strict=False):
+        if slits:
+            z = close_slits(seq.frames[frame, :, 0] + 1j * seq.frames[frame, :, 1], slits)
+            seq.frames[frame] = np.c_[z.real, z.imag]
 
 
 def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=None, correspond_options=None,

@@ -25,6 +25,7 @@ from . import regions as _regions
 from .alignment import align
 from .compatibility import as_shape, check_compatible
 from .matching import match_rings, project
+from .notches import open_holes
 from .resample import _counts, _Ring, resample
 
 __all__ = ["Correspondence", "CorrespondenceReport", "correspond", "correspond_keys", "mesh_outlines", "region_key",
@@ -72,6 +73,10 @@ class CorrespondenceReport:
         Per drawing, the vertices of each ring that is only a small copy
         there (an item or hole the drawing lacks): `isotween.morph` collapses
         them to a point in that drawing's frame, so nothing is left of it.
+    slits : list of list
+        Per drawing, the slits that opened a hole into the other drawing's
+        notch (`notches.open_holes`): `isotween.morph` closes them in that
+        drawing's frame (`notches.close_slits`).
     """
 
     unchanged: bool = False
@@ -87,6 +92,7 @@ class CorrespondenceReport:
     flipped: int = 0
     outlines: list = field(default_factory=list)
     vanishing: list = field(default_factory=list)
+    slits: list = field(default_factory=list)
 
     def summary(self):
         """One line saying what was done."""
@@ -102,6 +108,9 @@ class CorrespondenceReport:
                      "shrunk": "closed" if name == "holes" else shrunk}
             parts.append(f"{name} " + ", ".join(f"{counts[k]} {words[k]}" for k in ("paired", "grown", "shrunk")
                                                  if counts.get(k)))
+        for k, side in enumerate(("source", "target")):
+            if len(self.slits) > k and self.slits[k]:
+                parts.append(f"{len(self.slits[k])} {side} hole(s) opened into notches")
         pts = np.asarray(self.points)
         parts.append(f"{int(pts.sum())} points on {len(pts)} ring(s) ({int(pts.min())}-{int(pts.max())} each)")
         if self.meshes:
@@ -302,9 +311,10 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs, la
     frames = _regions.frames_of(items)
     if pairs is not None and len(shapes) != 2:
         raise ParameterError("pairs are for two drawings")
-    turn = None
+    turn, slits = None, []
     if len(shapes) == 2:
         frames, turn = align(items, frames)
+        items, slits = open_holes(items, frames)
     slots = _regions.plan(items, frames, pairs)
     per_key, closed, paint, layout, tiny = _fill_slots(items, frames, slots, unmatched)
     if landmarks is not None and len(shapes) != 2:
@@ -330,6 +340,7 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs, la
     report = CorrespondenceReport(keys=len(shapes), unmatched=unmatched, points=[int(c) for c in counts])
     _count_items(report, slots, len(shapes))
     report.vanishing = [[result[k].paths[r][0] for r in rings_k] for k, rings_k in enumerate(tiny)]
+    report.slits = slits
     return result, report
 
 

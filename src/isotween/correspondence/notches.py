@@ -1,0 +1,183 @@
+"""A hole that opens into a notch: its region cut open along a slit where the other drawing is empty.
+
+A closed lock's shackle encloses a hole; the open lock's shackle does not:
+the same empty space is a notch of the outline there. Shrinking the hole to
+nothing and growing the notch from nothing melts the drawing; the motion is
+the hole opening where the other drawing has a gap. So, before regions are
+paired, a hole of one drawing whose area lies mostly (`OPEN`) in a notch of
+the other drawing (inside its convex hull, outside its outlines, once the
+two are aligned: `alignment.align`) is
+joined to its region's outer ring by a slit of width `SLIT`: across the
+region's material where the other drawing is empty (the gap), else along
+the shortest bridge. The region's outer ring then runs into the slit, round
+the hole and out again, and is matched to the other drawing's notched
+outline like any ring. At its own end the slit is closed again
+(`close_slits`), so that end is the input drawing exactly.
+"""
+
+import numpy as np
+
+from ..geometry import ring_area
+from .regions import Item
+
+__all__ = ["open_holes", "close_slits", "OPEN", "SLIT"]
+
+OPEN = 0.5  # a hole with this share of its area in the other drawing's notches opens into one
+SLIT = 1e-3  # the slit's width, in bounding-box diagonals of the drawing
+CANDIDATES = 12  # places tried for the slit: the thinnest bridges from the hole to the outer ring
+SAMPLES = 256  # ring samples compared when choosing among them
+
+
+def open_holes(items, frames):
+    """The drawings' items with every hole that opens into a notch of the other drawing cut open.
+
+    Parameters
+    ----------
+    items : list (two drawings) of list of Item
+    frames : list of two `regions.Frame`
+        The drawings' aligned frames.
+
+    Returns
+    -------
+    items : list of list of Item
+        The same, a region whose hole opens having that hole joined to its
+        outer ring by a slit.
+    slits : list (per drawing) of list of (4,) complex
+        The slit's corners ``(outer_a, hole_a, hole_b, outer_b)`` and, as
+        the ring vertices they replace, the outer and hole vertices
+        ``(outer, hole)``: a list of ``(corners, (outer, hole))`` per drawing.
+    """
+    import shapely
+
+    out, slits = [list(items[0]), list(items[1])], [[], []]
+    for k in (0, 1):
+        other = 1 - k
+        outlines = [frames[other].to(frames[k], it.rings[0]) for it in items[other] if it.kind == "region"]
+        if not outlines:
+            continue
+        shapes = [_polygon(z) for z in outlines]
+        filled = shapely.unary_union(shapes)  # inside the other drawing's outer rings
+        notches = filled.convex_hull.difference(filled)  # its gaps: inside its hull, outside its outlines
+        every = np.concatenate([r for it in items[k] for r in it.rings])
+        width = SLIT * abs(complex(np.ptp(every.real), np.ptp(every.imag)))
+        for i, it in enumerate(out[k]):
+            if it.kind != "region" or len(it.rings) < 2:
+                continue
+            rings, paint = list(it.rings), list(it.paint)
+            region = _polygon(rings[0])
+            partner = outlines[int(np.argmax([region.intersection(p).area for p in shapes]))]
+            h = 1
+            while h < len(rings):
+                hole = _polygon(rings[h])
+                if hole.area > 0 and hole.intersection(notches).area >= OPEN * hole.area:
+                    cut = _slit(rings[0], rings[h], filled, width, partner)
+                    if cut is not None:
+                        rings[0], corners = cut
+                        slits[k].append(corners)
+                        del rings[h], paint[h]
+                        continue
+                h += 1
+            out[k][i] = Item(it.kind, rings, paint, it.index)
+    return out, slits
+
+
+def _polygon(z):
+    import shapely
+
+    return shapely.Polygon(np.c_[z.real, z.imag]).buffer(0)
+
+
+def _slit(outer, hole, filled, width, partner):
+    """The outer ring run into a slit round ``hole`` and out again, and the slit's corners; None if none fits.
+
+    Candidate bridges join a hole vertex to its nearest outer vertex, mostly
+    across the other drawing's gap (outside ``filled``): the shortest few,
+    not neighbours; of those, the cut ring most similar to
+    ``partner`` (the other drawing's outer ring there) wins: the largest
+    normalised cross-correlation of ring samples (`matching.correlation`).
+    """
+    import shapely
+
+    from .matching import correlation, points_at
+
+    d = np.abs(hole[:, None] - outer[None, :])
+    j_of = np.argmin(d, axis=1)  # the nearest outer vertex of every hole vertex
+    length = d[np.arange(len(hole)), j_of]
+    segments = shapely.linestrings(np.stack([np.c_[hole.real, hole.imag],
+                                             np.c_[outer[j_of].real, outer[j_of].imag]], axis=1))
+    across = shapely.length(shapely.difference(segments, filled)) >= OPEN * length
+    thin = []  # the shortest bridges across the gap, a few vertices apart
+    for i in np.flatnonzero(across)[np.argsort(length[across], kind="stable")]:
+        if len(thin) == CANDIDATES:
+            break
+        if all(min(abs(i - t), len(hole) - abs(i - t)) > 2 for t in thin):
+            thin.append(i)
+    area = abs(ring_area(outer)) - abs(ring_area(hole))
+    grid = np.arange(SAMPLES) / SAMPLES
+    if np.sign(ring_area(partner)) != np.sign(ring_area(outer)):
+        partner = partner[::-1]
+    target = points_at(partner, True, grid)
+    best, found = -np.inf, None
+    for i in thin:
+        cut = _spliced(outer, hole, int(j_of[i]), int(i), width)
+        if cut is None:
+            continue
+        poly = shapely.Polygon(np.c_[cut[0].real, cut[0].imag])
+        if not (poly.is_valid and abs(poly.area - area) <= 0.05 * area):
+            continue
+        score = np.abs(correlation(points_at(cut[0], True, grid), target)).max()
+        if score > best:
+            best, found = score, cut
+    return found
+
+
+def _spliced(outer, hole, j, i, width):
+    """``outer`` with a slit of about ``width`` from its vertex j to vertex i of ``hole``, round the hole and back.
+
+    The slit's four corners lie on the rings' own edges next to the two
+    vertices they replace, so closing the slit (`close_slits`) puts every
+    point of both rings back on the input outline.
+    """
+    o, h = outer[j], hole[i]
+    if o == h:
+        return None
+    n = 1j * (h - o) / abs(h - o)  # across the bridge
+    prev, nxt = outer[j - 1], outer[(j + 1) % len(outer)]
+    side = np.sign(((prev - o) / n).real) or 1.0  # the side of the bridge the outer ring comes from
+    hn, hp = hole[(i + 1) % len(hole)], hole[i - 1]
+    step = 1 if np.sign(((hn - h) / n).real) == side else -1  # round the hole from its side-a neighbour
+    ha_to, hb_to = (hn, hp) if step == 1 else (hp, hn)
+    if np.sign(((nxt - o) / n).real) == side or np.sign(((hb_to - h) / n).real) == side:
+        return None
+
+    def toward(a, b):
+        return a + (b - a) * min(0.5, width / 2 / abs(b - a))
+
+    oa, ob, ha, hb = toward(o, prev), toward(o, nxt), toward(h, ha_to), toward(h, hb_to)
+    around = hole[(i + step * np.arange(1, len(hole))) % len(hole)]
+    ring = np.r_[outer[:j], oa, ha, around, hb, ob, outer[j + 1:]]
+    return ring, ((oa, ha, hb, ob), (o, h))
+
+
+def close_slits(z, slits):
+    """Positions ``z`` (n,) complex with every slit closed: both its sides moved onto its centre line.
+
+    Parameters
+    ----------
+    z : (n,) complex
+        One end's vertex positions, whose slit sides are as `open_holes`
+        made them (resampling adds vertices along them).
+    slits : list of ((4,) complex, (2,) complex)
+        `open_holes`'s slits of that end.
+
+    Returns
+    -------
+    (n,) complex
+    """
+    z = np.array(z, dtype=complex)
+    for (oa, ha, hb, ob), (o, h) in slits:
+        for a, b in ((oa, ha), (ob, hb)):  # each side, from the outer ring to the hole
+            u = np.clip(((z - a) / (b - a)).real, 0.0, 1.0)
+            on = np.abs(a + u * (b - a) - z) <= 1e-9 * abs(b - a)
+            z[on] = o + u[on] * (h - o)
+    return z

@@ -1,0 +1,61 @@
+"""A hole that opens into a notch: 'O' into 'C' opens the O where the C has its gap.
+
+The O's hole lies in the C's notch, so the O is cut open along a slit across
+its material where the C is empty, and its outer ring, run round the hole,
+is matched to the C's outline: no hole shrinks away. At the O's end the
+slit is closed again, so frame 0 is the O exactly (same filled area, every
+input vertex in place).
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import isotween
+from isotween.correspondence import notches
+from isotween.geometry import ring_area
+
+ROOT = Path(__file__).resolve().parents[1]
+pytest.importorskip("shapely")
+
+
+def glyph_svg(char, path):
+    pytest.importorskip("matplotlib")
+    sys.path.insert(0, str(ROOT / "scripts"))
+    from build_examples import glyph
+
+    rings = glyph(char)
+    d = " ".join("M " + " L ".join(f"{x:.3f} {-y:.3f}" for x, y in r) + " Z" for r in rings)
+    path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg"><path fill-rule="evenodd" d="{d}"/></svg>')
+    return str(path)
+
+
+def test_o_opens_into_c(tmp_path):
+    o, c = glyph_svg("O", tmp_path / "o.svg"), glyph_svg("C", tmp_path / "c.svg")
+    seq = isotween.morph(o, c, frames=9)
+    assert "1 source hole(s) opened into notches" in seq.info["correspondence"]
+    shape = seq.shape
+    assert len(shape.paths) == 1 and len(shape.regions) == 1  # one ring: no hole shrinks away
+    z0 = seq.frames[0, :, 0] + 1j * seq.frames[0, :, 1]
+    ring = z0[shape.paths[0][0]]
+    area = abs(ring_area(np.c_[ring.real, ring.imag]))
+    drawing = isotween.io.load(o)
+    outer, hole = (drawing.vertices[idx] for idx, _ in drawing.paths)
+    assert area == pytest.approx(abs(ring_area(outer)) - abs(ring_area(hole)), rel=1e-9)  # the slit closed
+    for r in (outer, hole):  # every input vertex of the O is a vertex of frame 0
+        pts = r[:, 0] + 1j * r[:, 1]
+        assert np.abs(pts[:, None] - z0[None, :]).min(axis=1).max() < 1e-9
+
+
+def test_a_closed_slit_is_its_centre_line():
+    outer = np.array([0, 4, 4 + 4j, 4j], complex)
+    hole = np.array([1 + 1j, 1 + 3j, 3 + 3j, 3 + 1j], complex)  # clockwise
+    ring, ((oa, ha, hb, ob), (o, h)) = notches._spliced(outer, hole, 1, 3, 0.01)
+    inner = abs(ring_area(np.c_[hole.real, hole.imag]))
+    assert 16 - inner - 0.02 * abs(h - o) < abs(ring_area(np.c_[ring.real, ring.imag])) < 16 - inner
+    side = np.r_[ring, oa + 0.3 * (ha - oa)]  # a vertex resampling put on a side
+    closed = notches.close_slits(side, [((oa, ha, hb, ob), (o, h))])
+    assert abs(ring_area(np.c_[closed[:-1].real, closed[:-1].imag])) == pytest.approx(16 - inner, rel=1e-9)
+    assert closed[-1] == pytest.approx(o + 0.3 * (h - o))
