@@ -201,6 +201,28 @@ def ex_strokes():
     return check, cross
 
 
+#: a padlock drawn as one filled outline with the shackle's hole, closed and open (shackle lifted, one leg free)
+LOCK_BODY = "L 12.5 7 A 1.5 1.5 0 0 1 14 8.5 L 14 13.5 A 1.5 1.5 0 0 1 12.5 15 L 3.5 15 A 1.5 1.5 0 0 1 2 13.5 Z"
+LOCK = {
+    "closed": "M 2 8.5 A 1.5 1.5 0 0 1 3.5 7 L 3.5 5 A 4.5 4.5 0 0 1 12.5 5 " + LOCK_BODY
+              + " M 5 7 L 5 5 A 3 3 0 0 1 11 5 L 11 7 Z",
+    "open": "M 2 8.5 A 1.5 1.5 0 0 1 3.5 7 L 3.5 2.5 A 4.5 4.5 0 0 1 12.5 2.5 L 12.5 4.5 L 11 4.5 L 11 2.5 "
+            "A 3 3 0 0 0 5 2.5 L 5 7 " + LOCK_BODY,
+}
+
+
+def ex_lock():
+    """A padlock opens: the hole inside the closed shackle opens into the open one's notch (read as SVG drawings)."""
+    shapes = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in ("closed", "open"):
+            path = Path(tmp) / f"{name}.svg"
+            path.write_text('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 -3 16 19">'
+                            f'<path fill-rule="evenodd" d="{LOCK[name]}"/></svg>')
+            shapes.append(io.load(path))
+    return shapes[0], shapes[1]
+
+
 def ex_curls():
     a, b = curl(60, 1.6, 0.12), curl(60, 1.1, 0.12, sign=-1.0)
     straight_a = np.c_[np.arange(60) * 0.12, np.zeros(60)]
@@ -260,6 +282,8 @@ EXAMPLES = [
              "in-between is the turned glyph", ex_turn, "correspond", {"frames": 13}),
     ("strokes", "line icons with no options: a check mark becomes a cross, its second stroke growing out of the first",
      ex_strokes, "correspond", {"frames": 13}),
+    ("lock", "a padlock opens with no options: the hole inside the shackle opens into the open lock's notch",
+     ex_lock, "correspond", {"frames": 13}),
     ("curls", "two open polylines curling into spirals, one by 1.6 turns, one by 1.1 the other way",
      ex_curls, None, {"frames": 17}),
     ("hopper", "a textured mesh: Grace Hopper's photograph bends and waves",
@@ -322,9 +346,9 @@ def main_build(only=None):
     for name in isotween.examples.names():
         if only and name not in only:
             continue
-        src, tgt, options = isotween.examples.load_example(name)
-        texture = options.pop("texture", None)
-        seq = with_paint(isotween.interpolate(src, tgt, **options), **isotween.examples.example_paint(name))
+        texture = isotween.examples.example_options(name).get("texture")
+        seq = with_paint(isotween.examples.interpolate_example(name), **isotween.examples.example_paint(name))
+        src = seq.shape
         picked = np.unique(np.round(np.linspace(0, len(seq) - 1, 6)).astype(int))
         write_strip(seq, GALLERY / f"{name}.png", frames=picked, texture=texture, cell=200)
         if (GALLERY / f"{name}.png").stat().st_size > 140 * 1024:  # the README budget is 150 KiB a strip

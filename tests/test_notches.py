@@ -59,3 +59,17 @@ def test_a_closed_slit_is_its_centre_line():
     closed = notches.close_slits(side, [((oa, ha, hb, ob), (o, h))])
     assert abs(ring_area(np.c_[closed[:-1].real, closed[:-1].imag])) == pytest.approx(16 - inner, rel=1e-9)
     assert closed[-1] == pytest.approx(o + 0.3 * (h - o))
+
+
+def test_the_gallery_lock_opens_its_shackle_and_keeps_its_body():
+    from isotween import examples
+    from isotween.metrics import flipped_faces, outline_crossings
+
+    seq = examples.interpolate_example("lock")
+    assert "1 source hole(s) opened into notches" in seq.info["correspondence"]
+    assert flipped_faces(seq) == 0 and not outline_crossings(seq).any()
+    body = np.flatnonzero(seq.frames[0, :, 1] > 13.5)  # the body's lower part, the same in both drawings
+    moved = np.linalg.norm(seq.frames[:, body] - seq.frames[0, body], axis=-1).max()
+    assert moved < 0.01 * seq.shape.bbox_diagonal()
+    lifted = seq.frames[:, :, 1].min(axis=1)  # the shackle's top rises steadily by 2.5 (y down)
+    assert np.all(np.diff(lifted) < 0) and lifted[0] - lifted[-1] == pytest.approx(2.5, abs=1e-6)

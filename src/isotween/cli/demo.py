@@ -22,8 +22,6 @@ def demo_command(name, outdir, list_names, quiet, fill, stroke, stroke_width, **
 
     Writes OUTDIR/NAME.gif and OUTDIR/NAME.html.
     """
-    from .. import interpolate
-
     try:
         from .. import examples
     except ImportError:
@@ -45,11 +43,11 @@ def demo_command(name, outdir, list_names, quiet, fill, stroke, stroke_width, **
     if not folder.parent.is_dir():
         raise FileFormatError(f"cannot create {folder}: {folder.parent} does not exist")
     elapsed = timer()
-    source, target, options = examples.load_example(name)
+    options = examples.example_options(name)
     kwargs = {k: options[k] for k in SOLVER_KEYS if k in options}
     texture = options.get("texture")
     with progress(quiet) as callback:
-        seq = interpolate(source, target, callback=callback, **kwargs)
+        seq = examples.interpolate_example(name, callback=callback, **kwargs)
     colours = {k: v for k, v in (("fill", fill), ("stroke", stroke), ("stroke_width", stroke_width)) if v is not None}
     seq = with_paint(seq, **(colours or examples.example_paint(name)))
     render["title"] = render["title"] or f"isotween demo: {name}"

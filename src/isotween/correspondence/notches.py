@@ -6,7 +6,8 @@ nothing and growing the notch from nothing melts the drawing; the motion is
 the hole opening where the other drawing has a gap. So, before regions are
 paired, a hole of one drawing whose area lies mostly (`OPEN`) in a notch of
 the other drawing (inside its convex hull, outside its outlines, once the
-two are aligned: `alignment.align`) is
+two are aligned: `alignment.align`) not much larger than the hole (`ROOM`)
+is
 joined to its region's outer ring by a slit of width `SLIT`: across the
 region's material where the other drawing is empty (the gap), else along
 the shortest bridge. The region's outer ring then runs into the slit, round
@@ -22,7 +23,8 @@ from .regions import Item
 
 __all__ = ["open_holes", "close_slits", "OPEN", "SLIT"]
 
-OPEN = 0.5  # a hole with this share of its area in the other drawing's notches opens into one
+OPEN = 0.5  # a hole with this share of its area in a notch of the other drawing opens into it
+ROOM = 2.0  # ... if the notch is at most this many times as large as the hole
 SLIT = 1e-3  # the slit's width, in bounding-box diagonals of the drawing
 CANDIDATES = 12  # places tried for the slit: the thinnest bridges from the hole to the outer ring
 SAMPLES = 256  # ring samples compared when choosing among them
@@ -69,7 +71,7 @@ def open_holes(items, frames):
             h = 1
             while h < len(rings):
                 hole = _polygon(rings[h])
-                if hole.area > 0 and hole.intersection(notches).area >= OPEN * hole.area:
+                if hole.area > 0 and _opens(hole, notches):
                     cut = _slit(rings[0], rings[h], filled, width, partner)
                     if cut is not None:
                         rings[0], corners = cut
@@ -79,6 +81,13 @@ def open_holes(items, frames):
                 h += 1
             out[k][i] = Item(it.kind, rings, paint, it.index)
     return out, slits
+
+
+def _opens(hole, notches):
+    """Whether ``hole`` lies mostly (`OPEN`) in one notch no larger than `ROOM` times itself."""
+    parts = getattr(notches, "geoms", [notches])
+    return any(part.area <= ROOM * hole.area and hole.intersection(part).area >= OPEN * hole.area
+               for part in parts)
 
 
 def _polygon(z):
@@ -105,12 +114,13 @@ def _slit(outer, hole, filled, width, partner):
     length = d[np.arange(len(hole)), j_of]
     segments = shapely.linestrings(np.stack([np.c_[hole.real, hole.imag],
                                              np.c_[outer[j_of].real, outer[j_of].imag]], axis=1))
-    across = shapely.length(shapely.difference(segments, filled)) >= OPEN * length
-    thin = []  # the shortest bridges across the gap, a few vertices apart
+    inner = filled.buffer(-width)  # a bridge along the other drawing's outline runs in its gap too
+    across = shapely.length(shapely.difference(segments, inner)) >= OPEN * length
+    thin = []  # the shortest bridges across the gap, each farther from the others than it is long
     for i in np.flatnonzero(across)[np.argsort(length[across], kind="stable")]:
         if len(thin) == CANDIDATES:
             break
-        if all(min(abs(i - t), len(hole) - abs(i - t)) > 2 for t in thin):
+        if all(abs(hole[i] - hole[t]) > length[i] for t in thin):
             thin.append(i)
     area = abs(ring_area(outer)) - abs(ring_area(hole))
     grid = np.arange(SAMPLES) / SAMPLES

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from ..errors import ParameterError
 
-__all__ = ["names", "describe", "load_example", "example_paint"]
+__all__ = ["names", "describe", "load_example", "example_options", "interpolate_example", "example_paint"]
 
 DATA = Path(__file__).with_name("data")
 
@@ -98,7 +98,50 @@ def load_example(name):
         source, target = resample(source, target, points=entry["resample"])
     if "correspond" in entry:
         source, target, _ = correspond(source, target, **entry["correspond"])
+    return source, target, example_options(name)
+
+
+def example_options(name):
+    """An example's keyword arguments of `isotween.interpolate` (``frames``, ...) and its ``texture`` path, if any."""
+    entry = _entry(name)
     options = dict(entry.get("options", {}))
     if entry.get("texture"):
         options["texture"] = str(DATA / entry["texture"])
-    return source, target, options
+    return options
+
+
+def interpolate_example(name, **options):
+    """An example's in-between sequence, made as `isotween.morph` makes one for two drawings.
+
+    Examples with a ``correspond`` entry go through the whole pipeline
+    (`isotween.pipeline.morph`): correspondence, the fold fallback, and their
+    ends made the input drawings exactly (pieces that vanish collapsed,
+    holes opened into notches closed again), which `load_example`'s
+    compatible shapes alone do not give; the others are interpolated as
+    `load_example` gives them.
+
+    Parameters
+    ----------
+    name : str
+        One of `names`.
+    **options
+        Keyword arguments of `isotween.interpolate` (``callback``, ...);
+        the example's own (``frames``, ...) are used unless given.
+
+    Returns
+    -------
+    Sequence
+    """
+    from ..interpolate import interpolate
+    from ..io import load
+
+    entry = _entry(name)
+    options = {**entry.get("options", {}), **options}
+    options.pop("texture", None)
+    if "correspond" in entry:
+        from ..pipeline import morph
+
+        return morph(load(DATA / entry["source"]), load(DATA / entry["target"]), correspondence="always",
+                     correspond_options=entry["correspond"], fold="fallback", **options)
+    source, target, _ = load_example(name)
+    return interpolate(source, target, **options)
