@@ -31,7 +31,7 @@ __all__ = ["repair_folds", "GAP", "JUMP", "PULL", "MAX_ITER", "SCAFFOLD_WEIGHT",
 
 PULL = 1.0  # weight of the pull to the folding frame, in units of the least energy per vertex and squared edge
 MAX_ITER = 30  # Newton iterations per frame at most
-TOL = 1e-3  # stop when an iteration lowers the energy above its least value by less than this fraction
+TOL = 1e-2  # stop when an iteration lowers the energy above its least value by less than this fraction
 SCAFFOLD_WEIGHT = 0.1  # the scaffold's symmetric Dirichlet per unit area, against the regions'
 GAP = 0.25  # the scaffold's triangles rest no smaller than equilateral with this fraction of the mean edge
 JUMP = 2.0  # the last repaired frame ends at most this many of the sequence's largest steps from the next
