@@ -1164,3 +1164,22 @@ def test_winding_numbers_match_the_dense_crossing_count(monkeypatch, chunk):
         rings = [np.round(rng.normal(size=(rng.integers(3, 9), 2)) * 3) / 2 for _ in range(rng.integers(1, 6))]
         points = np.vstack([np.round(rng.normal(size=(20, 2)) * 3) / 2, np.vstack(rings)[:4]])
         np.testing.assert_array_equal(geometry.winding_numbers(points, rings), dense(points, rings))
+
+
+@pytest.mark.parametrize("signal_error, code", [("_Terminated", 143), ("KeyboardInterrupt", 130)])
+def test_a_signal_inside_an_import_exits_as_that_signal(tmp_path, monkeypatch, signal_error, code):
+    # Python wraps an exception raised while a class body is set up (a module being imported
+    # when SIGTERM arrives) in a RuntimeError; the command still ends as the signal, in one line
+    from isotween import cli
+
+    def load(*args, **kwargs):
+        try:
+            raise getattr(cli, signal_error, KeyboardInterrupt)()
+        except BaseException as exc:
+            raise RuntimeError("Error calling __set_name__") from exc
+
+    monkeypatch.setattr(isotween.io, "load", load)
+    shape = tmp_path / "a.json"
+    isotween.io.save(isotween.Shape.from_polygon([[0, 0], [1, 0], [0, 1]]), shape)
+    result = CliRunner().invoke(cli.main, ["info", str(shape)])
+    assert result.exit_code == code and "Traceback" not in result.output

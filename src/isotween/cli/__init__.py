@@ -170,6 +170,13 @@ class _Group(click.Group):
             _fail("out of memory; use fewer frames or vertices, or a smaller --max-memory to be refused earlier", 2)
         except RecursionError:
             _fail("input nested too deeply", 2)
+        except RuntimeError as exc:  # a signal that arrived inside an import comes wrapped (e.g. in __set_name__)
+            cause = exc.__cause__ or exc.__context__
+            if isinstance(cause, _Terminated):
+                _fail("terminated; no output was written", 143)
+            if isinstance(cause, KeyboardInterrupt):
+                _fail("interrupted; no output was written", 130)
+            raise
         except OSError as exc:
             where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
             _fail(f"{where}{exc.strerror or exc}", 2)
