@@ -212,7 +212,7 @@ def _fallback(seq, source, target, t, options):
     """``seq``; where an in-between frame folds or collides, its folding frames repaired, else the fold-free morph.
 
     A frame folds where a triangle flips or a region's outline crosses
-    itself, and collides where two pieces that last cross each other
+    itself, and collides where two separate pieces cross each other
     (`_crossed`). First `isotween.foldfree.repair.repair_folds` with the
     scaffold around the pieces (`isotween.foldfree.scaffold`): the frames
     moved as little as no flip in the regions or in the empty space around
@@ -290,18 +290,21 @@ def _crossed(shape, ends):
     from .foldfree.scaffold import separate_regions
 
     edges, group = metrics.outline_edges(shape, scope="region")
+
+    def within(z):
+        return metrics.crossing_pairs(z, edges, group)
+
     if group is None:
-        return (lambda z: metrics.crossing_pairs(z, edges, None)), (lambda z: 0)
+        return within, (lambda z: 0)
     solid = np.isin(group, len(shape.paths) + np.array(separate_regions(shape, ends), dtype=np.int64))
-    pieces = edges[solid]
-    owner = group[solid]
+    pieces, owner = edges[solid], group[solid]
 
     def across(z):
         return metrics.crossing_pairs(z, pieces) - metrics.crossing_pairs(z, pieces, owner)
 
     if not len(pieces) or any(across(z) for z in ends):
-        return (lambda z: metrics.crossing_pairs(z, edges, group)), (lambda z: 0)
-    return (lambda z: metrics.crossing_pairs(z, edges, group)), across
+        return within, (lambda z: 0)
+    return within, across
 
 
 def _scaffold(shape, z):

@@ -8,17 +8,17 @@ maps", 2017) closes that gap: the regions' triangles and the scaffold's
 together tile a fixed box, so a frame where none of them flips is an
 embedding, and no two outline edges of the drawing cross.
 
-The empty space of the source is cut into polygons with holes, each
-triangulated on its own (constrained Delaunay, refined to the box's
-spacing):
+The empty space is cut into polygons with holes, each triangulated on its
+own (constrained Delaunay, refined to the box's spacing):
 
 - the box around every frame (ring 0) with the outer rings of the regions
   that lie in no hole as its holes;
 - every hole of a region, with the outer rings of the regions inside it.
 
-The scaffold exists at the source only; `isotween.foldfree.repair` carries
-it along the frames (a frame's guess is `follow`: the harmonic extension of
-the regions' motion), and keeps it from flipping where the regions need room.
+`isotween.foldfree.repair` triangulates it afresh where the pieces are
+before every frame it repairs (so pieces can slide past each other), moves
+it towards the next frame by `Scaffold.follow` (the harmonic extension of
+the pieces' motion), and keeps it from flipping where they need room.
 """
 
 from typing import NamedTuple
@@ -57,8 +57,8 @@ class Scaffold(NamedTuple):
         """(T, S) scaffold positions that follow the regions' frames (T, N) complex.
 
         The harmonic extension (uniform weights) of the regions' motion
-        from the source: exact at the source, a guess elsewhere, which may
-        flip triangles.
+        from ``frames[0]``, the positions the scaffold was built at: exact
+        there, a guess elsewhere, which may flip triangles.
         """
         from scipy.sparse import coo_matrix
         from scipy.sparse.linalg import splu
@@ -133,7 +133,7 @@ def scaffold(shape, z, box, regions=None):
         The box ring around them (`box_around`).
     regions : list of int, optional
         The regions to hold apart (default all; `separate_regions` leaves
-        out those that vanish or grow from nothing).
+        out those that lie on another at an end).
 
     Returns
     -------
