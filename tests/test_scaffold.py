@@ -76,17 +76,3 @@ def test_a_piece_that_starts_on_another_is_left_out():
     z1 = np.r_[z0[:4], moved[:, 0] + 1j * moved[:, 1]]
     assert separate_regions(shape, np.stack([z0, z1])) == [0]  # the small square splits off the big one
     assert separate_regions(shape, np.stack([z1, z1])) == [0, 1]
-
-
-def test_a_piece_that_passes_through_another_is_not_scaffolded(turning_bar):
-    from isotween.foldfree.scaffold import passes_through
-
-    a, b = turning_bar
-    aiap = isotween.interpolate(a, b, frames=9, fold="allow")
-    z = aiap.frames[..., 0] + 1j * aiap.frames[..., 1]
-    assert not passes_through(aiap.shape, z, range(len(aiap.shape.regions)))  # it only grazes the squares
-    square = rect(0, 0, 1, 1)
-    shape = isotween.Shape.from_paths([square, square + [3.0, 0.0]], regions=[[0], [1]])
-    z0 = shape.vertices[:, 0] + 1j * shape.vertices[:, 1]
-    through = np.stack([np.r_[z0[:4] + 1.5 * t, z0[4:]] for t in np.linspace(0, 4, 9)])  # slides through
-    assert passes_through(shape, through, [0, 1])

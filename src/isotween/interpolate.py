@@ -214,8 +214,7 @@ def _fallback(seq, source, target, t, options):
     A frame folds where a triangle flips or a region's outline crosses
     itself, and collides where two separate pieces cross each other
     (`_crossed`). First `isotween.foldfree.repair.repair_folds` with the
-    scaffold around the pieces (`isotween.foldfree.scaffold`; not where a
-    piece passes through another, which a barrier cannot route): the frames
+    scaffold around the pieces (`isotween.foldfree.scaffold`): the frames
     moved as little as no flip in the regions or in the empty space around
     them allows. Where that cannot follow the motion: collisions alone are
     kept; folds are repaired in the regions only, and if a repaired frame
@@ -238,9 +237,8 @@ def _fallback(seq, source, target, t, options):
     folded = (f"{seq.method} folded in {int(np.count_nonzero(bad))} of {len(t) - 2} in-between frames "
               f"({int(flips.sum())} flipped triangles, {int(crossings.sum() + collisions.sum())} outline crossings)")
     attempts = []  # (scaffold, accept): with the scaffold around the pieces, then the regions alone
-    scaffold = _scaffold(seq.shape, z) if seq.shape.faces is not None and seq.shape.regions else None
-    if scaffold is not None:
-        attempts.append((scaffold, lambda k, x: not (within(x) or across(x))))
+    if seq.shape.faces is not None and seq.shape.regions:
+        attempts.append((_scaffold(seq.shape, z), lambda k, x: not (within(x) or across(x))))
     if seq.shape.faces is not None and (flips.any() or crossings.any()):
         attempts.append((None, lambda k, x: not within(x)))
     started = time.perf_counter()
@@ -310,15 +308,10 @@ def _crossed(shape, ends):
 
 
 def _scaffold(shape, z):
-    """``scaffold(x)``: the space around ``shape``'s separate pieces at ``x``, in a box around frames ``z``.
-
-    None where one piece passes through another in ``z`` (`foldfree.scaffold.passes_through`).
-    """
-    from .foldfree.scaffold import box_around, passes_through, scaffold, separate_regions
+    """``scaffold(x)``: the space around ``shape``'s separate pieces at ``x``, in a box around frames ``z``."""
+    from .foldfree.scaffold import box_around, scaffold, separate_regions
 
     keep = separate_regions(shape, z[[0, -1]])
-    if passes_through(shape, z[1:-1], keep):
-        return None
     box = box_around(z)
     return lambda x: scaffold(shape, x, box, keep)
 

@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import ShapeError
 from ..geometry import bbox_diagonal, edge_table
 
-__all__ = ["Scaffold", "box_around", "passes_through", "scaffold", "separate_regions", "MARGIN", "BOX_SIDE"]
+__all__ = ["Scaffold", "box_around", "scaffold", "separate_regions", "MARGIN", "BOX_SIDE"]
 
 MARGIN = 0.5  # the box lies this far (in bounding-box diagonals of all frames) around every frame
 BOX_SIDE = 6  # vertices on each side of the box (corners included once)
@@ -105,35 +105,6 @@ def separate_regions(shape, ends):
             if any(j != i and polys[j].contains(point) for j in range(len(regions))):
                 keep.discard(i)
     return sorted(keep)
-
-
-def passes_through(shape, frames, regions):
-    """Whether, in some frame, the centre of one of ``regions`` lies inside another of them.
-
-    Pieces whose motion takes one through another cannot be held apart by
-    a barrier that only keeps them from touching (they would be stopped, not
-    routed round): the scaffold is not tried on them.
-
-    Parameters
-    ----------
-    shape : Shape
-    frames : (T, N) complex
-    regions : list of int
-        Indices into ``shape.regions``.
-    """
-    from ..geometry import winding_numbers
-
-    rings = [np.asarray(shape.paths[shape.regions[i][0]][0]) for i in regions]
-    if len(rings) < 2:
-        return False
-    for z in np.asarray(frames, dtype=complex):
-        centres = np.array([z[r].mean() for r in rings])
-        wind = np.asarray(winding_numbers(np.c_[centres.real, centres.imag], [np.c_[z[r].real, z[r].imag]
-                                                                           for r in rings]))
-        np.fill_diagonal(wind, 0)
-        if wind.any():
-            return True
-    return False
 
 
 def box_around(frames):
