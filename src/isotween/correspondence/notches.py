@@ -7,13 +7,12 @@ the hole opening where the other drawing has a gap. So, before regions are
 paired, a hole of one drawing whose area lies mostly (`OPEN`) in a notch of
 the other drawing (inside its convex hull, outside its outlines, once the
 two are aligned: `alignment.align`) not much larger than the hole (`ROOM`)
-is
-joined to its region's outer ring by a slit of width `SLIT`: across the
-region's material where the other drawing is empty (the gap), else along
-the shortest bridge. The region's outer ring then runs into the slit, round
-the hole and out again, and is matched to the other drawing's notched
-outline like any ring. At its own end the slit is closed again
-(`close_slits`), so that end is the input drawing exactly.
+is joined to its region's outer ring by a slit of width `SLIT`, across the
+region's material where the other drawing is empty (the gap). The region's
+outer ring then runs into the slit, round the hole and out again, and is
+matched to the other drawing's notched outline like any ring. At its own
+end the slit is closed again (`close_slits`), so that end fills exactly
+the input drawing's area.
 """
 
 import numpy as np
@@ -21,7 +20,7 @@ import numpy as np
 from ..geometry import ring_area
 from .regions import Item
 
-__all__ = ["open_holes", "close_slits", "OPEN", "SLIT"]
+__all__ = ["open_holes", "close_slits", "OPEN", "ROOM", "SLIT"]
 
 OPEN = 0.5  # a hole with this share of its area in a notch of the other drawing opens into it
 ROOM = 2.0  # ... if the notch is at most this many times as large as the hole
@@ -44,10 +43,9 @@ def open_holes(items, frames):
     items : list of list of Item
         The same, a region whose hole opens having that hole joined to its
         outer ring by a slit.
-    slits : list (per drawing) of list of (4,) complex
-        The slit's corners ``(outer_a, hole_a, hole_b, outer_b)`` and, as
-        the ring vertices they replace, the outer and hole vertices
-        ``(outer, hole)``: a list of ``(corners, (outer, hole))`` per drawing.
+    slits : list (per drawing) of list of ((4,) complex, (2,) complex)
+        Per slit, its corners ``(outer_a, hole_a, hole_b, outer_b)`` and
+        the outer and hole vertices they replace, ``(outer, hole)``.
     """
     import shapely
 
