@@ -75,7 +75,7 @@ def edge_rotations(shape, e0, e1):
         p = (u1 * np.conj(v0) - v1 * np.conj(u0)) / det
         q = (v1 * u0 - u1 * v0) / det
         kept = np.abs(p) > np.abs(q)  # a face turned over has no rotation: its sides follow the edge tree
-        phi = _unwrapped(np.angle(p), _face_tree(shape, kept))
+        phi = _unwrapped(np.angle(p), _face_tree(edge, shape.n_edges, kept))
         raw = np.angle(np.asarray(e1) / np.asarray(e0))
         ref = np.full(shape.n_edges, np.nan)
         ref[edge[kept].ravel()] = np.repeat(phi[kept], 3)
@@ -96,8 +96,10 @@ def _face_edges(shape):
     return idx.reshape(-1, 3), sign.reshape(-1, 3)
 
 
-def _face_tree(shape, kept):
+def _face_tree(edge, n_edges, kept):
     """(F,) parent of every face in a breadth-first tree of ``kept`` faces adjacent across a side.
+
+    ``edge`` (F, 3) are the faces' sides as edge indices (`_face_edges`), of ``n_edges`` in all.
 
     One root per connected component of the kept faces, its lowest face, all
     joined to a virtual root node that the traversal starts from; roots and
@@ -106,10 +108,9 @@ def _face_tree(shape, kept):
     import scipy.sparse as sp
     from scipy.sparse.csgraph import breadth_first_order, connected_components
 
-    edge, _ = _face_edges(shape)
     F = len(edge)
     side = sp.csr_matrix((np.repeat(kept, 3).astype(float), (np.repeat(np.arange(F), 3), edge.ravel())),
-                         shape=(F, shape.n_edges))
+                         shape=(F, n_edges))
     side.eliminate_zeros()
     adjacency = (side @ side.T).tocoo()
     first = np.unique(connected_components(adjacency, directed=False)[1], return_index=True)[1]
