@@ -33,7 +33,7 @@ PULL = 1.0  # weight of the pull to the folding frame, in units of the least ene
 MAX_ITER = 30  # Newton iterations per frame at most
 TOL = 1e-2  # stop when an iteration lowers the energy above its least value by less than this fraction
 SCAFFOLD_WEIGHT = 0.1  # the scaffold's symmetric Dirichlet per unit area, against the regions'
-GAP = 0.25  # the scaffold's triangles rest no smaller than equilateral with this fraction of the mean edge
+GAP = 0.25  # the scaffold's triangles rest no smaller than an equilateral one with this fraction of the mean edge
 JUMP = 2.0  # the last repaired frame ends at most this many of the sequence's largest steps from the next
 WORK = 2_000_000  # Newton iterations x vertices for the whole repair; beyond it the repair gives up
 
@@ -57,10 +57,10 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
         `isotween.foldfree.scaffold.Scaffold`). Rebuilt before every
         repaired frame where the pieces are then, its triangles join the
         repair at weight `SCAFFOLD_WEIGHT` (per unit area, against the
-        regions'), each resting as the equilateral triangle of its area: a
-        barrier that resists squeezing, so a repaired frame is an embedding
-        and no two pieces overlap, while pieces can still slide past each
-        other from frame to frame.
+        regions'), each resting as it is, grown to at least a small area
+        (`GAP`): a barrier that pushes nothing but resists squeezing, so a
+        repaired frame is an embedding and no two pieces overlap, while
+        pieces can still slide past each other from frame to frame.
 
     Returns
     -------
@@ -115,10 +115,12 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
             energy = SymmetricDirichlet(state, state, joint, np.r_[np.zeros(n, bool), sc.fixed], weight)
         sides = np.abs(a[np.roll(joint, -1, axis=1)] - a[joint])
         h2 = float(np.mean(sides[:len(f)] ** 2))
-        # the scaffold rests as equilateral triangles of their area now, and no smaller than a fraction of
-        # the regions' edges: a barrier that resists squeezing, so pieces keep a little apart
-        sides[len(f):] = np.maximum(np.sqrt(4 / np.sqrt(3) * triangle_areas(state, joint[len(f):])),
-                                    GAP * np.sqrt(h2))[:, None]
+        # the scaffold rests as it is now, grown to at least the area of an equilateral triangle with a
+        # fraction of the regions' mean edge: a barrier that pushes nothing but resists squeezing
+        g = joint[len(f):]
+        area = triangle_areas(state, g)
+        grow = np.sqrt(np.maximum(1.0, np.sqrt(3) / 4 * GAP ** 2 * h2 / area))
+        sides[len(f):] = np.abs(state[np.roll(g, -1, axis=1)] - state[g]) * grow[:, None]
         energy.rest_lengths(sides)
         energy.pull_towards(np.arange(n), a[:n], PULL * energy.least / (n * h2))
         step = a - state
