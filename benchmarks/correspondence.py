@@ -272,8 +272,10 @@ def _warm(job):
     """Load isotween and numba's kernels in a new worker by one untimed morph (of the first pair)."""
     import isotween
     from isotween.batch import single_threaded
+    from isotween.optimisation import backend
 
     single_threaded()  # as `isotween batch` runs its workers: the workers share the cores
+    backend.long_lived()  # as a batch worker or the studio: numba's kernels for every pair
 
     _, a_file, b_file, n_frames = job
     with warnings.catch_warnings(), tempfile.TemporaryDirectory() as tmp:
@@ -289,6 +291,7 @@ def run_isotween(job):
     """One pair through ``isotween.morph`` with no options but the frame count (in a worker process)."""
     import isotween
     from isotween.batch import single_threaded
+    from isotween.optimisation import backend
 
     _instrument()
     single_threaded()

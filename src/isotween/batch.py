@@ -233,6 +233,10 @@ def job_key(job):
 def run_job(job):
     """Run one job in this process; never raises.
 
+    The process runs a batch's jobs, so each of them runs on numba's kernels,
+    loaded by the first (`isotween.optimisation.backend.long_lived`): a job
+    gives the same frames in every runner.
+
     Parameters
     ----------
     job : dict
@@ -253,9 +257,11 @@ def run_job(job):
         from . import interpolate
         from .correspondence import check_compatible, mesh_pair, resample
         from .io import load
+        from .optimisation import backend
         from .outputs import write_output
         from .pipeline import morph
 
+        backend.long_lived()
         opts = dict(job["options"])
         points, area, fmt = opts.pop("resample", None), opts.pop("mesh", None), opts.pop("format", None)
         if points is None and area is None:  # the library's pipeline: any two inputs, as `isotween interpolate`

@@ -15,6 +15,7 @@ from ._validate import is_int
 from .correspondence.compatibility import as_shape, check_compatible
 from .errors import MethodError
 from .initialisation import INITIALISERS
+from .optimisation import backend
 from .optimisation.global_solver import LINEAR_SOLVERS
 from .optimisation.local_solver import ASSEMBLY
 from .optimisation.problem import DEFAULT_TOL, Result, bbox_diagonal
@@ -175,10 +176,12 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         result = Result(np.array([z0, z1]).T)
     else:
         t0 = time.perf_counter()
-        problem = keyed_problem([source, target], t, np.array([0, len(t) - 1]), init=init, scheme=scheme,
-                                tol=tol, max_iter=max_iter, diagonal=diag)
-        init_time = time.perf_counter() - t0
-        result = solve(problem, solver=solver, assembly=assembly, linear_solver=linear_solver, callback=callback)
+        with backend.sized(top.n_edges * len(t)):
+            problem = keyed_problem([source, target], t, np.array([0, len(t) - 1]), init=init, scheme=scheme,
+                                    tol=tol, max_iter=max_iter, diagonal=diag)
+            init_time = time.perf_counter() - t0
+            result = solve(problem, solver=solver, assembly=assembly, linear_solver=linear_solver,
+                           callback=callback)
         result.timings = {"init": init_time, **result.timings}
     result.timings["total"] = time.perf_counter() - start
     seq = result.sequence(source, t, method="aiap", scheme=scheme,

@@ -13,6 +13,7 @@ from .correspondence.compatibility import as_shape, check_compatible
 from .easing import eased_times
 from .errors import ParameterError
 from .interpolate import interpolate
+from .optimisation import backend
 from .optimisation.local_solver import ASSEMBLY
 from .optimisation.problem import DEFAULT_TOL, bbox_diagonal
 from .optimisation.schemes import SCHEMES
@@ -148,8 +149,9 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
             seq.info["correspondence"] = summary
         return seq
     diag = bbox_diagonal(*(s.vertices for s in shapes))
-    problem = keyed_problem(shapes, t, idx, init=init, scheme=scheme, tol=tol, max_iter=max_iter, diagonal=diag)
-    result = solve(problem, assembly=assembly, smooth=smooth, callback=callback)
+    with backend.sized(shapes[0].n_edges * len(t)):
+        problem = keyed_problem(shapes, t, idx, init=init, scheme=scheme, tol=tol, max_iter=max_iter, diagonal=diag)
+        result = solve(problem, assembly=assembly, smooth=smooth, callback=callback)
     del result.timings["solve"]
     result.timings["total"] = time.perf_counter() - start
     seq = result.sequence(shapes[0], t, method="aiap-keyframes", scheme=scheme,

@@ -2,7 +2,7 @@
 
 A drawing is cut into *items*: filled regions (outer ring, then holes),
 unfilled closed rings and open polylines. Items of the same kind are paired
-by an optimal assignment (`scipy.optimize.linear_sum_assignment`) on their
+by an optimal assignment (scipy's `min_weight_full_bipartite_matching`) on their
 position and size, both normalised by the drawing's bounding box, and for
 regions also on their overlap. Holes are paired the same way inside each
 pair of regions, normalised by the region's box.
@@ -222,9 +222,12 @@ def _assign(cost, forced=()):
     cols = [c for c in range(cost.shape[1]) if c not in {f[1] for f in forced}]
     pairs = list(forced)
     if rows and cols:
-        from scipy.optimize import linear_sum_assignment  # here: scipy.optimize takes 0.2 s to import
+        from scipy.sparse import csr_array  # scipy.sparse.csgraph, not scipy.optimize (0.1 s more to import)
+        from scipy.sparse.csgraph import min_weight_full_bipartite_matching
 
-        r, c = linear_sum_assignment(cost[np.ix_(rows, cols)])
+        sub = cost[np.ix_(rows, cols)]
+        # every entry stored (shifted above 0): a full matching of the smaller side, least total cost
+        r, c = min_weight_full_bipartite_matching(csr_array(sub - sub.min() + 1.0))
         pairs += [(rows[i], cols[j]) for i, j in zip(r, c, strict=True)]
     return pairs
 

@@ -15,7 +15,11 @@ Two backends do the same arithmetic behind one interface (``edge_init``, ``edge_
 
 :func:`current` is the backend in use: 'numba' when numba is installed and
 the environment does not set ``ISOTWEEN_NUMBA=0`` (read here and nowhere
-else), otherwise 'numpy'. :func:`use` switches it.
+else), otherwise 'numpy'. :func:`use` switches it. Loading numba and its
+cached kernels takes about half a second, more than numpy's extra time on a
+small problem: :func:`sized` runs such a problem on numpy while numba is not
+loaded yet, unless the process said it is :func:`long_lived` (a server, a
+batch worker).
 
 Examples
 --------
@@ -40,9 +44,13 @@ from . import accelerated, reference
 if TYPE_CHECKING:
     from collections.abc import Iterator
 
-__all__ = ["BACKENDS", "NumpyBackend", "NumbaBackend", "available", "current", "use"]
+__all__ = ["BACKENDS", "FIRST_NUMBA", "NumpyBackend", "NumbaBackend", "available", "current", "long_lived", "sized",
+           "use"]
 
 BACKENDS = ("numpy", "numba")
+#: a problem of fewer edge-frames (edges x frames) runs on numpy while numba is not loaded (`sized`): numpy's
+#: extra time on it stays under the half second that loading numba and its kernels costs (benchmarks/startup.py)
+FIRST_NUMBA = 100_000
 
 
 class NumpyBackend:
@@ -146,7 +154,8 @@ class _FusedPass:
 #: numba is installed (imported, a third of a second, on the first kernel call, not with isotween)
 _HAVE_NUMBA = importlib.util.find_spec("numba") is not None
 _INSTANCES = {"numpy": NumpyBackend(), "numba": NumbaBackend()}
-_state = {"name": "numba" if _HAVE_NUMBA and os.environ.get("ISOTWEEN_NUMBA", "1") != "0" else "numpy"}
+_state = {"name": "numba" if _HAVE_NUMBA and os.environ.get("ISOTWEEN_NUMBA", "1") != "0" else "numpy",
+          "long_lived": False}
 
 
 def available() -> tuple[str, ...]:
@@ -194,3 +203,31 @@ def use(name: str) -> contextlib.AbstractContextManager[None]:
         raise MissingDependencyError("the numba backend needs numba: pip install 'isotween[fast]'")
     previous, _state["name"] = _state["name"], name
     return _restoring(previous)
+
+
+def sized(edge_frames: int) -> contextlib.AbstractContextManager[None]:
+    """The backend for a problem of this size, as a ``with`` block.
+
+    numpy while the backend in use is 'numba', numba is not loaded yet, the
+    process is not `long_lived`, and the problem has fewer than
+    `FIRST_NUMBA` edge-frames; otherwise the backend in use, unchanged.
+
+    Parameters
+    ----------
+    edge_frames : int
+        Edges times frames of the problem.
+    """
+    if (_state["name"] == "numba" and not _state["long_lived"] and accelerated.numba is None
+            and edge_frames < FIRST_NUMBA):
+        return use("numpy")
+    return contextlib.nullcontext()
+
+
+def long_lived() -> None:
+    """Say that this process will solve many problems: every one runs on the backend in use.
+
+    A server or a batch worker pays numba's load once (on its first problem)
+    and then runs every problem on the faster kernels; a one-off command
+    leaves small problems to numpy (`sized`).
+    """
+    _state["long_lived"] = True

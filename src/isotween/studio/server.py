@@ -150,7 +150,9 @@ def create_app(session: Session, token: str, *, port: int | None = None, max_upl
     """
     from .. import __version__
     from ..examples import describe, names
+    from ..optimisation import backend
 
+    backend.long_lived()  # every edit solves again: numba's kernels, loaded once, for all of them
     seen: dict = {}  # the correspondence view of the last solve's correspondence (edits do not change it)
     seen_lock = threading.Lock()
 
