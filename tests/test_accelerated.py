@@ -125,3 +125,51 @@ def test_band_cholesky_factorises_banded_matrices():
     np.testing.assert_allclose(L, np.linalg.cholesky(A), atol=1e-12)
     band = np.array([[1.0, 2.0], [1.0, 0.0]])  # [[1, 2], [2, 1]] is indefinite
     assert not accelerated.band_cholesky(band)
+
+
+def test_fold_repair_derivatives_kernel_matches_numpy_and_the_energy():
+    from isotween.optimisation.barrier import SymmetricDirichlet
+
+    mesh = grid_mesh(9, 5)
+    z0 = mesh.vertices[:, 0] + 1j * mesh.vertices[:, 1]
+    z1 = z0 * np.exp(0.3j) + 0.05 * np.sin(3 * z0.real)  # bent a little: every face stays positive
+    fixed = np.zeros(len(z0), dtype=bool)
+    fixed[:3] = True
+    energy = SymmetricDirichlet(z0, z1, mesh.faces, fixed)
+    energy.rest(0.4)
+    fast = energy.derivatives(z1)
+    with backend.use("numpy"):
+        slow = energy.derivatives(z1)
+    np.testing.assert_allclose(fast[0], slow[0], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(fast[1].toarray(), slow[1].toarray(), rtol=1e-12, atol=1e-9)
+    # the gradient is the energy's: central differences along a random direction of the free coordinates
+    d = np.random.default_rng(3).normal(size=2 * len(energy.free))
+    step = np.zeros(len(z0), dtype=complex)
+    step[energy.free] = d[: len(energy.free)] + 1j * d[len(energy.free):]
+    h = 1e-6
+    slope = (energy(z1 + h * step) - energy(z1 - h * step)) / (2 * h)
+    assert slope == pytest.approx(fast[0] @ d, rel=1e-6)
+    # a pull on some free vertices: its gradient joins, and 2 lam on their diagonal entries
+    energy.pull_towards(np.arange(3, 20), z0[3:20], 0.7)
+    g, A = energy.derivatives(z1)
+    slope = (energy(z1 + h * step) - energy(z1 - h * step)) / (2 * h)
+    assert slope == pytest.approx(g @ d, rel=1e-6)
+    pulled = np.r_[np.arange(3, 20), np.arange(3, 20) + len(energy.free)] - 3  # free coordinates
+    added = (A - fast[1]).toarray()
+    np.testing.assert_allclose(np.diag(added)[pulled], 1.4, rtol=1e-12)
+    added[pulled, pulled] = 0.0
+    assert np.abs(added).max() < 1e-9
+
+
+def test_small_problems_run_on_numpy_until_numba_is_loaded_unless_chosen(monkeypatch):
+    monkeypatch.setattr(accelerated, "numba", None)  # as in a fresh process
+    monkeypatch.setitem(backend._state, "long_lived", False)
+    with backend.sized(backend.FIRST_NUMBA - 1):
+        assert backend.current().name == "numpy"
+    with backend.sized(backend.FIRST_NUMBA):
+        assert backend.current().name == "numba"
+    with backend.use("numba"), backend.sized(10):  # chosen: kept
+        assert backend.current().name == "numba"
+    backend.long_lived()
+    with backend.sized(10):
+        assert backend.current().name == "numba"

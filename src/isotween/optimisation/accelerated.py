@@ -16,6 +16,8 @@
   substitution; no sparse matrices.
 - :func:`edge_init`: Eqs. (12)-(13): angles along the edge tree, then every
   edge's frames (threaded over edges for large inputs).
+- :func:`face_derivatives`: the fold repair's per-face gradient and projected
+  Hessian of the symmetric Dirichlet energy, one face at a time.
 
 The numpy twins are in :mod:`isotween.optimisation.reference`;
 :mod:`isotween.optimisation.backend` chooses between the two (the tests
@@ -28,7 +30,7 @@ import numpy as np
 from scipy.linalg.lapack import dpbtrf
 
 __all__ = ["PARALLEL_SIZE", "midpoint_edge_pass", "band_cholesky", "banded_positions",
-           "edge_frames", "edge_init"]
+           "edge_frames", "edge_init", "face_derivatives"]
 
 #: below this many edge-frames one thread does the pass (thread start-up costs more)
 PARALLEL_SIZE = 4_000_000
@@ -312,12 +314,67 @@ def _edge_frames(e0, angle, scale, t, out):
                 out[r, k] = (1 - t[k] + t[k] * scale[r]) * np.exp(1j * t[k] * angle[r]) * e0[r]
 
 
+def face_derivatives(z, faces, G, w):
+    """As `reference.face_derivatives`: (K, 6) gradient and (K, 6, 6) projected Hessian of every face."""
+    _compile()
+    K = len(w)
+    g6, H6 = np.empty((K, 6)), np.empty((K, 6, 6))
+    z = np.asarray(z, dtype=complex)
+    _face_derivatives(z.real.copy(), z.imag.copy(), np.asarray(faces, dtype=np.int64),
+                      np.ascontiguousarray(G, dtype=float), np.asarray(w, dtype=float), g6, H6)
+    return g6, H6
+
+
+def _face_derivatives(x, y, faces, G, w, g6, H6):
+    """`reference.face_derivatives`, face by face with 4 x 4 scratch: no (K, 4, 6) temporaries."""
+    J, gd, grad, H, vec = np.empty(4), np.empty(4), np.empty(4), np.empty((4, 4)), np.empty(4)
+    HD = np.empty((4, 6))
+    hdet = np.array([[0.0, 0.0, 0.0, 1.0], [0.0, 0.0, -1.0, 0.0], [0.0, -1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]])
+    for k in range(len(w)):
+        a, b, c = faces[k, 0], faces[k, 1], faces[k, 2]
+        for i in range(2):  # rows of J = G (x0, x1, x2), then G (y0, y1, y2)
+            J[i] = G[k, i, 0] * x[a] + G[k, i, 1] * x[b] + G[k, i, 2] * x[c]
+            J[2 + i] = G[k, i, 0] * y[a] + G[k, i, 1] * y[b] + G[k, i, 2] * y[c]
+        det = J[0] * J[3] - J[1] * J[2]
+        norm = J[0] * J[0] + J[1] * J[1] + J[2] * J[2] + J[3] * J[3]
+        gd[0], gd[1], gd[2], gd[3] = J[3], -J[2], -J[1], J[0]
+        inv2 = 1.0 / (det * det)
+        inv3 = inv2 / det
+        cr, ci = 0.5 * (J[0] + J[3]), 0.5 * (J[2] - J[1])  # the twist's projection: see the reference
+        ar, ai = 0.5 * (J[0] - J[3]), 0.5 * (J[2] + J[1])
+        mc, ma = np.sqrt(cr * cr + ci * ci), np.sqrt(ar * ar + ai * ai)
+        s1, s2 = mc + ma, mc - ma
+        lam = max(0.0, -(2.0 - 2.0 * (s1 * s1 - s1 * s2 + s2 * s2) / (s1 * s2) ** 3))
+        rr, ri = -ci / mc, cr / mc
+        r2 = np.sqrt(0.5)
+        vec[0], vec[1], vec[2], vec[3] = rr * r2, -ri * r2, ri * r2, rr * r2
+        for i in range(4):
+            grad[i] = w[k] * (2.0 * J[i] * (1.0 + inv2) - 2.0 * norm * inv3 * gd[i])
+            for j in range(4):
+                h = -4.0 * inv3 * (J[i] * gd[j] + gd[i] * J[j]) + 6.0 * norm * inv2 * inv2 * gd[i] * gd[j]
+                h += -2.0 * norm * inv3 * hdet[i, j] + lam * vec[i] * vec[j]
+                if i == j:
+                    h += 2.0 * (1.0 + inv2)
+                H[i, j] = w[k] * h
+        # D = blockdiag(G, G): coordinates x0 x1 x2 y0 y1 y2
+        for i in range(4):
+            for m in range(3):
+                HD[i, m] = H[i, 0] * G[k, 0, m] + H[i, 1] * G[k, 1, m]
+                HD[i, 3 + m] = H[i, 2] * G[k, 0, m] + H[i, 3] * G[k, 1, m]
+        for m in range(3):
+            g6[k, m] = G[k, 0, m] * grad[0] + G[k, 1, m] * grad[1]
+            g6[k, 3 + m] = G[k, 0, m] * grad[2] + G[k, 1, m] * grad[3]
+            for n in range(6):
+                H6[k, m, n] = G[k, 0, m] * HD[0, n] + G[k, 1, m] * HD[1, n]
+                H6[k, 3 + m, n] = G[k, 0, m] * HD[2, n] + G[k, 1, m] * HD[3, n]
+
+
 def _compile():
     """Import numba and compile the kernels (loaded from numba's cache after the first time)."""
     global numba, _edge_angles, _edge_frames_serial, _edge_frames_parallel
     global _edge_vectors, _edge_solve, _scratch, _pass_parallel, _pass_serial
     global _dgemm, _dtrsm, _substitute, _blocked, _rhs_serial, _rhs_parallel
-    global _solve_serial, _solve_parallel, _place_serial, _place_parallel
+    global _solve_serial, _solve_parallel, _place_serial, _place_parallel, _face_derivatives
     if numba is not None:
         return
     import llvmlite.binding
@@ -340,6 +397,7 @@ def _compile():
     _place_serial, _place_parallel = jit(_place), parallel(_place)
     _edge_vectors, _edge_solve, _scratch = jit(_edge_vectors), jit(_edge_solve), jit(_scratch)
     _pass_parallel, _pass_serial = parallel(_pass_parallel), jit(_pass_serial)
+    _face_derivatives = jit(_face_derivatives)
     numba = nb  # the kernels' numba.prange resolves through this global
 
 

@@ -1,7 +1,7 @@
 """Compute backends of the solver's hot loops, and the one place that picks one.
 
 Two backends do the same arithmetic behind one interface (``edge_init``, ``edge_frames``,
-``edge_pass``, ``banded``):
+``edge_pass``, ``banded``, ``face_derivatives``):
 
 'numpy'
     The reference (:mod:`isotween.optimisation.reference`): numpy / scipy on
@@ -87,6 +87,10 @@ class NumpyBackend:
         """Eq. (13) from given scales and angles (:func:`~isotween.optimisation.reference.edge_frames`)."""
         return reference.edge_frames(e0, s, theta, t)
 
+    def face_derivatives(self, z, faces, G, w):
+        """The fold repair's per-face derivatives (:func:`~isotween.optimisation.reference.face_derivatives`)."""
+        return reference.face_derivatives(z, faces, G, w)
+
     def edge_pass(self, top, t, scheme, fixed, smooth):
         """The edge work of one iteration of Algorithm 2 (Eqs. 8, 6, 9).
 
@@ -122,6 +126,10 @@ class NumbaBackend(NumpyBackend):
             return _FusedPass(top, t)
         return super().edge_pass(top, t, scheme, fixed, smooth)
 
+    def face_derivatives(self, z, faces, G, w):
+        """As :meth:`NumpyBackend.face_derivatives`."""
+        return accelerated.face_derivatives(z, faces, G, w)
+
     def band_cholesky(self, band):
         """See :func:`isotween.optimisation.accelerated.band_cholesky`."""
         return accelerated.band_cholesky(band)
@@ -155,7 +163,7 @@ class _FusedPass:
 _HAVE_NUMBA = importlib.util.find_spec("numba") is not None
 _INSTANCES = {"numpy": NumpyBackend(), "numba": NumbaBackend()}
 _state = {"name": "numba" if _HAVE_NUMBA and os.environ.get("ISOTWEEN_NUMBA", "1") != "0" else "numpy",
-          "long_lived": False}
+          "chosen": False, "long_lived": False}  # chosen: by `use`, which `sized` leaves alone
 
 
 def available() -> tuple[str, ...]:
@@ -176,11 +184,11 @@ def current() -> NumpyBackend:
 
 
 @contextlib.contextmanager
-def _restoring(previous: str) -> Iterator[None]:
+def _restoring(previous: dict) -> Iterator[None]:
     try:
         yield
     finally:
-        _state["name"] = previous
+        _state.update(previous)
 
 
 def use(name: str) -> contextlib.AbstractContextManager[None]:
@@ -201,23 +209,25 @@ def use(name: str) -> contextlib.AbstractContextManager[None]:
         raise ParameterError(f"unknown backend {name!r}; choose one of {', '.join(BACKENDS)}")
     if name not in available():
         raise MissingDependencyError("the numba backend needs numba: pip install 'isotween[fast]'")
-    previous, _state["name"] = _state["name"], name
+    previous = {"name": _state["name"], "chosen": _state["chosen"]}
+    _state.update(name=name, chosen=True)
     return _restoring(previous)
 
 
 def sized(edge_frames: int) -> contextlib.AbstractContextManager[None]:
     """The backend for a problem of this size, as a ``with`` block.
 
-    numpy while the backend in use is 'numba', numba is not loaded yet, the
-    process is not `long_lived`, and the problem has fewer than
-    `FIRST_NUMBA` edge-frames; otherwise the backend in use, unchanged.
+    numpy while the backend in use is 'numba' by default (not chosen with
+    `use`), numba is not loaded yet, the process is not `long_lived`, and
+    the problem has fewer than `FIRST_NUMBA` edge-frames; otherwise the
+    backend in use, unchanged.
 
     Parameters
     ----------
     edge_frames : int
         Edges times frames of the problem.
     """
-    if (_state["name"] == "numba" and not _state["long_lived"] and accelerated.numba is None
+    if (_state["name"] == "numba" and not (_state["chosen"] or _state["long_lived"]) and accelerated.numba is None
             and edge_frames < FIRST_NUMBA):
         return use("numpy")
     return contextlib.nullcontext()

@@ -17,12 +17,14 @@ from scipy.sparse.linalg import splu
 
 from ..errors import MethodError, require
 from ..geometry import triangle_areas
+from . import backend
 from .assembly import HAVE_CHOLMOD
 
 __all__ = ["SymmetricDirichlet", "minimise", "max_step", "face_steps", "triangle_areas", "TOL", "ARMIJO"]
 
 TOL = 1e-3  # stop when an iteration lowers the energy by less than this fraction of its excess
 ARMIJO = 1e-4
+SUPERNODAL = 20_000  # unknowns from which CHOLMOD factorises supernodally; below, simplicial is faster (2x at 1,000)
 
 
 def max_step(z, d, faces):
@@ -168,6 +170,10 @@ class SymmetricDirichlet:
         key, self._slot = np.unique(rows[self._keep] * (2 * m) + cols[self._keep], return_inverse=True)
         self._indices = key % (2 * m)
         self._indptr = np.searchsorted(key // (2 * m), np.arange(2 * m + 1))
+        # the slot of every diagonal entry (the pull adds there); a free vertex in no face has none
+        diagonal = np.arange(2 * m) * (2 * m + 1)
+        self._diagonal = np.minimum(np.searchsorted(key, diagonal), max(len(key) - 1, 0))
+        self._full_diagonal = bool(len(key)) and np.array_equal(key[self._diagonal], diagonal)
         self._dof = dof
         self._size = 2 * m
         self._symbolic = None
@@ -177,7 +183,8 @@ class SymmetricDirichlet:
         if HAVE_CHOLMOD:
             cholmod = require("sksparse.cholmod", "large")
             if self._symbolic is None:
-                self._symbolic = cholmod.analyze(H, mode="supernodal", ordering_method="amd")
+                mode = "supernodal" if H.shape[0] >= SUPERNODAL else "simplicial"
+                self._symbolic = cholmod.analyze(H, mode=mode, ordering_method="amd")
             try:
                 return self._symbolic.cholesky(H)(b)
             except cholmod.CholmodNotPositiveDefiniteError:
@@ -241,49 +248,24 @@ class SymmetricDirichlet:
 
     def derivatives(self, z):
         """Gradient (2m,) and projected Hessian (2m, 2m) sparse over the free coordinates (x then y)."""
-        J = self._jacobian(z)
-        det = J[:, 0] * J[:, 3] - J[:, 1] * J[:, 2]
-        norm = np.einsum("ki,ki->k", J, J)
-        gd = np.c_[J[:, 3], -J[:, 2], -J[:, 1], J[:, 0]]  # d det / d J
-        inv2, inv3 = det ** -2, det ** -3
-        w = self._area
-        grad = w[:, None] * (2 * J * (1 + inv2)[:, None] - 2 * (norm * inv3)[:, None] * gd)
-        Hdet = np.array([[0, 0, 0, 1], [0, 0, -1, 0], [0, -1, 0, 0], [1, 0, 0, 0]], float)
-        H = (2 * (1 + inv2))[:, None, None] * np.eye(4)
-        H = H - (4 * inv3)[:, None, None] * (J[:, :, None] * gd[:, None, :] + gd[:, :, None] * J[:, None, :])
-        H = H + (6 * norm * inv2 * inv2)[:, None, None] * gd[:, :, None] * gd[:, None, :]
-        H = H - (2 * norm * inv3)[:, None, None] * Hdet
-        # projected to positive semi-definite (Smith, de Goes and Kim 2019, "Analytic eigensystems for
-        # isotropic distortion energies"): with singular values s1 >= s2 > 0 the scaling and flip
-        # eigenvalues 2 + 6 / s^4 and 2 + 2 (s1^2 + s1 s2 + s2^2) / (s1 s2)^3 are positive; only the
-        # twist's, 2 - 2 (s1^2 - s1 s2 + s2^2) / (s1 s2)^3, can be negative. Its eigenvector is
-        # the polar rotation of J turned by a right angle, over sqrt(2).
-        conf = 0.5 * ((J[:, 0] + J[:, 3]) + 1j * (J[:, 2] - J[:, 1]))  # J z = conf z + anti conj(z)
-        anti = 0.5 * ((J[:, 0] - J[:, 3]) + 1j * (J[:, 2] + J[:, 1]))
-        s1, s2 = np.abs(conf) + np.abs(anti), np.abs(conf) - np.abs(anti)
-        twist = 2 - 2 * (s1 * s1 - s1 * s2 + s2 * s2) / (s1 * s2) ** 3
-        r = 1j * conf / np.abs(conf)
-        vec = np.c_[r.real, -r.imag, r.imag, r.real] / np.sqrt(2)
-        H = H + np.maximum(-twist, 0)[:, None, None] * vec[:, :, None] * vec[:, None, :]
-        H = H * w[:, None, None]
-        # back to the six coordinates (x0 x1 x2 y0 y1 y2): D = blockdiag(G, G)
-        K = len(w)
-        D = np.zeros((K, 4, 6))
-        D[:, :2, :3] = self._G
-        D[:, 2:, 3:] = self._G
-        H6 = np.matmul(D.transpose(0, 2, 1), np.matmul(H, D))
-        g6 = np.einsum("kai,ka->ki", D, grad)
+        g6, H6 = backend.current().face_derivatives(z, self.faces, self._G, self._area)
         keep = self._dof >= 0
         g = np.bincount(self._dof[keep], weights=g6[keep], minlength=self._size)
         data = np.bincount(self._slot, weights=H6[self._keep], minlength=len(self._indices))
-        A = csc_matrix((data, self._indices, self._indptr), shape=(self._size,) * 2)  # symmetric: CSR = CSC
+        pulled = None
         if self.pull is not None:
             idx, goal, lam = self.pull
             slot = self._index[idx]
             r = z[idx] - goal
             g[slot] += 2 * lam * r.real
             g[slot + len(self.free)] += 2 * lam * r.imag
+            pulled = np.r_[slot, slot + len(self.free)]
+            if self._full_diagonal:
+                np.add.at(data, self._diagonal[pulled], 2 * lam)
+                pulled = None
+        A = csc_matrix((data, self._indices, self._indptr), shape=(self._size,) * 2)  # symmetric: CSR = CSC
+        if pulled is not None:
             diag = np.zeros(self._size)
-            diag[slot] = diag[slot + len(self.free)] = 2 * lam
+            diag[pulled] = 2 * lam
             A = A + diags(diag, format="csc")
         return g, A

@@ -16,7 +16,7 @@ import numpy as np
 from .edge_solve import solve_edges
 from .schemes import normal_equations, step_angle
 
-__all__ = ["edge_angles", "edge_frames", "EdgePass", "EdgeBlocks"]
+__all__ = ["edge_angles", "edge_frames", "EdgePass", "EdgeBlocks", "face_derivatives"]
 
 
 def edge_angles(top, e0, e1):
@@ -154,3 +154,61 @@ class EdgeBlocks:
         """Stop the threads."""
         if self.pool is not None:
             self.pool.shutdown()
+
+
+def face_derivatives(z, faces, G, w):
+    """Gradient and projected Hessian of the symmetric Dirichlet energy of every face, in its six coordinates.
+
+    The energy of face k is ``w_k (|J_k|^2 + |J_k^-1|^2)``, ``J_k`` its map's
+    Jacobian from the rest triangle (`isotween.optimisation.barrier`).
+
+    Parameters
+    ----------
+    z : (N,) complex
+        Positions; every face positive.
+    faces : (K, 3) int
+    G : (K, 2, 3) float
+        Rows of J = G (x0, x1, x2) (and the same for y).
+    w : (K,) float
+        Weights (rest areas).
+
+    Returns
+    -------
+    g6 : (K, 6) float
+        Gradient over (x0 x1 x2 y0 y1 y2).
+    H6 : (K, 6, 6) float
+        Hessian projected to positive semi-definite, same order.
+    """
+    p = z[faces]
+    J = np.c_[np.einsum("kij,kj->ki", G, p.real), np.einsum("kij,kj->ki", G, p.imag)]  # rows of J = G (x0, x1, x2)
+    det = J[:, 0] * J[:, 3] - J[:, 1] * J[:, 2]
+    norm = np.einsum("ki,ki->k", J, J)
+    gd = np.c_[J[:, 3], -J[:, 2], -J[:, 1], J[:, 0]]  # d det / d J
+    inv2, inv3 = det ** -2, det ** -3
+    grad = w[:, None] * (2 * J * (1 + inv2)[:, None] - 2 * (norm * inv3)[:, None] * gd)
+    Hdet = np.array([[0, 0, 0, 1], [0, 0, -1, 0], [0, -1, 0, 0], [1, 0, 0, 0]], float)
+    H = (2 * (1 + inv2))[:, None, None] * np.eye(4)
+    H = H - (4 * inv3)[:, None, None] * (J[:, :, None] * gd[:, None, :] + gd[:, :, None] * J[:, None, :])
+    H = H + (6 * norm * inv2 * inv2)[:, None, None] * gd[:, :, None] * gd[:, None, :]
+    H = H - (2 * norm * inv3)[:, None, None] * Hdet
+    # projected to positive semi-definite (Smith, de Goes and Kim 2019, "Analytic eigensystems for
+    # isotropic distortion energies"): with singular values s1 >= s2 > 0 the scaling and flip
+    # eigenvalues 2 + 6 / s^4 and 2 + 2 (s1^2 + s1 s2 + s2^2) / (s1 s2)^3 are positive; only the
+    # twist's, 2 - 2 (s1^2 - s1 s2 + s2^2) / (s1 s2)^3, can be negative. Its eigenvector is
+    # the polar rotation of J turned by a right angle, over sqrt(2).
+    conf = 0.5 * ((J[:, 0] + J[:, 3]) + 1j * (J[:, 2] - J[:, 1]))  # J z = conf z + anti conj(z)
+    anti = 0.5 * ((J[:, 0] - J[:, 3]) + 1j * (J[:, 2] + J[:, 1]))
+    s1, s2 = np.abs(conf) + np.abs(anti), np.abs(conf) - np.abs(anti)
+    twist = 2 - 2 * (s1 * s1 - s1 * s2 + s2 * s2) / (s1 * s2) ** 3
+    r = 1j * conf / np.abs(conf)
+    vec = np.c_[r.real, -r.imag, r.imag, r.real] / np.sqrt(2)
+    H = H + np.maximum(-twist, 0)[:, None, None] * vec[:, :, None] * vec[:, None, :]
+    H = H * w[:, None, None]
+    # back to the six coordinates (x0 x1 x2 y0 y1 y2): D = blockdiag(G, G)
+    K = len(w)
+    D = np.zeros((K, 4, 6))
+    D[:, :2, :3] = G
+    D[:, 2:, 3:] = G
+    H6 = np.matmul(D.transpose(0, 2, 1), np.matmul(H, D))
+    g6 = np.einsum("kai,ka->ki", D, grad)
+    return g6, H6
