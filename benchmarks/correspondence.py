@@ -291,7 +291,6 @@ def run_isotween(job):
     """One pair through ``isotween.morph`` with no options but the frame count (in a worker process)."""
     import isotween
     from isotween.batch import single_threaded
-    from isotween.optimisation import backend
 
     _instrument()
     single_threaded()
