@@ -247,8 +247,7 @@ def _fallback(seq, source, target, t, options):
     started = time.perf_counter()
     for scaffold, accept in attempts:
         try:
-            with backend.sized(seq.shape.n_edges * len(t)):
-                frames, info = repair_folds(z, seq.shape.faces, accept=accept, scaffold=scaffold)
+            frames, info = repair_folds(z, seq.shape.faces, accept=accept, scaffold=scaffold)
         except MethodError:
             continue
         if not info["frames"]:

@@ -44,8 +44,8 @@ from . import accelerated, reference
 if TYPE_CHECKING:
     from collections.abc import Iterator
 
-__all__ = ["BACKENDS", "FIRST_NUMBA", "NumpyBackend", "NumbaBackend", "available", "current", "long_lived", "sized",
-           "use"]
+__all__ = ["BACKENDS", "FIRST_NUMBA", "NumpyBackend", "NumbaBackend", "available", "current", "for_size",
+           "long_lived", "sized", "use"]
 
 BACKENDS = ("numpy", "numba")
 #: a problem of fewer edge-frames (edges x frames) runs on numpy while numba is not loaded (`sized`): numpy's
@@ -214,6 +214,12 @@ def use(name: str) -> contextlib.AbstractContextManager[None]:
     return _restoring(previous)
 
 
+def _spare_numba(work: int) -> bool:
+    """Whether a problem of ``work`` edge-frames runs on numpy rather than load numba (see `sized`)."""
+    return (_state["name"] == "numba" and not (_state["chosen"] or _state["long_lived"])
+            and accelerated.numba is None and work < FIRST_NUMBA)
+
+
 def sized(edge_frames: int) -> contextlib.AbstractContextManager[None]:
     """The backend for a problem of this size, as a ``with`` block.
 
@@ -225,12 +231,14 @@ def sized(edge_frames: int) -> contextlib.AbstractContextManager[None]:
     Parameters
     ----------
     edge_frames : int
-        Edges times frames of the problem.
+        Edges times frames of the problem (or work of about that many).
     """
-    if (_state["name"] == "numba" and not (_state["chosen"] or _state["long_lived"]) and accelerated.numba is None
-            and edge_frames < FIRST_NUMBA):
-        return use("numpy")
-    return contextlib.nullcontext()
+    return use("numpy") if _spare_numba(edge_frames) else contextlib.nullcontext()
+
+
+def for_size(edge_frames: int) -> NumpyBackend:
+    """The backend `sized` would pick for a problem of this size (an instance, to keep)."""
+    return _INSTANCES["numpy"] if _spare_numba(edge_frames) else current()
 
 
 def long_lived() -> None:

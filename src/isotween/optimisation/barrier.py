@@ -24,6 +24,7 @@ __all__ = ["SymmetricDirichlet", "minimise", "max_step", "face_steps", "triangle
 
 TOL = 1e-3  # stop when an iteration lowers the energy by less than this fraction of its excess
 ARMIJO = 1e-4
+NEWTON_WORK = 30  # a face's Newton work, in the edge-frames of `backend.sized` (which picks numpy or numba)
 SUPERNODAL = 20_000  # unknowns from which CHOLMOD factorises supernodally; below, simplicial is faster (2x at 1,000)
 
 
@@ -153,6 +154,7 @@ class SymmetricDirichlet:
         self.faces = f
         self.n_vertices = N = len(start)
         self.weight = np.ones(len(f)) if weight is None else np.asarray(weight, dtype=np.float64)
+        self._backend = backend.for_size(NEWTON_WORK * len(f))
         # edge lengths (0-1, 1-2, 2-0) at both ends
         self._ls = np.abs(start[np.roll(f, -1, axis=1)] - start[f])
         self._la = np.abs(end[np.roll(f, -1, axis=1)] - end[f])
@@ -248,7 +250,7 @@ class SymmetricDirichlet:
 
     def derivatives(self, z):
         """Gradient (2m,) and projected Hessian (2m, 2m) sparse over the free coordinates (x then y)."""
-        g6, H6 = backend.current().face_derivatives(z, self.faces, self._G, self._area)
+        g6, H6 = self._backend.face_derivatives(z, self.faces, self._G, self._area)
         keep = self._dof >= 0
         g = np.bincount(self._dof[keep], weights=g6[keep], minlength=self._size)
         data = np.bincount(self._slot, weights=H6[self._keep], minlength=len(self._indices))
