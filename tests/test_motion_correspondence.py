@@ -161,3 +161,20 @@ def test_open_and_closed_strokes_morph_as_strokes():
     assert len(a.paths) == 1 and not a.paths[0][1]
     idx = a.paths[0][0]
     assert np.allclose(b.vertices[idx[0]], b.vertices[idx[-1]])  # the circle, cut open, closes at the end
+
+
+def test_a_symmetric_drawing_does_not_spin(tmp_path):
+    # Bootstrap Icons' square-fill and folder-fill (MIT): the square fits the folder as well turned by any
+    # quarter turn; the turn of least size (none) is the one taken, so the square does not spin
+    svg = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16"><path d="{}"/></svg>'
+    square = "M0 2a2 2 0 0 1 2-2h12a2 2 0 0 1 2 2v12a2 2 0 0 1-2 2H2a2 2 0 0 1-2-2z"
+    folder = ("M9.828 3h3.982a2 2 0 0 1 1.992 2.181l-.637 7A2 2 0 0 1 13.174 14H2.825a2 2 0 0 1-1.991-1.819"
+              "l-.637-7a2 2 0 0 1 .342-1.31L.5 3a2 2 0 0 1 2-2h3.672a2 2 0 0 1 1.414.586l.828.828A2 2 0 0 0 9.828 3"
+              "m-8.322.12q.322-.119.684-.12h5.396l-.707-.707A1 1 0 0 0 6.172 2H2.5a1 1 0 0 0-1 .981z")
+    for name, d in (("square", square), ("folder", folder)):
+        (tmp_path / f"{name}.svg").write_text(svg.format(d))
+    a, b, _ = isotween.correspond(*(isotween.io.load(tmp_path / f"{n}.svg") for n in ("square", "folder")))
+    outer = max(a.paths, key=lambda p: len(p[0]))[0]
+    p, q = a.z[outer] - a.z[outer].mean(), b.z[outer] - b.z[outer].mean()
+    assert abs(np.angle(np.vdot(p, q), deg=True)) < 10.0
+    assert np.abs(a.z[outer] - b.z[outer]).max() < 0.25 * a.bbox_diagonal()  # every point stays near its place
