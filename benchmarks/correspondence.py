@@ -75,18 +75,34 @@ def outline_measures(seq, regions=None):
 
 # ---------------------------------------------------------------- ends
 def _dense(polylines, step):
-    """Points along polylines ((k, 2) arrays, closed ones with their first point repeated), ``step`` apart."""
-    out = []
+    """Points along polylines ((k, 2) arrays, closed ones with their first point repeated), ``step`` apart.
+
+    A seam is left out: a stretch of the outline that another stretch runs back over (points
+    within ``step`` of each other, heading opposite ways). It has no width, so a fill draws
+    nothing there: a slit that opened a hole into a notch, closed again at its end
+    (`isotween.correspondence.notches.close_slits`), runs from the outer ring to the hole and
+    back. Drawings' own outlines have none.
+    """
+    out, heading = [], []
     for p in polylines:
         if len(p) == 1:
             out.append(p)
+            heading.append(np.zeros((1, 2)))
             continue
         seg = np.diff(p, axis=0)
-        n = np.maximum(1, np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / step).astype(int))
+        length = np.hypot(seg[:, 0], seg[:, 1])
+        n = np.maximum(1, np.ceil(length / step).astype(int))
         s = np.concatenate([np.arange(m) / m for m in n])
         out.append(np.repeat(p[:-1], n, axis=0) + s[:, None] * np.repeat(seg, n, axis=0))
-        out.append(p[-1:])
-    return np.vstack(out)
+        heading.append(np.repeat(seg / np.maximum(length, 1e-300)[:, None], n, axis=0))
+    points, heading = np.vstack(out), np.vstack(heading)
+    from scipy.spatial import cKDTree
+
+    seam = np.zeros(len(points), bool)
+    for i, j in cKDTree(points).query_pairs(0.6 * step, output_type="ndarray"):
+        if heading[i] @ heading[j] < -0.9:
+            seam[i] = seam[j] = True
+    return points[~seam] if (~seam).any() else points
 
 
 def _polylines(vertices, paths, keep=None):
@@ -668,7 +684,10 @@ def main():
         "distance between frame 0 and the source drawing's outline (every path `isotween.io.load` reads), and "
         "between the last frame and the target's, both sampled every 0.02 % of the diagonal, at most "
         f"{END_TARGET} % of that drawing's diagonal; paths invisible at an end (opacity 0, or a ring collapsed to a "
-        "point) are left out. **Speck**: a closed ring of an end frame with an area above 0 and below 0.5 % of the "
+        "point) are left out, and so are seams, stretches of an outline that another stretch runs back over "
+        "(no width, so a fill draws nothing there: a slit that opened a hole into a notch, closed again at its "
+        "end; regions with a stroke keep their holes). **Speck**: a closed ring of an end frame with an area "
+        "above 0 and below 0.5 % of the "
         "drawing's bounding-box area where the input has no ring of about that area and place.",
         "",
         table(header, rows),

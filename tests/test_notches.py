@@ -21,14 +21,14 @@ ROOT = Path(__file__).resolve().parents[1]
 pytest.importorskip("shapely")
 
 
-def glyph_svg(char, path):
+def glyph_svg(char, path, style=""):
     pytest.importorskip("matplotlib")
     sys.path.insert(0, str(ROOT / "scripts"))
     from build_examples import glyph
 
     rings = glyph(char)
     d = " ".join("M " + " L ".join(f"{x:.3f} {-y:.3f}" for x, y in r) + " Z" for r in rings)
-    path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg"><path fill-rule="evenodd" d="{d}"/></svg>')
+    path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg"><path fill-rule="evenodd" {style} d="{d}"/></svg>')
     return str(path)
 
 
@@ -73,3 +73,12 @@ def test_the_gallery_lock_opens_its_shackle_and_keeps_its_body():
     assert moved < 0.01 * seq.shape.bbox_diagonal()
     lifted = seq.frames[:, :, 1].min(axis=1)  # the shackle's top rises steadily by 2.5 (y down)
     assert np.all(np.diff(lifted) < 0) and lifted[0] - lifted[-1] == pytest.approx(2.5, abs=1e-6)
+
+
+def test_a_stroked_o_keeps_its_hole(tmp_path):
+    # a stroke would draw the closed slit at the O's end: the hole shrinks away instead
+    style = 'stroke="black" stroke-width="0.5"'
+    o, c = glyph_svg("O", tmp_path / "o.svg", style), glyph_svg("C", tmp_path / "c.svg", style)
+    seq = isotween.morph(o, c, frames=5)
+    assert "opened into notches" not in seq.info["correspondence"]
+    assert len(seq.shape.paths) == 2

@@ -12,7 +12,9 @@ region's material where the other drawing is empty (the gap). The region's
 outer ring then runs into the slit, round the hole and out again, and is
 matched to the other drawing's notched outline like any ring. At its own
 end the slit is closed again (`close_slits`), so that end fills exactly
-the input drawing's area.
+the input drawing's area (the closed slit is a seam of no width, which a
+fill does not draw; regions with a stroke, which would draw it, keep their
+holes).
 """
 
 import numpy as np
@@ -61,8 +63,8 @@ def open_holes(items, frames):
         every = np.concatenate([r for it in items[k] for r in it.rings])
         width = SLIT * abs(complex(np.ptp(every.real), np.ptp(every.imag)))
         for i, it in enumerate(out[k]):
-            if it.kind != "region" or len(it.rings) < 2:
-                continue
+            if it.kind != "region" or len(it.rings) < 2 or any(getattr(p, "stroke", None) for p in it.paint):
+                continue  # (a stroke would draw the closed slit: a seam of no width, invisible in a fill)
             rings, paint = list(it.rings), list(it.paint)
             region = _polygon(rings[0])
             partner = outlines[int(np.argmax([region.intersection(p).area for p in shapes]))]
