@@ -76,3 +76,26 @@ def test_a_piece_that_starts_on_another_is_left_out():
     z1 = np.r_[z0[:4], moved[:, 0] + 1j * moved[:, 1]]
     assert separate_regions(shape, np.stack([z0, z1])) == [0]  # the small square splits off the big one
     assert separate_regions(shape, np.stack([z1, z1])) == [0, 1]
+
+
+def test_a_scaffold_geos_cannot_triangulate_is_a_shape_error_and_the_morph_goes_on(turning_bar, monkeypatch):
+    import shapely
+
+    a, b = turning_bar
+    shape = isotween.interpolate(a, b, frames=3, fold="allow").shape
+    z = shape.vertices[:, 0] + 1j * shape.vertices[:, 1]
+    real = shapely.constrained_delaunay_triangles
+
+    def refuse(polygon, **kw):  # as GEOS does on rings that nearly touch
+        raise shapely.errors.GEOSException("IllegalStateException: Unable to find a convex corner")
+
+    monkeypatch.setattr(shapely, "constrained_delaunay_triangles", refuse)
+    with pytest.raises(isotween.errors.ShapeError, match="too close to degenerate to triangulate"):
+        scaffold(shape, z, box_around(z[None]))
+    # in the fold repair (meshes made before): no scaffold, so the collisions are kept, said, and nothing raises
+    monkeypatch.setattr(shapely, "constrained_delaunay_triangles", real)
+    aiap = isotween.interpolate(a, b, frames=9, fold="allow")
+    monkeypatch.setattr(shapely, "constrained_delaunay_triangles", refuse)
+    seq = isotween.interpolate(aiap.shape, aiap.shape.with_vertices(aiap.frames[-1]), frames=9, fold="fallback")
+    assert "no scaffold could hold them apart" in seq.info["collisions"]
+    np.testing.assert_array_equal(seq.frames, aiap.frames)

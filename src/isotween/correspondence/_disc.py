@@ -154,7 +154,10 @@ def _triangulate(z, rings, constraints, fixed_keys, name):
     if len(constraints):
         lines = shapely.MultiLineString(list(xy[np.asarray(constraints)]))
         pieces = list(split(poly, lines).geoms)
-    tris = [g for p in pieces for g in shapely.constrained_delaunay_triangles(p).geoms]
+    try:
+        tris = [g for p in pieces for g in shapely.constrained_delaunay_triangles(p).geoms]
+    except shapely.errors.GEOSException as exc:  # e.g. rings that nearly touch: GEOS finds no ear to cut
+        raise ShapeError(f"the {name} outline is too close to degenerate to triangulate ({exc})") from None
     coords = shapely.get_coordinates(tris).reshape(-1, 4, 2)[:, :3]
     q = (coords[..., 0] + 1j * coords[..., 1]).ravel()
     order = np.argsort(z)  # complex: by x, then y
