@@ -6,7 +6,7 @@ their circular cross-correlation (`matching.correlation`) is a similarity
 ``target ~ a (source - c_s) + c_t``; and from a coarse circle of turns about
 the drawings' centroids (a round dominant ring shows no turn). The best
 candidates are refined by iterative closest points. Each candidate, and the plain
-bounding-box frames (no rotation, also refined), is scored on the drawings as wholes by the
+bounding-box frames (no rotation), is scored on the drawings as wholes by the
 mean distance between arc-length samples of all their rings and the nearest
 samples of the other drawing (both ways); of turns that fit about as well
 (`TIE`, a symmetric drawing's), the smallest counts. A rotation is used only when it
@@ -22,7 +22,7 @@ from .regions import Frame, ring_area
 __all__ = ["align", "GAIN", "MIN_TURN"]
 
 #: a rotation is used when its fit distance is below this fraction of the unrotated fit's
-GAIN = 0.35
+GAIN = 0.5
 #: nor unless the unrotated fit is off by at least this fraction of the diagonal (a symmetric drawing stays put)
 VISIBLE = 0.005
 #: turns whose fit distance is within this fraction of the best one's fit as well (the smallest of them is used)
@@ -124,10 +124,6 @@ def align(items, frames):
     if fits:  # of the turns that fit about as well as the best (a symmetric drawing's), the smallest
         least = min(f[0] for f in fits)
         best, best_a, best_b = min((f for f in fits if f[0] <= (1 + TIE) * least), key=lambda f: abs(np.angle(f[1])))
-    # no turn, refined the same way: a turn must beat the best unturned fit, not the bare frames
-    b0 = frames[0].to(frames[1], np.array([0j]))[0]
-    a0, c0 = _icp(p, q, tree, frames[0].to(frames[1], np.array([1 + 0j]))[0] - b0, b0)
-    plain = min(plain, _fit_distance(p, q, tree, lambda v: a0 * v + c0))
     diagonal = abs(complex(np.ptp(q.real), np.ptp(q.imag)))
     if best_a is None or not best < GAIN * plain or plain < VISIBLE * diagonal:
         return frames, 1.0 + 0j
