@@ -34,7 +34,7 @@ from __future__ import annotations
 import contextlib
 import importlib.util
 import os
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -162,7 +162,7 @@ class _FusedPass:
 #: numba is installed (imported, a third of a second, on the first kernel call, not with isotween)
 _HAVE_NUMBA = importlib.util.find_spec("numba") is not None
 _INSTANCES = {"numpy": NumpyBackend(), "numba": NumbaBackend()}
-_state = {"name": "numba" if _HAVE_NUMBA and os.environ.get("ISOTWEEN_NUMBA", "1") != "0" else "numpy",
+_state: dict[str, Any] = {"name": "numba" if _HAVE_NUMBA and os.environ.get("ISOTWEEN_NUMBA", "1") != "0" else "numpy",
           "chosen": False, "long_lived": False}  # chosen: by `use`, which `sized` leaves alone
 
 
