@@ -67,7 +67,7 @@ def edge_rotations(shape, e0, e1):
 
     s, theta = reference.edge_angles(shape.topology, e0, e1)
     if shape.n_faces:
-        edge, sign = _face_edges(shape)
+        edge, sign, twin = _face_edges(shape)
         u0, v0 = sign[:, 0] * e0[edge[:, 0]], -sign[:, 2] * e0[edge[:, 2]]  # sides a->b and a->c
         u1, v1 = sign[:, 0] * e1[edge[:, 0]], -sign[:, 2] * e1[edge[:, 2]]
         # the face's map z -> p z + q conj(z) from source to target sides; its rotation is arg p
@@ -75,7 +75,7 @@ def edge_rotations(shape, e0, e1):
         p = (u1 * np.conj(v0) - v1 * np.conj(u0)) / det
         q = (v1 * u0 - u1 * v0) / det
         kept = np.abs(p) > np.abs(q)  # a face turned over has no rotation: its sides follow the edge tree
-        phi = _unwrapped(np.angle(p), _face_tree(edge, shape.n_edges, kept))
+        phi = _unwrapped(np.angle(p), _face_tree(twin, kept))
         raw = np.angle(np.asarray(e1) / np.asarray(e0))
         ref = np.full(shape.n_edges, np.nan)
         ref[edge[kept].ravel()] = np.repeat(phi[kept], 3)
@@ -85,34 +85,44 @@ def edge_rotations(shape, e0, e1):
 
 
 def _face_edges(shape):
-    """(F, 3) edge index of every face's sides a-b, b-c, c-a, and (F, 3) +1 / -1: the edge runs along / against it."""
+    """Every face's sides a-b, b-c, c-a as edges of the shape, and their twins.
+
+    Returns
+    -------
+    edge : (F, 3) int
+        The edge index of every side.
+    sign : (F, 3) float
+        +1 where the edge runs along the side, -1 against it.
+    twin : (3F,) int
+        Every side's twin in the neighbouring face (`geometry.edge_table`), -1 on the boundary.
+    """
+    from .geometry import edge_table
+
     top = shape.topology
-    f = np.asarray(shape.faces, dtype=np.int64)
-    a, b = f.ravel(), np.roll(f, -1, axis=1).ravel()
-    key = np.minimum(top.first, top.second) * (1 << 32) + np.maximum(top.first, top.second)
-    order = np.argsort(key)
-    idx = order[np.searchsorted(key[order], np.minimum(a, b) * (1 << 32) + np.maximum(a, b))]
+    a, _, _, key, twin = edge_table(np.asarray(shape.faces, dtype=np.int64))
+    edges = np.minimum(top.first, top.second) * (1 << 32) + np.maximum(top.first, top.second)
+    order = np.argsort(edges)
+    idx = order[np.searchsorted(edges[order], key)]
     sign = np.where(top.first[idx] == a, 1.0, -1.0)
-    return idx.reshape(-1, 3), sign.reshape(-1, 3)
+    return idx.reshape(-1, 3), sign.reshape(-1, 3), twin
 
 
-def _face_tree(edge, n_edges, kept):
+def _face_tree(twin, kept):
     """(F,) parent of every face in a breadth-first tree of ``kept`` faces adjacent across a side.
 
-    ``edge`` (F, 3) are the faces' sides as edge indices (`_face_edges`), of ``n_edges`` in all.
-
-    One root per connected component of the kept faces, its lowest face, all
-    joined to a virtual root node that the traversal starts from; roots and
-    faces not kept are their own parents.
+    ``twin`` (3F,) is every side's twin side (`_face_edges`). One root per
+    connected component of the kept faces, its lowest face, all joined to a
+    virtual root node that the traversal starts from; roots and faces not
+    kept are their own parents.
     """
     import scipy.sparse as sp
     from scipy.sparse.csgraph import breadth_first_order, connected_components
 
-    F = len(edge)
-    side = sp.csr_matrix((np.repeat(kept, 3).astype(float), (np.repeat(np.arange(F), 3), edge.ravel())),
-                         shape=(F, n_edges))
-    side.eliminate_zeros()
-    adjacency = (side @ side.T).tocoo()
+    F = len(kept)
+    side = np.flatnonzero(twin >= 0)
+    u, v = side // 3, twin[side] // 3
+    both = kept[u] & kept[v]
+    adjacency = sp.coo_matrix((np.ones(int(both.sum())), (u[both], v[both])), shape=(F, F))
     first = np.unique(connected_components(adjacency, directed=False)[1], return_index=True)[1]
     rows, cols = np.r_[adjacency.row, np.full(len(first), F)], np.r_[adjacency.col, first]
     g = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(F + 1, F + 1))
