@@ -98,10 +98,10 @@ def _dense(polylines, step):
     points, heading = np.vstack(out), np.vstack(heading)
     from scipy.spatial import cKDTree
 
+    near = cKDTree(points).query_pairs(0.6 * step, output_type="ndarray")
+    back = near[np.einsum("ij,ij->i", heading[near[:, 0]], heading[near[:, 1]]) < -0.9]
     seam = np.zeros(len(points), bool)
-    for i, j in cKDTree(points).query_pairs(0.6 * step, output_type="ndarray"):
-        if heading[i] @ heading[j] < -0.9:
-            seam[i] = seam[j] = True
+    seam[back.ravel()] = True
     return points[~seam] if (~seam).any() else points
 
 
