@@ -250,7 +250,9 @@ def _merge(z, w, f, x, y, score, eps, q, floor):
 
     Safe: the link condition holds, every new face keeps a positive area in
     both meshes, and the smallest quality ``q`` (sine of the smallest angle)
-    around x grows, or stays at least ``floor``.
+    around x grows, or stays at least ``floor``. Each x takes its safe merge
+    of lowest score; its other candidates are checked only when its first
+    (lowest score) is not safe.
     """
     if not len(x):
         return f, 0
@@ -258,9 +260,51 @@ def _merge(z, w, f, x, y, score, eps, q, floor):
     vf = coo_matrix((np.ones(3 * nF), (f.ravel(), np.repeat(np.arange(nF), 3))), shape=(N, nF)).tocsr()
     A = coo_matrix((np.ones(3 * nF), (f.ravel(), np.roll(f, -1, axis=1).ravel())), shape=(N, N)).tocsr()
     A = ((A + A.T) > 0).astype(np.int64).tocsr()
+    rank = np.empty(len(x), dtype=np.int64)
+    rank[np.argsort(score, kind="stable")] = np.arange(len(x))
+    o = np.lexsort((score, x))  # per x, its candidates by score
+    first = np.flatnonzero(np.r_[True, x[o][1:] != x[o][:-1]])
+    last = np.r_[first[1:], len(x)]
+    # pass 1: the first candidate of every x; pass 2: all the others of the x still open
+    c = o[first]
+    safe = _safe(z, w, f, vf, A, x[c], y[c], eps, q, floor)
+    rest = np.repeat(~safe, last - first - 1)  # the later candidates of an x whose first is not safe
+    later = o[np.delete(np.arange(len(x)), first)][rest]
+    ok = _safe(z, w, f, vf, A, x[later], y[later], eps, q, floor)
+    later = later[ok][np.r_[True, x[later[ok]][1:] != x[later[ok]][:-1]]] if ok.any() else later[ok]
+    c = np.r_[c[safe], later]
+    if not len(c):
+        return f, 0
+    x, y, rank = x[c], y[c], rank[c]
+    # a maximal set of merges whose faces (those of x and of y) are disjoint, lowest score first (Luby):
+    # a merge wins when it has the lowest rank on all its faces; its faces are taken, its rivals drop out
+    cx, fx = vf[x].nonzero()
+    cy, fy = vf[y].nonzero()
+    cc, ff = np.r_[cx, cy], np.r_[fx, fy]
+    n = len(x)
+    left = np.ones(n, dtype=bool)
+    take = np.zeros(n, dtype=bool)
+    taken = np.zeros(nF, dtype=bool)
+    while left.any():
+        live = left[cc]
+        cl, fl = cc[live], ff[live]
+        claim = np.full(nF, np.iinfo(np.int64).max)
+        np.minimum.at(claim, fl, rank[cl])
+        win = left & (np.bincount(cl[claim[fl] != rank[cl]], minlength=n) == 0)
+        take |= win
+        taken[ff[win[cc]]] = True
+        left &= np.bincount(cl[taken[fl]], minlength=n) == 0
+    vmap = np.arange(N)
+    vmap[x[take]] = y[take]
+    g = vmap[f]
+    g = g[(g[:, 0] != g[:, 1]) & (g[:, 1] != g[:, 2]) & (g[:, 2] != g[:, 0])]
+    return g, int(take.sum())
+
+
+def _safe(z, w, f, vf, A, x, y, eps, q, floor):
+    """(C,) bool: merging x into y keeps the link condition, positive areas and the quality (see `_merge`)."""
     link = np.asarray(A[x].multiply(A[y]).sum(axis=1)).ravel() == 2
     cx, fx = vf[x].nonzero()  # faces around x
-    cy, fy = vf[y].nonzero()
     old = np.full(len(x), np.inf)
     np.minimum.at(old, cx, q[fx])
     stay = ~np.any(f[fx] == y[cx][:, None], axis=1)
@@ -269,35 +313,7 @@ def _merge(z, w, f, x, y, score, eps, q, floor):
     ok = np.bincount(cs[~_valid(z, w, nf, eps)], minlength=len(x)) == 0
     new = np.full(len(x), np.inf)
     np.minimum.at(new, cs, _quality(z, w, nf))
-    left = link & ok & ((new > old) | (new >= floor))
-    o = np.lexsort((score, ~left, x))  # per x, its safe merge of lowest score
-    first = np.zeros(len(x), dtype=bool)
-    first[o[np.r_[True, x[o][1:] != x[o][:-1]]]] = True
-    left &= first
-    # a maximal set of merges whose faces (those of x and of y) are disjoint, lowest score first (Luby):
-    # a merge wins when it has the lowest rank on all its faces; its faces are taken, its rivals drop out
-    rank = np.empty(len(x), dtype=np.int64)
-    rank[np.argsort(score, kind="stable")] = np.arange(len(x))
-    cc, ff = np.r_[cx, cy], np.r_[fx, fy]
-    take = np.zeros(len(x), dtype=bool)
-    taken = np.zeros(nF, dtype=bool)
-    n = len(x)
-    while left.any():
-        live = left[cc]
-        cl, fl = cc[live], ff[live]
-        claim = np.full(nF, n, dtype=np.int64)
-        np.minimum.at(claim, fl, rank[cl])
-        win = left & (np.bincount(cl[claim[fl] != rank[cl]], minlength=n) == 0)
-        take |= win
-        taken[ff[win[cc]]] = True
-        left &= np.bincount(cl[taken[fl]], minlength=n) == 0
-    if not take.any():
-        return f, 0
-    vmap = np.arange(N)
-    vmap[x[take]] = y[take]
-    g = vmap[f]
-    g = g[(g[:, 0] != g[:, 1]) & (g[:, 1] != g[:, 2]) & (g[:, 2] != g[:, 0])]
-    return g, int(take.sum())
+    return link & ok & ((new > old) | (new >= floor))
 
 
 def _joint_refine(z, w, f, size, rounds=30):
