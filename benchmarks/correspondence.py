@@ -74,14 +74,26 @@ def outline_measures(seq, regions=None):
 
 
 # ---------------------------------------------------------------- ends
+REFERENCE_SEGMENTS = 64  # straight pieces per curve of the reference drawings (a quarter circle: within 0.008 % of its radius)
+
+
+def reference(path):
+    """The drawing the ends are measured against: its curves nearly exact, not isotween's sampling of them."""
+    import isotween
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return isotween.io.load(path, curve_segments=REFERENCE_SEGMENTS)
+
+
 def _dense(polylines, step):
     """Points along polylines ((k, 2) arrays, closed ones with their first point repeated), ``step`` apart.
 
-    A seam is left out: a stretch of the outline that another stretch runs back over (points
-    within ``step`` of each other, heading opposite ways). It has no width, so a fill draws
-    nothing there: a slit that opened a hole into a notch, closed again at its end
-    (`isotween.correspondence.notches.close_slits`), runs from the outer ring to the hole and
-    back. Drawings' own outlines have none.
+    Returns the points (m, 2) and a (m,) mask of those on a seam: a stretch of the outline
+    that another stretch runs back over (points within ``0.6 step`` of each other, heading
+    opposite ways). A seam has no width, so a fill draws nothing there: a slit that opened a
+    hole into a notch, closed again at its end (`isotween.correspondence.notches.close_slits`),
+    runs from the outer ring to the hole and back. (The tip of a drawing's own cusp is one too.)
     """
     out, heading = [], []
     for p in polylines:
@@ -102,7 +114,7 @@ def _dense(polylines, step):
     back = near[np.einsum("ij,ij->i", heading[near[:, 0]], heading[near[:, 1]]) < -0.9]
     seam = np.zeros(len(points), bool)
     seam[back.ravel()] = True
-    return points[~seam] if (~seam).any() else points
+    return points, seam
 
 
 def _polylines(vertices, paths, keep=None):
@@ -122,10 +134,19 @@ def _area(ring):
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
+def _centroid(ring):
+    """The centroid of the area a ring encloses (not of its vertices, which bunch where curves are)."""
+    x, y = ring[:, 0], ring[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cross = x * yn - xn * y
+    a = 3 * cross.sum()
+    return np.array([((x + xn) * cross).sum() / a, ((y + yn) * cross).sum() / a]) if a else ring.mean(axis=0)
+
+
 def end_measures(seq, drawings):
     """Hausdorff distance (% of the input's diagonal) and specks at frame 0 and the last frame.
 
-    The input outline is every path of the drawing as `isotween.io.load` reads it; the frame's
+    The input outline is every path of the drawing with its curves nearly exact (`reference`); the frame's
     is every path of the sequence that is visible at that end (opacity above zero; a ring
     collapsed to a point draws nothing). Both are sampled every 0.02 % of the diagonal. A speck
     is a closed ring of the frame with an area above zero and below 0.5 % of the input's
@@ -153,10 +174,13 @@ def end_error(z, paths, drawing, keep=None):
     theirs = _polylines(drawing.vertices, drawing.paths)
     if not mine or not theirs:
         return float("inf"), 0
-    a, b = _dense(mine, 2e-4 * diag), _dense(theirs, 2e-4 * diag)
-    hd = 100 * float(max(cKDTree(b).query(a)[0].max(), cKDTree(a).query(b)[0].max())) / diag
+    (a, seam), (b, _) = _dense(mine, 2e-4 * diag), _dense(theirs, 2e-4 * diag)
+    # the frame's seams (closed slits) draw nothing, so they need not lie on the input's outline;
+    # every point of the input's outline, seams included, must lie on the frame's
+    drawn = a[~seam] if (~seam).any() else a
+    hd = 100 * float(max(cKDTree(b).query(drawn)[0].max(), cKDTree(a).query(b)[0].max())) / diag
     box = np.ptp(drawing.vertices, axis=0).prod()
-    given = [(abs(_area(drawing.vertices[q])), drawing.vertices[q].mean(axis=0))
+    given = [(abs(_area(drawing.vertices[q])), _centroid(drawing.vertices[q]))
              for q, closed in drawing.paths if closed and len(q) > 2]
     specks = 0
     for k, (q, closed) in enumerate(paths):
@@ -166,7 +190,7 @@ def end_error(z, paths, drawing, keep=None):
         area = abs(_area(ring))
         if not (area > 1e-12 * box and area < 5e-3 * box):
             continue
-        c = ring.mean(axis=0)
+        c = _centroid(ring)
         if not any(0.5 * area <= a_in <= 2 * area and np.hypot(*(c - c_in)) <= 0.01 * diag for a_in, c_in in given):
             specks += 1
     return hd, specks
@@ -323,10 +347,7 @@ def run_isotween(job):
             out["seconds"] = time.perf_counter() - t0
             out["stages"] = _stages(seq)
         signal.alarm(0)
-        load = isotween.io.load.__wrapped__
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            drawings = (load(a_file), load(b_file))
+        drawings = (reference(a_file), reference(b_file))
         shape = seq.shape
         out["ok"] = True
         out["report"] = seq.info.get("correspondence", "")
@@ -375,7 +396,7 @@ def flubber_inputs(jobs):
         rb = [b.vertices[p].tolist() for p, _ in b.paths]
         diag = max(a.bbox_diagonal(), b.bbox_diagonal())
         items.append({"id": k, "a": ra, "b": rb, "seg": 0.01 * diag})
-        groups[k] = (a.regions, (a, b))
+        groups[k] = (a.regions, (reference(a_file), reference(b_file)))
     return items, groups
 
 
@@ -681,7 +702,7 @@ def main():
         "**Clean**: no two outline edges of the whole drawing cross (different regions included; "
         "`metrics.outline_crossings` with its default scope) and no triangle flips, in any in-between frame; the "
         "older per-region measure counts only crossings within one region. **Exact ends**: the symmetric Hausdorff "
-        "distance between frame 0 and the source drawing's outline (every path `isotween.io.load` reads), and "
+        "distance between frame 0 and the source drawing's outline (every path, curves in 64 straight pieces each), and "
         "between the last frame and the target's, both sampled every 0.02 % of the diagonal, at most "
         f"{END_TARGET} % of that drawing's diagonal; paths invisible at an end (opacity 0, or a ring collapsed to a "
         "point) are left out, and so are seams, stretches of an outline that another stretch runs back over "

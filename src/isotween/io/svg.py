@@ -35,7 +35,7 @@ __all__ = ["read_svg", "write_svg", "CURVE_SEGMENTS", "CURVE_TOLERANCE"]
 
 #: curves are flattened so that no point of a curve is further than this fraction of the drawing's
 #: bounding-box diagonal from the polyline (the default; ``curve_segments`` fixes the count instead)
-CURVE_TOLERANCE = 2.5e-4
+CURVE_TOLERANCE = 5e-4
 #: straight pieces of a curved segment at most, and (the older fixed count) ``curve_segments=16``
 MAX_CURVE_SEGMENTS = 256
 CURVE_SEGMENTS = 16
@@ -115,7 +115,11 @@ def _subpaths(se, segments, curve_segments, tolerance=None):
         steps = fixed
         if steps is None:
             probe = np.asarray(seg.npoint(_PROBE), dtype=np.float64).reshape(-1, 2)
-            bend = np.abs(probe[2:] - 2 * probe[1:-1] + probe[:-2]).max(initial=0.0) * (len(_PROBE) - 1) ** 2
+            # h^2 times the second derivative at the inner probes (exact for a cubic), and at both ends
+            # by linear extrapolation (exact too: a cubic's second derivative is linear in t)
+            second = probe[2:] - 2 * probe[1:-1] + probe[:-2]
+            second = np.r_[second, 2 * second[:1] - second[1:2], 2 * second[-1:] - second[-2:-1]]
+            bend = np.hypot(second[:, 0], second[:, 1]).max() * (len(_PROBE) - 1) ** 2
             n = int(np.clip(np.ceil(np.sqrt(bend / (8 * tolerance))), 1, MAX_CURVE_SEGMENTS))
             steps = np.linspace(0.0, 1.0, n + 1)[1:]
         current.append(np.asarray(seg.npoint(steps), dtype=np.float64).reshape(-1, 2))
