@@ -178,3 +178,39 @@ def test_a_symmetric_drawing_does_not_spin(tmp_path):
     p, q = a.z[outer] - a.z[outer].mean(), b.z[outer] - b.z[outer].mean()
     assert abs(np.angle(np.vdot(p, q), deg=True)) < 10.0
     assert np.abs(a.z[outer] - b.z[outer]).max() < 0.25 * a.bbox_diagonal()  # every point stays near its place
+
+
+def s_bar(bent, width=10.0, per_arc=24):
+    """A bar 100 long along a centre line straight (False) or bent into an S: an arc turning left by 90
+    degrees, then one turning right by 90 (the centre line keeps its length)."""
+    if not bent:
+        return np.array([[0, 5], [50, 5], [100, 5], [100, -5], [50, -5], [0, -5]], float) * [1, width / 10]
+    r = 100 / np.pi  # two quarter circles: 100 in all
+    t = np.linspace(0, np.pi / 2, per_arc + 1)
+    line = np.r_[1j * r * (1 - np.exp(1j * t)), (2 * r + 1j * r) - r * np.exp(-1j * t[1:])]
+    heading = np.r_[np.exp(1j * t), 1j * np.exp(-1j * t[1:])]
+    left, right = line + width / 2 * 1j * heading, line - width / 2 * 1j * heading
+    ring = np.r_[left[::-1], right]
+    return np.c_[ring.real, ring.imag]
+
+
+def test_a_bar_bent_into_an_s_keeps_its_area_in_every_in_between():
+    """Arc length between corners puts the bend's inner and outer points out of step (a shear that swells
+    the bar by 8 %); the slide along the outline finds the bend, and the bar keeps its area."""
+    rings = [s_bar(b) for b in (False, True)]
+    src, tgt = (isotween.Shape.from_polygon(r) for r in rings)
+    area = [abs(isotween.geometry.ring_area(r[:, 0] + 1j * r[:, 1])) for r in rings]
+    assert abs(area[1] / area[0] - 1) < 2e-3  # an isometric bend
+    a, b, report = isotween.correspond(src, tgt)
+    assert report.slid == 1
+    seq = isotween.interpolate(a, b, frames=11)
+    ring = seq.shape.paths[0][0]
+    areas = [abs(isotween.geometry.ring_area(f[ring, 0] + 1j * f[ring, 1])) for f in seq.frames]
+    assert np.max(np.abs(np.array(areas) / areas[0] - 1)) < 0.01
+    # the source drawing is unchanged: its points slid only along its straight sides
+    z = a.z[ring]
+    on_side = np.isclose(np.abs(z.imag), 5) & (z.real >= -1e-9) & (z.real <= 100 + 1e-9)
+    on_end = np.isclose(z.real % 100, 0) & (np.abs(z.imag) <= 5 + 1e-9)
+    assert np.all(on_side | on_end)
+    # hints keep the match as given: no slide
+    assert isotween.correspond(src, tgt, landmarks=[((0, 5), tuple(tgt.vertices[0]))]).report.slid == 0

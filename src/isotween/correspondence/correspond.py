@@ -77,6 +77,13 @@ class CorrespondenceReport:
         Per drawing, the slits that opened a hole into the other drawing's
         notch (`notches.open_holes`): `isotween.morph` closes them in that
         drawing's frame (`notches.close_slits`).
+    hinted : bool
+        Landmarks were given: the ring matches are kept as the hints made
+        them (no slide).
+    slid : int
+        Meshed regions whose source points were slid along the outline to
+        make the map nearly rigid (a bent copy: `slide.slid_rings`), then
+        meshed again.
     """
 
     unchanged: bool = False
@@ -93,6 +100,8 @@ class CorrespondenceReport:
     outlines: list = field(default_factory=list)
     vanishing: list = field(default_factory=list)
     slits: list = field(default_factory=list)
+    hinted: bool = False
+    slid: int = 0
 
     def summary(self):
         """One line saying what was done."""
@@ -117,6 +126,8 @@ class CorrespondenceReport:
             v, t = np.sum(self.meshes, axis=0)
             parts.append(f"{len(self.meshes)} solid(s): {int(v)} vertices, {int(t)} triangles, "
                          f"{self.flipped} flipped")
+        if self.slid:
+            parts.append(f"{self.slid} bent region(s) matched along the bend")
         if self.outlines:
             parts.append(f"{len(self.outlines)} region(s) as outlines ({self.outlines[0]})")
         return "correspondence: " + "; ".join(parts)
@@ -337,7 +348,8 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs, la
     for k, (shape, key_rings) in enumerate(zip(shapes, rings, strict=True)):
         result.append(Shape.from_paths(key_rings, list(closed), y_down=shape.y_down, regions=regions,
                                        paint=paint[k]))
-    report = CorrespondenceReport(keys=len(shapes), unmatched=unmatched, points=[int(c) for c in counts])
+    report = CorrespondenceReport(keys=len(shapes), unmatched=unmatched, points=[int(c) for c in counts],
+                                  hinted=landmarks is not None)
     _count_items(report, slots, len(shapes))
     report.vanishing = [[result[k].paths[r][0] for r in rings_k] for k, rings_k in enumerate(tiny)]
     report.slits = slits
@@ -590,7 +602,7 @@ def _path_of(paths, idx):
 
 
 
-def _mesh_region(source_rings, target_rings, mesh_size):
+def _mesh_region(source_rings, target_rings, mesh_size, slide=True):
     """Compatible triangle meshes of one region pair.
 
     Parameters
@@ -599,6 +611,9 @@ def _mesh_region(source_rings, target_rings, mesh_size):
         Outer ring first, then holes; same counts, vertex i corresponding.
     mesh_size : float or None
         Target edge length.
+    slide : bool
+        Where the map is a bend, slide the source points along the outline
+        (`slide.slid_rings`) and mesh again.
 
     Returns
     -------
@@ -606,11 +621,24 @@ def _mesh_region(source_rings, target_rings, mesh_size):
         Same faces; the ring vertices first, in order, then interior vertices.
     flipped : int
         Target triangles whose orientation differs from the source's.
+    slid : bool
+        The source points were slid.
     """
     from .compatible_mesh import compatible_meshes
+    from .slide import slid_rings
 
     src, tgt, _ = compatible_meshes(source_rings, target_rings, mesh_size=mesh_size)
-    return src, tgt, int(np.count_nonzero(np.sign(src.face_areas()) != np.sign(tgt.face_areas())))
+    moved = None
+    if slide:
+        ends = np.cumsum([0] + [len(r) for r in source_rings])
+        moved = slid_rings(src.z, tgt.z, src.faces, [np.arange(a, b) for a, b in zip(ends[:-1], ends[1:])])
+    if moved is not None:
+        try:
+            src, tgt, _ = compatible_meshes([np.c_[moved[a:b].real, moved[a:b].imag]
+                                             for a, b in zip(ends[:-1], ends[1:])], target_rings, mesh_size=mesh_size)
+        except ShapeError:  # (the slid rings too close to degenerate: the arc-length match stays)
+            moved = None
+    return src, tgt, int(np.count_nonzero(np.sign(src.face_areas()) != np.sign(tgt.face_areas()))), moved is not None
 
 
 def _solids(shapes, report, mesh_size, meshes=None):
@@ -645,17 +673,18 @@ def _solids(shapes, report, mesh_size, meshes=None):
         key = None if meshes is None else region_key(rs, rt, size)
         try:
             if key is not None and key in meshes:
-                ms, mt, flipped = meshes[key]
+                ms, mt, flipped, slid = meshes[key]
             else:
-                ms, mt, flipped = _mesh_region(rs, rt, size)
+                ms, mt, flipped, slid = _mesh_region(rs, rt, size, slide=not report.hinted)
                 if key is not None:
-                    meshes[key] = (ms, mt, flipped)
+                    meshes[key] = (ms, mt, flipped, slid)
         except (ShapeError, IncompatibleShapesError) as exc:
             report.outlines.append(f"region {len(regions)}: {exc}")
             ms, mt, flipped = Shape.from_polygon(rs), Shape.from_polygon(rt), 0
         else:
             report.meshes.append((ms.n_vertices, ms.n_faces))
             report.flipped += flipped
+            report.slid += slid
         sizes = np.cumsum([0] + [len(x) for x in rs])
         regions.append(list(range(len(paths), len(paths) + len(r))))
         paths += [(offset + np.arange(sizes[i], sizes[i + 1]), True) for i in range(len(r))]
