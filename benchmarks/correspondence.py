@@ -74,7 +74,8 @@ def outline_measures(seq, regions=None):
 
 
 # ---------------------------------------------------------------- ends
-REFERENCE_SEGMENTS = 64  # straight pieces per curve of the reference drawings (a quarter circle: within 0.008 % of its radius)
+#: straight pieces per curve of the reference drawings (a quarter circle: within 0.008 % of its radius)
+REFERENCE_SEGMENTS = 64
 
 
 def reference(path):
@@ -702,7 +703,7 @@ def main():
         "**Clean**: no two outline edges of the whole drawing cross (different regions included; "
         "`metrics.outline_crossings` with its default scope) and no triangle flips, in any in-between frame; the "
         "older per-region measure counts only crossings within one region. **Exact ends**: the symmetric Hausdorff "
-        "distance between frame 0 and the source drawing's outline (every path, curves in 64 straight pieces each), and "
+        "distance between frame 0 and the source drawing's outline (every path, curves in 64 pieces each), and "
         "between the last frame and the target's, both sampled every 0.02 % of the diagonal, at most "
         f"{END_TARGET} % of that drawing's diagonal; paths invisible at an end (opacity 0, or a ring collapsed to a "
         "point) are left out, and so are seams, stretches of an outline that another stretch runs back over "

@@ -181,8 +181,10 @@ def test_a_symmetric_drawing_does_not_spin(tmp_path):
 
 
 def s_bar(bent, width=10.0, per_arc=24):
-    """A bar 100 long along a centre line straight (False) or bent into an S: an arc turning left by 90
-    degrees, then one turning right by 90 (the centre line keeps its length)."""
+    """A bar 100 long along a straight centre line, or one bent into an S.
+
+    The S: an arc turning left by 90 degrees, then one turning right by 90 (the centre line keeps its length).
+    """
     if not bent:
         return np.array([[0, 5], [50, 5], [100, 5], [100, -5], [50, -5], [0, -5]], float) * [1, width / 10]
     r = 100 / np.pi  # two quarter circles: 100 in all
@@ -195,8 +197,11 @@ def s_bar(bent, width=10.0, per_arc=24):
 
 
 def test_a_bar_bent_into_an_s_keeps_its_area_in_every_in_between():
-    """Arc length between corners puts the bend's inner and outer points out of step (a shear that swells
-    the bar by 8 %); the slide along the outline finds the bend, and the bar keeps its area."""
+    """A bent bar keeps its area in every in-between.
+
+    Arc length between corners puts the bend's inner and outer points out of step (a shear that swells
+    the bar by 8 %); the slide along the outline finds the bend.
+    """
     rings = [s_bar(b) for b in (False, True)]
     src, tgt = (isotween.Shape.from_polygon(r) for r in rings)
     area = [abs(isotween.geometry.ring_area(r[:, 0] + 1j * r[:, 1])) for r in rings]

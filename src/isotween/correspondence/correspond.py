@@ -628,14 +628,13 @@ def _mesh_region(source_rings, target_rings, mesh_size, slide=True):
     from .slide import slid_rings
 
     src, tgt, _ = compatible_meshes(source_rings, target_rings, mesh_size=mesh_size)
-    moved = None
-    if slide:
-        ends = np.cumsum([0] + [len(r) for r in source_rings])
-        moved = slid_rings(src.z, tgt.z, src.faces, [np.arange(a, b) for a, b in zip(ends[:-1], ends[1:])])
+    ends = np.cumsum([0] + [len(r) for r in source_rings])
+    rings = [np.arange(a, b) for a, b in zip(ends[:-1], ends[1:], strict=True)]
+    moved = slid_rings(src.z, tgt.z, src.faces, rings) if slide else None
     if moved is not None:
         try:
-            src, tgt, _ = compatible_meshes([np.c_[moved[a:b].real, moved[a:b].imag]
-                                             for a, b in zip(ends[:-1], ends[1:])], target_rings, mesh_size=mesh_size)
+            src, tgt, _ = compatible_meshes([np.c_[moved[r].real, moved[r].imag] for r in rings], target_rings,
+                                            mesh_size=mesh_size)
         except ShapeError:  # (the slid rings too close to degenerate: the arc-length match stays)
             moved = None
     return src, tgt, int(np.count_nonzero(np.sign(src.face_areas()) != np.sign(tgt.face_areas()))), moved is not None

@@ -1,4 +1,4 @@
-"""Boundary sliding: source ring vertices moved along straight stretches of their own outline so that the map between two compatible meshes is as rigid as possible.
+"""Boundary sliding: source points moved along their own outline to make a bent copy's map rigid.
 
 Ring matching (`matching`) spaces points by arc length between matched
 corners. Where a drawing bends, the inner side of the bend is shorter than
@@ -34,7 +34,7 @@ SPREAD = 0.01  # share of even spacing mixed into the slid points of a stretch (
 
 
 def _weights(rest, faces):
-    """Per triangle and corner: the cotangent weight of the side opposite it, that side (j - k), and j, k; all (F, 3)."""
+    """Per triangle and corner: the cotangent weight of the side opposite, that side (j - k), and j, k; (F, 3)."""
     j, k = np.roll(faces, -1, axis=1), np.roll(faces, -2, axis=1)
     return 0.5 / np.tan(triangle_angles(rest, faces)), rest[j] - rest[k], j, k
 
