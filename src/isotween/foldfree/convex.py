@@ -38,6 +38,7 @@ __all__ = ["solve", "per_component", "disc", "Disc", "ConvexFrames", "place", "S
 
 SIDES = 32  # vertices of the fixed convex boundary (a regular polygon)
 MARGIN = 1.5  # its radius over the largest distance of a ring vertex from its centre
+COARSE = 3.0  # edge length of the completing meshes (exterior, holes) over their rings' mean edge
 
 
 def solve(problem):
@@ -268,14 +269,20 @@ def _component(zs, zt, f, t):
 
 
 def _mesh(rings_s, rings_a):
-    """Compatible meshes of corresponding rings (complex arrays); ring vertices kept first."""
+    """Compatible meshes of corresponding rings (complex arrays); ring vertices kept first.
+
+    Their interior is `COARSE` times coarser than the rings: the completing
+    faces only hold the disc together (the injective morph weighs them
+    lightly), and their count sets the cost of every Newton step.
+    """
     from ..correspondence.compatible_mesh import compatible_meshes
 
     def xy(rings):
         return [np.c_[r.real, r.imag] for r in rings]
 
+    size = COARSE * float(np.mean(np.abs(np.concatenate([np.diff(np.r_[r, r[:1]]) for r in rings_s]))))
     try:
-        ms, ma, _ = compatible_meshes(xy(rings_s), xy(rings_a))
+        ms, ma, _ = compatible_meshes(xy(rings_s), xy(rings_a), mesh_size=size)
     except IncompatibleShapesError as exc:
         raise MethodError(str(exc)) from None
     k = sum(len(r) for r in rings_s)
