@@ -79,7 +79,8 @@ def _stretches(z, rings):
         n = len(r)
         gap = np.diff(np.r_[kink, kink[0] + n]) - 1  # vertices between each kink and the next
         own = np.repeat(np.arange(len(kink)), gap)
-        at = (np.repeat(kink, gap) + 1 + np.arange(gap.sum()) - np.repeat(np.cumsum(gap) - gap, gap)) % n
+        after_kink = np.arange(gap.sum()) - np.repeat(np.cumsum(gap) - gap, gap) + 1  # 1, 2, .. from its kink
+        at = (np.repeat(kink, gap) + after_kink) % n
         a, b = p[kink[own]], p[kink[(own + 1) % len(kink)]]
         ids.append(r[at])
         start.append(a)
@@ -123,9 +124,9 @@ def slid_rings(source, target, faces, rings):
     from scipy.sparse.linalg import splu
 
     N = len(source)
-    free = np.zeros(N, bool)
-    free[np.concatenate(rings)] = True
-    interior = np.flatnonzero(~free)
+    on_ring = np.zeros(N, bool)
+    on_ring[np.concatenate(rings)] = True
+    interior = np.flatnonzero(~on_ring)
     nI, nS = len(interior), len(ids)
     # positions x = [X; Y] (2N) = B y + c: interior vertices free, sliders a + t d, the rest held
     B = coo_matrix((np.r_[np.ones(2 * nI), d.real, d.imag],
