@@ -516,3 +516,22 @@ def test_malformed_sequence_files_name_the_problem(tmp_path):
     (tmp_path / "d.json").write_text('{"frames": [[[0, 0], [1, 0]]], "iterations": "many"}')
     with pytest.raises(FileFormatError, match="iterations: has the wrong type"):
         io.load_sequence(tmp_path / "d.json")
+
+
+def test_svg_cubic_flattened_within_tolerance_where_it_bends_most_at_an_end(tmp_path):
+    """A cubic whose second derivative peaks at an end point (where no inner probe sees it) stays in tolerance."""
+    from isotween.io.svg import CURVE_TOLERANCE
+
+    p = np.array([0, -31.2 + 31.2j, -31.2 + 81.9j, 113.1j]) + (440 + 0j)  # as in Font Awesome's carrot
+    (tmp_path / "c.svg").write_text(
+        '<svg xmlns="http://www.w3.org/2000/svg"><path d="M440 0 c-31.2 31.2 -31.2 81.9 0 113.1 L600 113.1 '
+        'L600 0 Z"/></svg>')
+    s = io.load(tmp_path / "c.svg")
+    tol = CURVE_TOLERANCE * s.bbox_diagonal()
+    ring = s.z[s.paths[0][0]]
+    t = np.linspace(0, 1, 4001)[:, None]
+    curve = ((1 - t) ** 3 * p[0] + 3 * (1 - t) ** 2 * t * p[1] + 3 * (1 - t) * t ** 2 * p[2] + t ** 3 * p[3]).ravel()
+    a, b = ring, np.roll(ring, -1)  # every edge of the flattened ring; distance of each curve point to the nearest
+    u = np.clip(((curve[:, None] - a) * np.conj(b - a)).real / np.abs(b - a) ** 2, 0, 1)
+    gap = np.abs(curve[:, None] - (a + u * (b - a))).min(axis=1)
+    assert gap.max() <= tol
