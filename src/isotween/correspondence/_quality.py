@@ -270,8 +270,9 @@ def _merge(z, w, f, x, y, score, eps, q, floor):
     safe = _safe(z, w, f, vf, A, x[c], y[c], eps, q, floor)
     rest = np.repeat(~safe, last - first - 1)  # the later candidates of an x whose first is not safe
     later = o[np.delete(np.arange(len(x)), first)][rest]
-    ok = _safe(z, w, f, vf, A, x[later], y[later], eps, q, floor)
-    later = later[ok][np.r_[True, x[later[ok]][1:] != x[later[ok]][:-1]]] if ok.any() else later[ok]
+    later = later[_safe(z, w, f, vf, A, x[later], y[later], eps, q, floor)]
+    if len(later):  # each x's first safe one
+        later = later[np.r_[True, x[later][1:] != x[later][:-1]]]
     c = np.r_[c[safe], later]
     if not len(c):
         return f, 0
