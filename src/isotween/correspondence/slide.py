@@ -139,7 +139,10 @@ def slid_rings(source, target, faces, rings):
     c = np.r_[held.real, held.imag]
     L = cotangent_laplacian(rest, faces)
     L2 = block_diag([L, L]).tocsc()
-    solve = splu((B.T @ L2 @ B).tocsc()).solve
+    try:
+        solve = splu((B.T @ L2 @ B).tocsc()).solve
+    except RuntimeError:  # (singular: a stretch free to drift; the match stays as it is)
+        return None
     base = L2 @ c
     cw, side, j, k = _weights(rest, faces)
     cur = source
