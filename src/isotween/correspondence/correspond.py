@@ -82,7 +82,7 @@ class CorrespondenceReport:
         them (no slide).
     slid : int
         Meshed regions whose source points were slid along the outline to
-        make the map nearly rigid (a bent copy: `slide.slid_rings`), then
+        make the map more rigid (a bent copy: `slide.slid_rings`), then
         meshed again.
     """
 
