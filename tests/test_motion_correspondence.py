@@ -217,5 +217,7 @@ def test_a_bar_bent_into_an_s_keeps_its_area_in_every_in_between():
     on_side = np.isclose(np.abs(z.imag), 5) & (z.real >= -1e-9) & (z.real <= 100 + 1e-9)
     on_end = np.isclose(z.real % 100, 0) & (np.abs(z.imag) <= 5 + 1e-9)
     assert np.all(on_side | on_end)
-    # hints keep the match as given: no slide
+    # hints keep the match as given: no slide; nor does a rigid copy slide
     assert isotween.correspond(src, tgt, landmarks=[((0, 5), tuple(tgt.vertices[0]))]).report.slid == 0
+    turned = isotween.Shape.from_polygon(moved([s_bar(True)], 70)[0])
+    assert isotween.correspond(tgt, turned).report.slid == 0
