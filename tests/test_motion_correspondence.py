@@ -221,3 +221,31 @@ def test_a_bar_bent_into_an_s_keeps_its_area_in_every_in_between():
     assert isotween.correspond(src, tgt, landmarks=[((0, 5), tuple(tgt.vertices[0]))]).report.slid == 0
     turned = isotween.Shape.from_polygon(moved([s_bar(True)], 70)[0])
     assert isotween.correspond(tgt, turned).report.slid == 0
+
+
+def test_slid_points_stay_on_the_source_outline_and_corners_stay():
+    """Random polygons with extra points on straight sides: where the match slides, the source is unchanged."""
+    rng = np.random.default_rng(7)
+
+    def polygon():
+        t = np.sort(rng.uniform(0, 2 * np.pi, rng.integers(4, 9)))
+        z = rng.uniform(0.5, 1.5, len(t)) * np.exp(1j * t)
+        out = []
+        for a, b in zip(z, np.roll(z, -1), strict=True):  # 0-3 extra points on every side
+            out += [a] + [a + s * (b - a) for s in np.sort(rng.uniform(0, 1, rng.integers(0, 4)))]
+        return np.array(out)
+
+    slid = 0
+    for _ in range(40):
+        a, b = polygon(), polygon()
+        src, _, report = isotween.correspond(*(isotween.Shape.from_polygon(np.c_[p.real, p.imag]) for p in (a, b)))
+        slid += report.slid
+        z = src.z[src.paths[0][0]]
+        # every point on a side of the input polygon
+        p, q = a, np.roll(a, -1)
+        u = np.clip(((z[:, None] - p) * np.conj(q - p)).real / np.abs(q - p) ** 2, 0, 1)
+        assert np.abs(z[:, None] - (p + u * (q - p))).min(axis=1).max() <= 1e-12
+        # every corner of the input a vertex of the output
+        corner = np.abs(isotween.geometry.orient(np.roll(a, 1), a, np.roll(a, -1))) > 1e-9
+        assert np.abs(a[corner][:, None] - z[None, :]).min(axis=1).max() == 0.0
+    assert slid >= 3  # the slide was exercised
