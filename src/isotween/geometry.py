@@ -20,8 +20,8 @@ from .errors import ShapeError
 
 __all__ = [
     "as_complex", "orient", "ring_area", "ring_areas", "ring_orientation", "ring_centroid", "triangle_areas",
-    "triangle_angles", "bbox_diagonal", "edge_table", "boundary_loops", "mean_value_weights", "mean_value_laplacian",
-    "cotangent_laplacian", "convex_map", "winding_numbers", "fill_regions", "MAX_TRIANGLES",
+    "triangle_angles", "bbox_diagonal", "edge_keys", "edge_table", "boundary_loops", "mean_value_weights",
+    "mean_value_laplacian", "cotangent_laplacian", "convex_map", "winding_numbers", "fill_regions", "MAX_TRIANGLES",
 ]
 
 MAX_TRIANGLES = 2_000_000
@@ -257,6 +257,18 @@ def bbox_diagonal(*points):
     return float(np.hypot(*(both.max(axis=0) - both.min(axis=0))))
 
 
+def edge_keys(a, b):
+    """(m,) int64 key of every undirected edge between vertices ``a`` and ``b`` (m,): ``min * 2**32 + max``.
+
+    Examples
+    --------
+    >>> int(edge_keys(np.array([3]), np.array([1]))[0]) == int(edge_keys(np.array([1]), np.array([3]))[0])
+    True
+    """
+    a, b = np.asarray(a, dtype=np.int64), np.asarray(b, dtype=np.int64)
+    return np.minimum(a, b) * (1 << 32) + np.maximum(a, b)
+
+
 def edge_table(faces):
     """Directed half-edges of triangles and their twins.
 
@@ -270,14 +282,14 @@ def edge_table(faces):
         Half-edge ``h = 3 * face + corner`` runs from ``a[h]`` to ``b[h]``;
         ``c[h]`` is the vertex opposite it.
     key : (3K,) int64 array
-        The undirected edge's key, ``min * 2**32 + max``.
+        The undirected edge's key (`edge_keys`).
     twin : (3K,) int64 array
         The other half-edge of the same edge, -1 on the boundary.
     """
     a = faces.ravel()
     b = np.roll(faces, -1, axis=1).ravel()
     c = np.roll(faces, -2, axis=1).ravel()
-    key = np.minimum(a, b) * (1 << 32) + np.maximum(a, b)
+    key = edge_keys(a, b)
     order = np.argsort(key, kind="stable")
     ks = key[order]
     twin = np.full(len(a), -1, dtype=np.int64)

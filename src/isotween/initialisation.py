@@ -96,11 +96,11 @@ def _face_edges(shape):
     twin : (3F,) int
         Every side's twin in the neighbouring face (`geometry.edge_table`), -1 on the boundary.
     """
-    from .geometry import edge_table
+    from .geometry import edge_keys, edge_table
 
     top = shape.topology
     a, _, _, key, twin = edge_table(np.asarray(shape.faces, dtype=np.int64))
-    edges = np.minimum(top.first, top.second) * (1 << 32) + np.maximum(top.first, top.second)
+    edges = edge_keys(top.first, top.second)
     order = np.argsort(edges)
     idx = order[np.searchsorted(edges[order], key)]
     sign = np.where(top.first[idx] == a, 1.0, -1.0)

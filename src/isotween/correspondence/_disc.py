@@ -6,7 +6,7 @@ Part of `isotween.correspondence.compatible_mesh` (see its description).
 import numpy as np
 
 from ..errors import IncompatibleShapesError, ShapeError
-from ..geometry import edge_table, ring_area, triangle_angles, triangle_areas
+from ..geometry import edge_keys, edge_table, ring_area, triangle_angles, triangle_areas
 
 
 # ---------------------------------------------------------------- validation
@@ -89,8 +89,8 @@ def _orientation(src, tgt):
 # ---------------------------------------------------------------- triangulation
 def _keys(e):
     """(m,) int64 keys of undirected edges (m, 2)."""
-    e = np.sort(np.asarray(e, dtype=np.int64).reshape(-1, 2), axis=1)
-    return e[:, 0] * (1 << 32) + e[:, 1]
+    e = np.asarray(e, dtype=np.int64).reshape(-1, 2)
+    return edge_keys(e[:, 0], e[:, 1])
 
 
 def _scale2(z):

@@ -163,7 +163,7 @@ class _FusedPass:
 _HAVE_NUMBA = importlib.util.find_spec("numba") is not None
 _INSTANCES = {"numpy": NumpyBackend(), "numba": NumbaBackend()}
 _state: dict[str, Any] = {"name": "numba" if _HAVE_NUMBA and os.environ.get("ISOTWEEN_NUMBA", "1") != "0" else "numpy",
-          "chosen": False, "long_lived": False}  # chosen: by `use`, which `sized` leaves alone
+                          "chosen": False, "long_lived": False}  # chosen: by `use`, which `sized` leaves alone
 
 
 def available() -> tuple[str, ...]:
