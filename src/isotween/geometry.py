@@ -20,7 +20,8 @@ from .errors import ShapeError
 
 __all__ = [
     "as_complex", "orient", "ring_area", "ring_areas", "ring_orientation", "ring_centroid", "triangle_areas",
-    "triangle_angles", "bbox_diagonal", "edge_keys", "edge_table", "boundary_loops", "mean_value_weights",
+    "triangle_angles", "affine_maps", "bbox_diagonal", "edge_keys", "edge_table", "face_sides", "boundary_loops",
+    "mean_value_weights",
     "mean_value_laplacian", "cotangent_laplacian", "convex_map", "winding_numbers", "fill_regions", "MAX_TRIANGLES",
 ]
 
@@ -232,6 +233,37 @@ def triangle_angles(points, faces):
     return np.where(np.isnan(ang), 0.0, ang)
 
 
+def affine_maps(faces, z0, z1):
+    """Per-triangle affine map ``A u = P u + Q conj(u)`` taking the sides of ``z0`` to those of ``z1``.
+
+    ``P / |P|`` is the rotation closest to ``A`` (polar decomposition), and
+    ``2 (|P - R|^2 + |Q|^2)`` is ``|A - R|_F^2`` for a rotation ``R``.
+
+    Parameters
+    ----------
+    faces : (T, 3) int
+    z0, z1 : (n,) complex
+        Positions before and after; a triangle of zero area in ``z0`` gets
+        infinite or undefined parts.
+
+    Returns
+    -------
+    P, Q : (T,) complex
+
+    Examples
+    --------
+    >>> P, Q = affine_maps(np.array([[0, 1, 2]]), np.array([0, 1, 1j]), 2j * np.array([0, 1, 1j]))
+    >>> bool(P[0] == 2j and Q[0] == 0)  # a turn by 90 degrees, scaled by 2
+    True
+    """
+    f = faces
+    u1, u2 = (z0[f[:, k]] - z0[f[:, 0]] for k in (1, 2))
+    v1, v2 = (z1[f[:, k]] - z1[f[:, 0]] for k in (1, 2))
+    det = u1 * u2.conj() - u1.conj() * u2  # 2i x twice the signed area
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (v1 * u2.conj() - u1.conj() * v2) / det, (u1 * v2 - u2 * v1) / det
+
+
 def bbox_diagonal(*points):
     """Length of the diagonal of the bounding box of all point arrays together.
 
@@ -297,6 +329,30 @@ def edge_table(faces):
     twin[order[same]] = order[same + 1]
     twin[order[same + 1]] = order[same]
     return a, b, c, key, twin
+
+
+def face_sides(faces, edges):
+    """Every triangle side a -> b (a-b, b-c, c-a) as one of ``edges`` and its direction along it.
+
+    Parameters
+    ----------
+    faces : (T, 3) int
+    edges : (E, 2) int
+        Undirected edges, each side of every face among them.
+
+    Returns
+    -------
+    edge : (3T,) int
+        The edge of side ``3 * face + corner``.
+    sign : (3T,) float
+        +1 where the side runs along the edge (``edges[e, 0]`` to ``edges[e, 1]``), else -1.
+    """
+    faces, edges = np.asarray(faces, dtype=np.int64), np.asarray(edges, dtype=np.int64)
+    a, b = faces.ravel(), np.roll(faces, -1, axis=1).ravel()
+    key = edge_keys(edges[:, 0], edges[:, 1])
+    order = np.argsort(key)
+    edge = order[np.searchsorted(key[order], edge_keys(a, b))]
+    return edge, np.where(edges[edge, 0] == a, 1.0, -1.0)
 
 
 def boundary_loops(faces, n):

@@ -96,15 +96,12 @@ def _face_edges(shape):
     twin : (3F,) int
         Every side's twin in the neighbouring face (`geometry.edge_table`), -1 on the boundary.
     """
-    from .geometry import edge_keys, edge_table
+    from .geometry import edge_table, face_sides
 
     top = shape.topology
-    a, _, _, key, twin = edge_table(np.asarray(shape.faces, dtype=np.int64))
-    edges = edge_keys(top.first, top.second)
-    order = np.argsort(edges)
-    idx = order[np.searchsorted(edges[order], key)]
-    sign = np.where(top.first[idx] == a, 1.0, -1.0)
-    return idx.reshape(-1, 3), sign.reshape(-1, 3), twin
+    faces = np.asarray(shape.faces, dtype=np.int64)
+    edge, sign = face_sides(faces, np.c_[top.first, top.second])
+    return edge.reshape(-1, 3), sign.reshape(-1, 3), edge_table(faces)[4]
 
 
 def _face_tree(twin, kept):

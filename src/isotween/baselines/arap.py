@@ -22,6 +22,7 @@ turn by more than half a turn then rotate the wrong way round, the artefact that
 
 import numpy as np
 
+from .. import geometry
 from ..errors import MethodError
 from ..optimisation.assembly import FrameAssembler, centroid_path
 from ..optimisation.problem import Result
@@ -39,7 +40,7 @@ def _check_mesh(shape, method):
 
 
 def affine_maps(faces, z0, z1):
-    """Per-triangle affine map A u = P u + Q conj(u) from the positions z0 to z1.
+    """Per-triangle affine map A u = P u + Q conj(u) from the positions z0 to z1 (`geometry.affine_maps`).
 
     Parameters
     ----------
@@ -58,29 +59,10 @@ def affine_maps(faces, z0, z1):
     """
     f = faces
     u1, u2 = (z0[f[:, k]] - z0[f[:, 0]] for k in (1, 2))
-    v1, v2 = (z1[f[:, k]] - z1[f[:, 0]] for k in (1, 2))
-    det = u1 * u2.conj() - u1.conj() * u2  # 2i x twice the signed area
-    bad = np.flatnonzero(np.abs(det) <= 1e-12 * (np.abs(u1) ** 2 + np.abs(u2) ** 2))
+    bad = np.flatnonzero(np.abs(u1 * u2.conj() - u1.conj() * u2) <= 1e-12 * (np.abs(u1) ** 2 + np.abs(u2) ** 2))
     if bad.size:
         raise MethodError(f"face {bad[0]} {f[bad[0]].tolist()} has zero area in the source; ARAP cannot map it")
-    return (v1 * u2.conj() - u1.conj() * v2) / det, (u1 * v2 - u2 * v1) / det
-
-
-def _sides(faces, mesh):
-    """Every triangle side a -> b as an edge of ``mesh`` and its orientation.
-
-    Returns
-    -------
-    edge : (3T,) int
-    sign : (3T,) float
-        +1 where the side runs along the edge's direction, else -1.
-    """
-    a, b = faces.ravel(), faces[:, [1, 2, 0]].ravel()
-    n = mesh.n_vertices
-    edge_key = np.sort(mesh.edges, axis=1) @ [n, 1]
-    order = np.argsort(edge_key)
-    edge = order[np.searchsorted(edge_key[order], np.sort(np.c_[a, b], axis=1) @ [n, 1])]
-    return edge, np.where(mesh.edges[edge, 0] == a, 1.0, -1.0)
+    return geometry.affine_maps(f, z0, z1)
 
 
 def predicted_edges(source, mesh, theta, P, Q, t):
@@ -107,7 +89,7 @@ def predicted_edges(source, mesh, theta, P, Q, t):
         Triangles bordering every edge (its weight in the fit).
     """
     faces = source.faces
-    edge, sign = _sides(faces, mesh)
+    edge, sign = geometry.face_sides(faces, mesh.edges)
     tri = np.repeat(np.arange(len(faces)), 3)
     u = (source.z[faces[:, [1, 2, 0]].ravel()] - source.z[faces.ravel()])[:, None]  # (3T, 1)
     t = np.asarray(t, dtype=float)[None, :]

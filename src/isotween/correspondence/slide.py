@@ -23,7 +23,7 @@ there the slide can send the whole drawing round in a loop.
 
 import numpy as np
 
-from ..geometry import cotangent_laplacian, orient, triangle_angles, triangle_areas
+from ..geometry import affine_maps, cotangent_laplacian, orient, triangle_angles, triangle_areas
 
 __all__ = ["slid_rings", "arap_energy", "NEAR", "GAIN", "FAR"]
 
@@ -41,10 +41,10 @@ def _weights(rest, faces):
     return 0.5 / np.tan(triangle_angles(rest, faces)), rest[j] - rest[k], j, k
 
 
-def _rotations(cw, side, cur, j, k):
-    """(F,) unit complex: each triangle's rotation closest to the map of its sides ``side`` onto ``cur``'s."""
-    r = (cw * (cur[j] - cur[k]) * np.conj(side)).sum(axis=1)
-    return r / np.maximum(np.abs(r), 1e-300)
+def _rotations(rest, cur, faces):
+    """(F,) unit complex: each triangle's rotation closest to its affine map from ``rest`` to ``cur``."""
+    p = affine_maps(faces, rest, cur)[0]
+    return p / np.maximum(np.abs(p), 1e-300)
 
 
 def arap_energy(rest, cur, faces):
@@ -62,10 +62,10 @@ def arap_energy(rest, cur, faces):
     float
         0 for a rigid motion; about ``g**2 / 2`` for a shear by ``g``.
     """
-    cw, side, j, k = _weights(rest, faces)
-    r = _rotations(cw, side, cur, j, k)
-    e = (cw * np.abs(cur[j] - cur[k] - r[:, None] * side) ** 2).sum()
-    return float(e / (abs(triangle_areas(rest, faces).sum()) or 1.0))
+    p, q = affine_maps(faces, rest, cur)
+    r = p / np.maximum(np.abs(p), 1e-300)
+    area = triangle_areas(rest, faces)
+    return float((area * 2 * (np.abs(p - r) ** 2 + np.abs(q) ** 2)).sum() / (abs(area.sum()) or 1.0))
 
 
 def _stretches(z, rings):
@@ -150,7 +150,7 @@ def slid_rings(source, target, faces, rings):
     cw, side, j, k = _weights(rest, faces)
     cur = source
     for _ in range(ROUNDS):  # local step: rotations; global step: the positions nearest to the rotated sides
-        part = cw * _rotations(cw, side, cur, j, k)[:, None] * side
+        part = cw * _rotations(rest, cur, faces)[:, None] * side
         b = np.bincount(j.ravel(), part.ravel().real, N) - np.bincount(k.ravel(), part.ravel().real, N) + 1j * (
             np.bincount(j.ravel(), part.ravel().imag, N) - np.bincount(k.ravel(), part.ravel().imag, N))
         x = B @ solve(B.T @ (np.r_[b.real, b.imag] - base)) + c
