@@ -67,6 +67,38 @@ def test_the_scaffold_tiles_the_box_around_the_pieces(turning_bar):
     np.testing.assert_array_equal(sc.follow(np.stack([z, z + 0.1]))[0], sc.source)
 
 
+def test_a_scaffold_carried_along_stays_a_tiling_and_becomes_delaunay_again(turning_bar):
+    a, b = turning_bar
+    shape = isotween.interpolate(a, b, frames=3, fold="allow").shape
+    z = shape.vertices[:, 0] + 1j * shape.vertices[:, 1]
+    box = box_around(z[None])
+    sc = scaffold(shape, z, box)
+    # the bar slides along its length, the scaffold following: still positive, no longer Delaunay
+    slid = np.where((np.abs(z.imag) < 0.3) & (np.abs(z.real) < 2.1), z + 0.8, z)
+    moved = sc.follow(np.stack([z, slid]))[1]
+    joint = np.r_[slid, moved]
+    assert np.all(triangle_areas(joint, sc.faces) > 0)
+    again = sc.moved(joint)
+    assert not np.array_equal(again.faces, sc.faces)  # the premise: edges flipped
+    np.testing.assert_array_equal(again.source, moved)
+    areas = triangle_areas(joint, again.faces)
+    assert np.all(areas > 0)
+    pieces = np.abs(triangle_areas(slid, shape.faces)).sum()
+    np.testing.assert_allclose(areas.sum() + pieces, np.ptp(box.real) * np.ptp(box.imag), rtol=1e-9)
+    # no edge between two of its triangles has the fourth vertex inside the first's circumcircle
+    f = again.faces
+    tri = {(int(f[i, (k + 1) % 3]), int(f[i, k])): (i, int(f[i, (k + 2) % 3])) for i in range(len(f)) for k in range(3)}
+    for i in range(len(f)):
+        for k in range(3):
+            u, v = f[i, k], f[i, (k + 1) % 3]
+            if (u, v) not in tri:  # an edge of a piece or of the box
+                continue
+            d = tri[(u, v)][1]
+            p = joint[[u, v, f[i, (k + 2) % 3]]] - joint[d]
+            lift = np.c_[p.real, p.imag, np.abs(p) ** 2]
+            assert np.linalg.det(lift) <= 1e-9 * np.abs(p).max() ** 4
+
+
 def test_a_piece_that_starts_on_another_is_left_out():
     small = rect(0.4, 0.4, 0.6, 0.6)
     big = rect(0, 0, 2, 2)

@@ -15,8 +15,12 @@ degenerate triangle, and the projected Newton of
 `isotween.optimisation.barrier` keeps every iterate flip-free, so the start
 must be: it is the repaired frame before, moved towards ``a`` as far as no
 triangle degenerates. With a scaffold (`isotween.foldfree.scaffold`) the
-empty space around the pieces, triangulated afresh before every frame,
-joins the energy, so pieces cannot pass through each other either. Frames
+empty space around the pieces joins the energy, so pieces cannot pass
+through each other either: triangulated where they are before the first
+repaired frame, then carried from frame to frame with its edges flipped to
+Delaunay, and triangulated afresh where its smallest angle falls below
+`WORN` of what it was when built, or where a frame repaired in the carried
+one is refused (pieces that touch leave it a gap). Frames
 from the first folding one to the last folding one are repaired (so the
 motion has no jump inside that range); the others are kept bit for bit.
 """
@@ -24,10 +28,10 @@ motion has no jump inside that range); the others are kept bit for bit.
 import numpy as np
 
 from ..errors import MethodError, ShapeError
-from ..geometry import triangle_areas
+from ..geometry import triangle_angles, triangle_areas
 from ..optimisation.barrier import SymmetricDirichlet, max_step, minimise
 
-__all__ = ["repair_folds", "GAP", "JUMP", "PULL", "MAX_ITER", "SCAFFOLD_WEIGHT", "TOL", "WORK"]
+__all__ = ["repair_folds", "GAP", "JUMP", "PULL", "MAX_ITER", "SCAFFOLD_WEIGHT", "TOL", "WORK", "WORN"]
 
 PULL = 1.0  # weight of the pull to the folding frame, in units of the least energy per vertex and squared edge
 MAX_ITER = 30  # Newton iterations per frame at most
@@ -35,6 +39,7 @@ TOL = 1e-2  # stop when an iteration lowers the energy above its least value by 
 SCAFFOLD_WEIGHT = 0.1  # the scaffold's symmetric Dirichlet per unit area, against the regions'
 GAP = 0.25  # the scaffold's triangles rest no smaller than an equilateral one with this fraction of the mean edge
 JUMP = 2.0  # the last repaired frame ends at most this many of the sequence's largest steps from the next
+WORN = 0.5  # the scaffold is triangulated afresh once its smallest angle falls below this share of its first
 WORK = 2_000_000  # Newton iterations x vertices for the whole repair; beyond it the repair gives up
 
 
@@ -99,42 +104,60 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
         return out, info
     share = np.abs(area0).sum()
     energy = None if scaffold is not None else SymmetricDirichlet(frames[0], frames[0], f, np.zeros(n, bool))
-    state = frames[folded[0] - 1]
+    prev = frames[folded[0] - 1]  # the last repaired frame (and the scaffold's vertices, once there is one)
+    sc, worst = None, 0.0  # the scaffold in use, and its smallest angle when it was built
     for k in range(folded[0], folded[-1] + 1):
-        a, joint = frames[k], f
-        if scaffold is not None:  # the space around the pieces, triangulated where they are now
-            try:
-                sc = scaffold(state)
-            except ShapeError as exc:
-                raise MethodError(f"no scaffold around frame {k - 1}: {exc}") from None
-            g = np.asarray(sc.faces, dtype=np.int64)
-            state = np.r_[state, sc.source]
-            a = np.r_[a, sc.follow(np.stack([state[:n], a]))[1]]
-            joint = np.r_[f, g]
-            weight = np.r_[np.ones(len(f)), np.full(len(g), SCAFFOLD_WEIGHT * share / triangle_areas(state, g).sum())]
-            energy = SymmetricDirichlet(state, state, joint, np.r_[np.zeros(n, bool), sc.fixed], weight)
-        sides = np.abs(a[np.roll(joint, -1, axis=1)] - a[joint])
-        h2 = float(np.mean(sides[:len(f)] ** 2))
-        # the scaffold rests as it is now, grown to at least the area of an equilateral triangle with a
-        # fraction of the regions' mean edge: a barrier that pushes nothing but resists squeezing
-        g = joint[len(f):]
-        area = triangle_areas(state, g)
-        grow = np.sqrt(np.maximum(1.0, np.sqrt(3) / 4 * GAP ** 2 * h2 / area))
-        sides[len(f):] = np.abs(state[np.roll(g, -1, axis=1)] - state[g]) * grow[:, None]
-        energy.rest_lengths(sides)
-        energy.pull_towards(np.arange(n), a[:n], PULL * energy.least / (n * h2))
-        step = a - state
-        x = state + min(1.0, 0.9 * max_step(state, step, joint)) * step
-        x, used = minimise(energy, x, MAX_ITER, tol=TOL)
-        state = out[k] = x[:n]
-        info["iterations"] += used
-        if info["iterations"] * len(x) > WORK:
-            raise MethodError(f"repairing the folds needs more than {WORK} Newton iterations x vertices")
-        if accept is not None and not accept(k, state):
-            raise MethodError(f"repaired frame {k} is not accepted")
-        info["deviation"] = max(info["deviation"], float(np.abs(state - frames[k]).max()))
+        for retry in (False, True):
+            a, joint = frames[k], f
+            carried = False
+            if scaffold is not None:  # the space around the pieces: the last frame's while it keeps its shape
+                carried = not retry and sc is not None and triangle_angles(prev, sc.faces).min() >= WORN * worst
+                if carried:
+                    faces, sc = sc.faces, sc.moved(prev)
+                    if not np.array_equal(faces, sc.faces):
+                        energy = None
+                else:  # triangulated afresh where the pieces are now
+                    try:
+                        sc = scaffold(prev[:n])
+                    except ShapeError as exc:
+                        raise MethodError(f"no scaffold around frame {k - 1}: {exc}") from None
+                    worst = triangle_angles(np.r_[prev[:n], sc.source], sc.faces).min()
+                    energy = None
+                g = np.asarray(sc.faces, dtype=np.int64)
+                state = np.r_[prev[:n], sc.source]
+                a = np.r_[a, sc.follow(np.stack([state[:n], a]))[1]]
+                joint = np.r_[f, g]
+                weight = np.r_[np.ones(len(f)),
+                               np.full(len(g), SCAFFOLD_WEIGHT * share / triangle_areas(state, g).sum())]
+                if energy is None:
+                    energy = SymmetricDirichlet(state, state, joint, np.r_[np.zeros(n, bool), sc.fixed], weight)
+                energy.weight = weight
+            else:
+                state = prev
+            sides = np.abs(a[np.roll(joint, -1, axis=1)] - a[joint])
+            h2 = float(np.mean(sides[:len(f)] ** 2))
+            # the scaffold rests as it is now, grown to at least the area of an equilateral triangle with a
+            # fraction of the regions' mean edge: a barrier that pushes nothing but resists squeezing
+            g = joint[len(f):]
+            area = triangle_areas(state, g)
+            grow = np.sqrt(np.maximum(1.0, np.sqrt(3) / 4 * GAP ** 2 * h2 / area))
+            sides[len(f):] = np.abs(state[np.roll(g, -1, axis=1)] - state[g]) * grow[:, None]
+            energy.rest_lengths(sides)
+            energy.pull_towards(np.arange(n), a[:n], PULL * energy.least / (n * h2))
+            step = a - state
+            x = state + min(1.0, 0.9 * max_step(state, step, joint)) * step
+            x, used = minimise(energy, x, MAX_ITER, tol=TOL)
+            info["iterations"] += used
+            if info["iterations"] * len(x) > WORK:
+                raise MethodError(f"repairing the folds needs more than {WORK} Newton iterations x vertices")
+            if accept is None or accept(k, x[:n]):
+                break
+            if not carried:  # a carried scaffold may have let pieces meet where a fresh one holds them apart
+                raise MethodError(f"repaired frame {k} is not accepted")
+        prev, out[k] = x, x[:n]
+        info["deviation"] = max(info["deviation"], float(np.abs(x[:n] - frames[k]).max()))
         info["frames"].append(k)
-    jump, stride = np.abs(frames[folded[-1] + 1] - state).max(), np.abs(np.diff(frames, axis=0)).max()
+    jump, stride = np.abs(frames[folded[-1] + 1] - prev[:n]).max(), np.abs(np.diff(frames, axis=0)).max()
     if jump > JUMP * stride:
         raise MethodError(f"the repaired frames end {jump / stride:.2g} times the sequence's largest step "
                           f"away from the next frame")

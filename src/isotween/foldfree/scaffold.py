@@ -15,10 +15,12 @@ own (constrained Delaunay, refined to the box's spacing):
   that lie in no hole as its holes;
 - every hole of a region, with the outer rings of the regions inside it.
 
-`isotween.foldfree.repair` triangulates it afresh where the pieces are
-before every frame it repairs (so pieces can slide past each other), moves
-it towards the next frame by `Scaffold.follow` (the harmonic extension of
-the pieces' motion), and keeps it from flipping where they need room.
+`isotween.foldfree.repair` triangulates it where the pieces are before
+the first frame it repairs, carries it from frame to frame with its edges
+flipped to Delaunay (`Scaffold.moved`, so pieces can slide past each other)
+and triangulates it afresh once its triangles grow thin; it moves it
+towards the next frame by `Scaffold.follow` (the harmonic extension of the
+pieces' motion), and keeps it from flipping where they need room.
 """
 
 from typing import NamedTuple
@@ -52,6 +54,20 @@ class Scaffold(NamedTuple):
     source: np.ndarray
     faces: np.ndarray
     fixed: np.ndarray
+
+    def moved(self, z):
+        """The scaffold with every vertex at ``z`` (N + S,) complex, Delaunay again where flipping keeps it.
+
+        The same vertices; edges between two of the scaffold's triangles
+        that are no longer Delaunay at ``z`` are flipped where both new
+        triangles are positive, so the scaffold stays one as pieces slide
+        past each other. ``z`` must leave every triangle positive.
+        """
+        from ..correspondence._disc import _keys, _lawson
+
+        z = np.asarray(z, dtype=complex)
+        faces = _lawson(z, np.array(self.faces), _keys(np.zeros((0, 2), dtype=np.int64)))
+        return Scaffold(z[len(z) - len(self.source):], faces, self.fixed)
 
     def follow(self, frames):
         """(T, S) scaffold positions that follow the regions' frames (T, N) complex.
