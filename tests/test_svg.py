@@ -12,9 +12,13 @@ HEART = ('<path fill-rule="evenodd" d="M8 1.314C12.438-3.248 23.534 4.735 8 15-7
          '3.562-3.248 8 1.314"/>')
 
 
-def read(tmp_path, body, name="d.svg"):
+def write(tmp_path, body, name="d.svg"):
     (tmp_path / name).write_text(f'<svg xmlns="http://www.w3.org/2000/svg">{body}</svg>')
-    return io.load(tmp_path / name)
+    return tmp_path / name
+
+
+def read(tmp_path, body, name="d.svg"):
+    return io.load(write(tmp_path, body, name))
 
 
 def test_filled_path_without_z_is_a_closed_region(tmp_path):
@@ -39,6 +43,28 @@ def test_unfilled_paths_stay_open_and_keep_their_stroke(tmp_path):
     assert s.paint[0].stroke == (0.0, 1.0, 0.0, 1.0) and s.paint[0].stroke_width == 2.0
     assert s.paint[1].stroke == (1.0, 0.0, 0.0, 1.0) and s.paint[1].fill is None
     assert s.paint[3].stroke == (0.0, 0.0, 1.0, 1.0)
+
+
+def test_strokes_drawn_in_pieces_are_joined_where_two_ends_meet(tmp_path):
+    # a rounded square's outline in eight pieces (sides and corners, some backwards), three strokes from
+    # one point, and a black line continued by a red one
+    pieces = ["M2 0 L8 0", "M10 2 A2 2 0 0 0 8 0", "M10 2 L10 8", "M8 10 A2 2 0 0 0 10 8", "M8 10 L2 10",
+              "M0 8 A2 2 0 0 0 2 10", "M0 2 L0 8", "M2 0 A2 2 0 0 0 0 2"]
+    body = ('<g fill="none" stroke="black">' + "".join(f'<path d="{d}"/>' for d in pieces)
+            + '<path d="M20 0 L25 5"/><path d="M20 0 L15 5"/><path d="M20 0 L20 -5"/></g>'
+            + '<path fill="none" stroke="black" d="M30 0 L35 0"/><path fill="none" stroke="red" d="M35 0 L35 5"/>')
+    s = io.load(write(tmp_path, body), curve_segments=6)
+    assert [(len(i) > 8, c) for i, c in s.paths][:1] == [(True, True)]  # the outline: one closed ring
+    assert len(s.paths) == 1 + 3 + 2  # the three-way junction and the change of colour stay apart
+    # every point of every piece is a point of the ring, and nothing else
+    alone = io.load(write(tmp_path, "".join(f'<path fill="none" stroke="black" d="{d}"/>'
+                                            f'<path fill="red" d="M50 50 h1 v1 z"/>' for d in pieces), "b.svg"),
+                    curve_segments=6)
+    assert len(alone.paths) == 16  # filled paths between the pieces: the painting order keeps them apart
+    ring = s.vertices[s.paths[0][0]]
+    every = np.concatenate([alone.vertices[i] for i, _ in alone.paths[::2]])
+    assert len(np.unique(np.round(every, 9), axis=0)) == len(ring)
+    assert np.abs(ring[:, None] - every[None]).max(axis=2).min(axis=1).max() < 1e-9
 
 
 def test_inherited_fill_opacity_and_colour(tmp_path):

@@ -175,7 +175,9 @@ def read_svg(path, curve_segments=None):
         `write_svg` reads back y-up, as it was), one path per subpath:
         filled subpaths (closed by ``Z`` or not), closed unfilled subpaths,
         polygons, rects, circles and ellipses as closed rings; other unfilled
-        subpaths, polylines and lines as open polylines. ``regions`` lists the
+        subpaths, polylines and lines as open polylines (open unfilled
+        subpaths with the same paint that continue one another, one after
+        the other in the drawing, joined into one: `join_strokes`). ``regions`` lists the
         filled regions (outer ring, then its holes, by each element's
         ``fill-rule``) and ``paint`` the fill, stroke, stroke width and
         opacity of every path.
@@ -274,9 +276,98 @@ def read_svg(path, curve_segments=None):
         raise FileFormatError(
             f"{path}: nothing to read (no path, polygon, polyline, rect, circle, ellipse or line){why}"
         )
+    rings, paints, regions = join_strokes(rings, paints, regions)
     if y_up:
         rings = [(points * np.array([1.0, -1.0]) + 0.0, closed) for points, closed in rings]
     return _shape_of_rings(path, rings, regions, paints, y_down=not y_up)
+
+
+def join_strokes(rings, paints, regions):
+    """Open strokes that continue one another joined into one polyline, or a ring where they close.
+
+    Drawings often draw one line in pieces: an outline's sides and rounded
+    corners as separate paths, a stroke cut where its curve changes kind.
+    Morphed apart, the pieces come apart. Among consecutive open unfilled
+    subpaths of the same paint (so the painting order stays), two pieces
+    are joined where exactly two of their ends meet (within 1e-9 of the
+    drawing's size); where three or more meet, none is. The joined line
+    has every point of its pieces, so it draws the same.
+
+    Parameters
+    ----------
+    rings : list of ((k, 2) float, bool)
+        Subpaths and whether each is closed.
+    paints : list of Paint
+    regions : list of list of int
+        Filled regions (indices into ``rings``); their rings are never joined.
+
+    Returns
+    -------
+    rings, paints, regions
+        The same, joined (regions' indices follow).
+    """
+    filled = {i for r in regions for i in r}
+    every = np.concatenate([points for points, _ in rings])
+    tol = 1e-9 * max(float(np.ptp(every, axis=0).max()), 1e-300)
+    out, out_paints, index = [], [], {}
+    i = 0
+    while i < len(rings):
+        j = i + 1
+        if not rings[i][1] and i not in filled:
+            while j < len(rings) and not rings[j][1] and j not in filled and paints[j] == paints[i]:
+                j += 1
+        if j == i + 1:
+            index[i] = len(out)
+            out.append(rings[i])
+            out_paints.append(paints[i])
+        else:
+            joined = _chained([points for points, _ in rings[i:j]], tol)
+            out += joined
+            out_paints += [paints[i]] * len(joined)
+        i = j
+    return out, out_paints, [[index[k] for k in r] for r in regions]
+
+
+def _chained(pieces, tol):
+    """(points, closed) of the chains of open ``pieces`` (list of (k, 2) float) joined where two ends meet."""
+    m = len(pieces)
+    ends = np.array([[p[0], p[-1]] for p in pieces]).reshape(-1, 2)  # end 2i: piece i's start, 2i + 1: its end
+    _, group, count = np.unique(np.round(ends / tol).astype(np.int64), axis=0, return_inverse=True,
+                                return_counts=True)
+    group = group.ravel()
+    link = np.full(2 * m, -1)
+    two = np.flatnonzero(count == 2)
+    if len(two):
+        order = np.argsort(group, kind="stable")
+        first = np.searchsorted(group[order], two)
+        a, b = order[first], order[first + 1]
+        link[a], link[b] = b, a
+    seen = np.zeros(m, dtype=bool)
+
+    def walk(end):
+        """Points from ``end`` through the pieces it leads to; and the end it stopped at (-1: a free end)."""
+        parts = []
+        while True:
+            piece = end // 2
+            seen[piece] = True
+            points = pieces[piece] if end % 2 == 0 else pieces[piece][::-1]
+            parts.append(points if not parts else points[1:])
+            end = link[end ^ 1]
+            if end < 0 or seen[end // 2]:
+                return np.concatenate(parts), end
+
+    chains = []  # (first piece, points, closed): in the pieces' order
+    for start in np.flatnonzero(link < 0):  # open chains, from a free end
+        if not seen[start // 2]:
+            was = seen.copy()
+            points, _ = walk(start)
+            chains.append((int(np.flatnonzero(seen & ~was)[0]), points, False))
+    for piece in np.flatnonzero(~seen):  # the rest close
+        if not seen[piece]:
+            points, end = walk(2 * piece)
+            closed = end == 2 * piece and len(points) > 3
+            chains.append((int(piece), points[:-1] if closed else points, closed))
+    return [(points, closed) for _, points, closed in sorted(chains, key=lambda c: c[0])]
 
 
 #: elements whose drawing isotween does not read (named in one warning)
