@@ -107,6 +107,24 @@ def test_a_hole_opens_from_a_small_ring_inside_the_region():
     assert not flips.any() and not crossings.any()
 
 
+def test_holes_that_open_where_the_source_has_no_room_open_apart():
+    # a frame (a square with a wide square hole) into a plate with a large hole and two small ones side by
+    # side: the small ones would open inside the frame's hole, where there is no material; the nearest
+    # material is the same for both, yet they open apart, not one inside the other
+    square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    frame = Shape.from_polygon([square, (square * 0.8 + 1)[::-1]])
+    holes = [disc(32, 2.0, 6.5 + 5j, reverse=True), disc(16, 0.15, 3 + 5j, reverse=True),
+             disc(16, 0.15, 3.4 + 5j, reverse=True)]
+    plate = Shape.from_polygon([square] + holes)
+    a, b, report = correspond(frame, plate)
+    assert report.holes["grown"] == 2 and "as outlines" not in report.summary()
+    holes = [ring(a, h) for h in a.regions[0][1:]]
+    small = [h for h in holes if np.ptp(h.real) < 1]
+    assert len(small) == 2
+    gap = np.abs(small[0][:, None] - small[1][None]).min()
+    assert gap > max(np.abs(h - h.mean()).max() for h in small)  # apart, neither inside the other
+
+
 def test_i_into_l_pairs_the_stems_and_shrinks_the_dot():
     i, l_ = glyph("i"), glyph("l")
     a, b, report = correspond(i, l_)

@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 
 from isotween import io
+from isotween.correspondence import correspond
 from isotween.errors import FileFormatError
+from isotween.geometry import ring_area
 
 HEART = ('<path fill-rule="evenodd" d="M8 1.314C12.438-3.248 23.534 4.735 8 15-7.534 4.736 '
          '3.562-3.248 8 1.314"/>')
@@ -65,6 +67,19 @@ def test_strokes_drawn_in_pieces_are_joined_where_two_ends_meet(tmp_path):
     every = np.concatenate([alone.vertices[i] for i, _ in alone.paths[::2]])
     assert len(np.unique(np.round(every, 9), axis=0)) == len(ring)
     assert np.abs(ring[:, None] - every[None]).max(axis=2).min(axis=1).max() < 1e-9
+
+
+def test_a_filled_ring_that_turns_back_on_itself_loses_the_spike_a_stroke_keeps_it(tmp_path):
+    # a square whose right side runs out 2 and straight back (no area), and whose top ends a hair past
+    # its corner before it turns down (as in Font Awesome's road and carrot)
+    d = "M0 0 H10 V5 H12 H10 V10 H-0.004 L0 9.99 Z"
+    s = read(tmp_path, f'<path d="{d}"/><path fill="none" stroke="black" d="{d}" transform="translate(20)"/>')
+    filled, stroked = (s.vertices[i] for i, _ in s.paths)
+    assert not np.any(np.all(np.abs(filled - [12, 5]) < 1e-9, axis=1)) and len(filled) == 5
+    assert abs(abs(ring_area(filled)) - 100) < 0.1
+    assert np.any(np.all(np.abs(stroked - [32, 5]) < 1e-9, axis=1))  # drawn as a line: kept
+    a, b, report = correspond(s, s)  # meshed: the ring no longer touches itself
+    assert "as outlines" not in report.summary()
 
 
 def test_inherited_fill_opacity_and_colour(tmp_path):

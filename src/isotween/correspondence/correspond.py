@@ -493,8 +493,11 @@ def _fill_slots(items, frames, slots, unmatched):
                     at = f_ref.to(f_k, _regions.centroid(hole, True))
                     radius = _regions.TINY * float(np.abs(hole - _regions.centroid(hole, True)).max())
                     at, room = _regions.inside_point(poly, at, radius)
-                    rings.append(_regions.small_copy([hole], True, at, room)[0])
+                    copy = _regions.small_copy([hole], True, at, room)[0]
+                    rings.append(copy)
                     paint.append(item.paint[0])
+                    # the next small hole keeps clear of this one (where both fall back to the same spot)
+                    poly = poly.difference(_regions.region_polygon([copy]).buffer(float(np.abs(copy - at).max())))
             present[k] = (rings, paint, poly)
         done[si] = present
     polys = [[(si, p[k][2]) for si, p in done.items() if k in p] for k in range(K)]

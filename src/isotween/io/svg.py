@@ -128,8 +128,15 @@ def _subpaths(se, segments, curve_segments, tolerance=None):
     return [(np.vstack(parts), c) for parts, c in out]
 
 
-def _clean(points, closed):
-    """Drop repeated consecutive points (and the closing repeat of a ring)."""
+def _clean(points, closed, spike=None):
+    """Drop repeated consecutive points (and the closing repeat of a ring); with ``spike``, spikes too.
+
+    A spike is a point where a filled ring turns back on itself: its two
+    edges overlap (or, within ``spike`` of the line between its neighbours,
+    nearly so). It encloses nothing the fill would draw, but the ring
+    touches itself there, which no mesh can follow. ``spike``: a distance
+    (the curve tolerance), for filled rings; None keeps every point.
+    """
     scale = max(float(np.ptp(points, axis=0).max()), 1e-300) if len(points) else 1.0
     tol = 1e-9 * scale
     keep = np.ones(len(points), dtype=bool)
@@ -137,6 +144,17 @@ def _clean(points, closed):
     points = points[keep]
     if closed and len(points) > 1 and np.all(np.abs(points[-1] - points[0]) <= tol):
         points = points[:-1]
+    while spike is not None and len(points) > 3:
+        before, after = np.roll(points, 1, axis=0), np.roll(points, -1, axis=0)
+        u, v, w = points - before, after - points, after - before
+        at = np.clip(np.einsum("ij,ij->i", u, w) / np.maximum(np.einsum("ij,ij->i", w, w), tol * tol), 0.0, 1.0)
+        off = np.hypot(*(before + at[:, None] * w - points).T)  # from the line between the neighbours
+        cross = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+        back = (np.einsum("ij,ij->i", u, v) < 0) & ((cross <= tol * np.hypot(*u.T) * np.hypot(*v.T) / scale)
+                                                    | (off <= spike))
+        if not back.any():
+            break
+        points = _clean(points[~(back & ~np.roll(back, 1))], True)  # of two in a row the first; then again
     return points
 
 
@@ -232,10 +250,11 @@ def read_svg(path, curve_segments=None):
         if paint.fill is None and paint.stroke is None:
             continue  # draws nothing (e.g. an icon's bounding box with fill="none")
         drawn.append((el, label, paint, _safe_segments(path, se, el, label)))
+    diagonal = _control_diagonal([segs for *_, segs in drawn])
+    spike = CURVE_TOLERANCE * diagonal if np.isfinite(diagonal) and diagonal > 0 else 0.0
     tolerance = None
     if curve_segments is None:
-        diagonal = _control_diagonal([segs for *_, segs in drawn])
-        tolerance = CURVE_TOLERANCE * diagonal if np.isfinite(diagonal) and diagonal > 0 else None
+        tolerance = spike or None
         curve_segments = CURVE_SEGMENTS if tolerance is None else None
     rings, paints, regions, dropped = [], [], [], []
     for el, label, paint, segments in drawn:
@@ -243,7 +262,7 @@ def read_svg(path, curve_segments=None):
         for k, (points, closed) in enumerate(_safe_subpaths(path, se, segments, curve_segments, label, tolerance)):
             _check_numbers(path, label, k, points)
             closed = closed or paint.filled
-            points = _clean(points, closed)
+            points = _clean(points, closed, spike if paint.filled else None)
             need = 3 if closed else 2
             kind = "closed subpath" if closed else "open subpath"
             if len(points) < need:
