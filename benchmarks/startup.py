@@ -7,20 +7,30 @@ Every number is the median wall time of several fresh processes:
 - ``isotween --help``;
 - ``isotween interpolate A.svg B.svg -o out.npz`` on a small filled icon pair (a rounded
   square into a circle, written here): target at most 0.5 s; with the seconds its imports
-  take (``-X importtime``, top-level modules summed) and the numba kernels' first call;
+  take (``-X importtime``, top-level modules summed; modules imported through
+  ``importlib.import_module`` count only their imports, not their own time);
 - the first run after install: numba's cache (``__pycache__/*.nbi``, ``*.nbc`` under the
-  package) removed first, so every kernel the command calls is compiled; reported
-  separately, with the run after it.
+  package) removed first, so every kernel the command calls is compiled (a problem this
+  small runs on numpy, `backend.sized`: none); reported separately, with the run after it;
+- a small morph in a fresh process, on the backend `backend.sized` picks for it, and in a
+  process that said it is `backend.long_lived` (numba: its import and the kernels the morph
+  calls, compiled after install, then loaded from numba's cache).
 
 ``--baseline SRC`` times the same commands on another checkout's ``src`` folder (e.g. the
 commit before a change, from ``git archive``) in a second column. Its numba cache is
 cleared too, for its own first run.
+
+The package's byte code is compiled first (``compileall``), as ``pip install`` does: a process
+started with ``PYTHONDONTWRITEBYTECODE=1`` (or from a read-only checkout) writes none, and
+would compile every module of isotween from source in every run (about 0.1 s of the
+command's time), which no installed copy does.
 
 Run: ``PYTHONPATH=src python benchmarks/startup.py [--runs 7] [--baseline /tmp/before/src]
 [--no-write]``; it writes the "Start-up" section of RESULTS.md.
 """
 
 import argparse
+import compileall
 import os
 import re
 import resource
@@ -38,20 +48,26 @@ SQUARE = ('<svg xmlns="http://www.w3.org/2000/svg" width="16" height="16" fill="
 CIRCLE = ('<svg xmlns="http://www.w3.org/2000/svg" width="16" height="16" fill="currentColor" viewBox="0 0 16 16">'
           '<circle cx="8" cy="8" r="8"/></svg>\n')
 
-#: in a fresh process: numba imported and the kernels a small morph calls loaded (or compiled), then the same
-#: morph again; prints the wall and CPU seconds of the first and of the second
+#: in a fresh process (``long``: one that said it is `backend.long_lived`, so that even a small morph runs on
+#: numba): a small morph, then the same morph again; prints the backend the morph ran on and the wall and CPU
+#: seconds of the first and of the second. On numba the first imports numba and loads the kernels the morph
+#: calls from numba's cache (compiles them when the cache is empty)
 KERNELS = """
+import sys
 import time
 import numpy as np
 import isotween
 from isotween.optimisation import backend
+if sys.argv[1:] == ["long"]:
+    backend.long_lived()
 ring = isotween.Shape.from_polygon(np.c_[np.cos(np.arange(12) / 2), np.sin(np.arange(12) / 2)])
+name = backend.for_size(ring.n_edges * 5).name
 t0, c0 = time.perf_counter(), time.process_time()
 isotween.interpolate(ring, ring.rotate(1.0), frames=5)
 t1, c1 = time.perf_counter(), time.process_time()
 isotween.interpolate(ring, ring.rotate(1.0), frames=5)
 t2, c2 = time.perf_counter(), time.process_time()
-print(backend.current().name, t1 - t0, c1 - c0, t2 - t1, c2 - c1)
+print(name, t1 - t0, c1 - c0, t2 - t1, c2 - c1)
 """
 
 
@@ -104,8 +120,14 @@ def _clear_numba_cache(src):
     return removed
 
 
-def _kernels(src, cwd):
-    out = subprocess.run([sys.executable, "-c", KERNELS], env=_env(src), cwd=cwd, check=True,
+def _compile_byte_code(src):
+    """Byte code of every module of the package under ``src``, written as an install writes it."""
+    if not compileall.compile_dir(Path(src, "isotween"), quiet=1):
+        print(f"warning: some byte code under {src} could not be written", file=sys.stderr)
+
+
+def _kernels(src, cwd, *args):
+    out = subprocess.run([sys.executable, "-c", KERNELS, *args], env=_env(src), cwd=cwd, check=True,
                          capture_output=True, text=True)
     name, *numbers = out.stdout.split()
     first_wall, first_cpu, second_wall, second_cpu = map(float, numbers)
@@ -118,6 +140,7 @@ def measure(src, cwd, runs):
     args = ["interpolate", "A.svg", "B.svg", "-o", "out.npz", "-q"]
     interpolate = [*cli, *args]
     out = {}
+    _compile_byte_code(src)
     _clear_numba_cache(src)
     out["first interpolate after install (numba cache cleared)"] = _seconds(interpolate, src, cwd)
     out["the interpolate after it (cache written)"] = _seconds(interpolate, src, cwd)
@@ -131,8 +154,15 @@ def measure(src, cwd, runs):
     out["  the same with ISOTWEEN_NUMBA=0 (numpy backend, no numba)"] = _median(interpolate, src, cwd, runs,
                                                                               ISOTWEEN_NUMBA="0")
     name, first, second = _kernels(src, cwd)
-    out[f"first small morph in a process ({name} backend: import, kernels loaded)"] = first
+    out[f"first small morph in a process ({name} backend)"] = first
     out["  the same morph again"] = second
+    _clear_numba_cache(src)
+    name, first, _ = _kernels(src, cwd, "long")
+    if name == "numba":
+        out["first small morph in a long-lived process after install (numba: import, kernels compiled)"] = first
+        name, first, second = _kernels(src, cwd, "long")
+        out["  in the next such process (numba: import, kernels loaded from its cache)"] = first
+        out["  the same morph again there"] = second
     return out
 
 
@@ -162,15 +192,18 @@ def main():
         load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
         body = (f"Load average at the end of the run: {load}; wall times grow with it, CPU times (user + system "
                 "of the process and its children) much less. "
-                f"Median of {args.runs} fresh processes (one run for the first after install, which compiles "
-                "the numba kernels a morph calls; numba's cache under the package removed first). A and B: a "
+                f"Median of {args.runs} fresh processes (one run for the first after install: numba's cache "
+                "under the package removed first); the package's byte code compiled first, as an install does. "
+                "A and B: a "
                 "rounded square and a circle, 16 px filled icons (benchmarks/startup.py writes them). Targets "
                 "(issue 21): `import isotween` at most 0.2 s, the interpolate command at most 0.5 s.\n\n" + text)
         if before:
             body += f"\n\nbefore: the same commands on {args.baseline_name or args.baseline}."
-        body += ("\n\nThe interpolate command's CPU time is mostly the work (meshing, solve) and numba's first "
-                 "kernel call in the process; the ISOTWEEN_NUMBA=0 row shows what loading numba costs on a pair "
-                 "this small.")
+        body += ("\n\nA pair this small runs on numpy (`backend.sized`: numba is not imported), so the interpolate "
+                 "command's time is its imports (numpy, scipy, shapely, svgelements, click) and the work "
+                 "(correspondence and meshing, the solve, the file), and the ISOTWEEN_NUMBA=0 row is the same "
+                 "command again. The long-lived rows show what numba costs where it runs: its import, then the "
+                 "kernels the morph calls (compiled after install, loaded from numba's cache after that).")
         write_section("Start-up", body, "PYTHONPATH=src python benchmarks/startup.py" +
                       (f" --baseline {args.baseline}" if args.baseline else ""))
 

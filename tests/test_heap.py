@@ -31,3 +31,17 @@ def test_the_command_line_applies_it():
     code = ("import isotween._heap as heap\nfrom click.testing import CliRunner\nfrom isotween.cli import main\n"
             "CliRunner().invoke(main, ['demo', '--list'])\nprint(heap._done)")
     assert run(None, code) == "True"
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or __import__("platform").libc_ver()[0] != "glibc",
+                    reason="glibc only")
+def test_glibc_is_found_by_its_soname(monkeypatch):
+    import ctypes.util
+
+    import isotween._heap as heap
+
+    def no_search(name):  # ctypes.util.find_library runs ldconfig in a subprocess: not at every start
+        raise AssertionError("searched")
+
+    monkeypatch.setattr(ctypes.util, "find_library", no_search)
+    assert callable(heap._libc().mallopt)

@@ -17,7 +17,6 @@ disables it everywhere.
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import os
 
 __all__ = ["keep_heap", "keep_heap_if_asked"]
@@ -52,13 +51,26 @@ def keep_heap(trim: int = 1 << 30, pad: int = 64 << 20, mmap: int = 32 << 20) ->
         return False
     _done = True
     try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
-        mallopt = libc.mallopt
+        mallopt = _libc().mallopt
     except (OSError, AttributeError):
         return False
     results = [mallopt(k, v) for k, v in
                ((_M_MMAP_THRESHOLD, mmap), (_M_TRIM_THRESHOLD, trim), (_M_TOP_PAD, pad))]
     return all(r == 1 for r in results)
+
+
+def _libc() -> ctypes.CDLL:
+    """The C library: glibc's by its soname, else the one `ctypes.util.find_library` finds.
+
+    The soname first: ``find_library`` runs ``ldconfig -p`` in a subprocess (2-5 ms at every
+    command's start), and on glibc it answers that name anyway.
+    """
+    try:
+        return ctypes.CDLL("libc.so.6")
+    except OSError:
+        from ctypes.util import find_library
+
+        return ctypes.CDLL(find_library("c") or "libc.so.6")
 
 
 def keep_heap_if_asked() -> bool:
