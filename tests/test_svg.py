@@ -70,9 +70,9 @@ def test_strokes_drawn_in_pieces_are_joined_where_two_ends_meet(tmp_path):
 
 
 def test_a_filled_ring_that_turns_back_on_itself_loses_the_spike_a_stroke_keeps_it(tmp_path):
-    # a square whose right side runs out 2 and straight back (no area), and whose top ends a hair past
-    # its corner before it turns down (as in Font Awesome's road and carrot)
-    d = "M0 0 H10 V5 H12 H10 V10 H-0.004 L0 9.99 Z"
+    # a square whose right side runs out 2 and straight back (no area), and whose left side ends a hair
+    # past the start, to which the closing edge backs up (as in Font Awesome's road and carrot)
+    d = "M0.0003 0 H10 V5 H12 H10 V10 H0 V-0.004 Z"
     s = read(tmp_path, f'<path d="{d}"/><path fill="none" stroke="black" d="{d}" transform="translate(20)"/>')
     filled, stroked = (s.vertices[i] for i, _ in s.paths)
     assert not np.any(np.all(np.abs(filled - [12, 5]) < 1e-9, axis=1)) and len(filled) == 5

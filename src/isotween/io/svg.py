@@ -39,6 +39,8 @@ CURVE_TOLERANCE = 5e-4
 #: straight pieces of a curved segment at most, and (the older fixed count) ``curve_segments=16``
 MAX_CURVE_SEGMENTS = 256
 CURVE_SEGMENTS = 16
+#: a filled ring's point where it turns back to within this sine of straight back may be a spike tip
+SPIKE_SINE = 0.1
 #: parameter steps at which a curve is first sampled to estimate its bending
 _PROBE = np.linspace(0.0, 1.0, 17)
 
@@ -129,13 +131,14 @@ def _subpaths(se, segments, curve_segments, tolerance=None):
 
 
 def _clean(points, closed, spike=None):
-    """Drop repeated consecutive points (and the closing repeat of a ring); with ``spike``, spikes too.
+    """Drop repeated consecutive points (and the closing repeat of a ring); with ``spike``, spike tips too.
 
-    A spike is a point where a filled ring turns back on itself: its two
-    edges overlap (or, within ``spike`` of the line between its neighbours,
-    nearly so). It encloses nothing the fill would draw, but the ring
-    touches itself there, which no mesh can follow. ``spike``: a distance
-    (the curve tolerance), for filled rings; None keeps every point.
+    A spike tip is a point where a filled ring turns straight back, its two
+    edges overlapping (or nearly, the point within ``spike`` of the line
+    between its neighbours, as where a path's closing edge backs up its
+    last one): the fill draws nothing there, but the ring touches itself,
+    which no mesh can follow. ``spike``: a distance (the curve tolerance),
+    for filled rings; None keeps every point.
     """
     scale = max(float(np.ptp(points, axis=0).max()), 1e-300) if len(points) else 1.0
     tol = 1e-9 * scale
@@ -144,17 +147,15 @@ def _clean(points, closed, spike=None):
     points = points[keep]
     if closed and len(points) > 1 and np.all(np.abs(points[-1] - points[0]) <= tol):
         points = points[:-1]
-    while spike is not None and len(points) > 3:
+    if spike is not None and len(points) > 3:
         before, after = np.roll(points, 1, axis=0), np.roll(points, -1, axis=0)
         u, v, w = points - before, after - points, after - before
         at = np.clip(np.einsum("ij,ij->i", u, w) / np.maximum(np.einsum("ij,ij->i", w, w), tol * tol), 0.0, 1.0)
         off = np.hypot(*(before + at[:, None] * w - points).T)  # from the line between the neighbours
-        cross = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
-        back = (np.einsum("ij,ij->i", u, v) < 0) & ((cross <= tol * np.hypot(*u.T) * np.hypot(*v.T) / scale)
-                                                    | (off <= spike))
-        if not back.any():
-            break
-        points = _clean(points[~(back & ~np.roll(back, 1))], True)  # of two in a row the first; then again
+        sine = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / np.maximum(np.hypot(*u.T) * np.hypot(*v.T), tol * tol)
+        tip = (np.einsum("ij,ij->i", u, v) < 0) & (sine <= SPIKE_SINE) & ((sine <= 1e-9) | (off <= spike))
+        if tip.any():
+            points = _clean(points[~(tip & ~np.roll(tip, 1))], True)  # of two in a row, the first
     return points
 
 
