@@ -125,6 +125,27 @@ def test_holes_that_open_where_the_source_has_no_room_open_apart():
     assert gap > max(np.abs(h - h.mean()).max() for h in small)  # apart, neither inside the other
 
 
+def test_small_hole_copies_placed_again_by_the_part_of_the_outline_nearest_their_holes():
+    from isotween.correspondence.correspond import _by_the_outline
+
+    square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    t = np.linspace(0, 1, 8, endpoint=False)[:, None]
+    outer = np.vstack([a + t * (b - a) for a, b in zip(square, np.roll(square, -1, axis=0), strict=True)])
+    real = [disc(12, 1.0, 8.5 + 2j, reverse=True), disc(12, 1.0, 2 + 8.5j, reverse=True)]
+    copies = [disc(12, 0.05, 5 + 5j, reverse=True), disc(12, 0.05, 5.2 + 5j, reverse=True)]
+    rs, rt = _by_the_outline([outer, *copies], [outer * 1.5, *real], [[1, 2], []])
+    for h, hole in ((1, real[0]), (2, real[1])):
+        z, c = rs[h][:, 0] + 1j * rs[h][:, 1], copies[h - 1][:, 0] + 1j * copies[h - 1][:, 1]
+        np.testing.assert_allclose(z - z.mean(), c - c.mean(), atol=1e-12)  # moved, not reshaped
+        w = hole[:, 0] + 1j * hole[:, 1]
+        j = np.argmin(np.abs(outer[:, 0] * 1.5 + 1j * outer[:, 1] * 1.5 - w.mean()))
+        assert abs(z.mean() - (outer[j, 0] + 1j * outer[j, 1])) < 0.5  # by that vertex of the outline
+        assert z.real.min() > 0 and z.imag.min() > 0 and z.real.max() < 10 and z.imag.max() < 10
+    np.testing.assert_array_equal(rs[0], outer)
+    for a, b in zip(rt, [outer * 1.5, *real], strict=True):
+        np.testing.assert_array_equal(a, b)
+
+
 def test_i_into_l_pairs_the_stems_and_shrinks_the_dot():
     i, l_ = glyph("i"), glyph("l")
     a, b, report = correspond(i, l_)

@@ -605,6 +605,45 @@ def _path_of(paths, idx):
 
 
 
+def _by_the_outline(source_rings, target_rings, small):
+    """The rings of a region pair with its small hole copies moved next to the outline where their holes lie.
+
+    Parameters
+    ----------
+    source_rings, target_rings : list of (k_i, 2) arrays
+        Outer ring first, then holes; vertex i of one corresponding to vertex i of the other.
+    small : two lists of int
+        Per drawing, the holes it draws as small copies of the other's.
+
+    Returns
+    -------
+    source_rings, target_rings
+        The same, each small copy moved (and shrunk where it needs to be) to the material next to the
+        outer ring's vertex that lies nearest its hole in the other drawing: a cut from it to that vertex
+        is short in both drawings.
+    """
+    import shapely
+    from shapely.ops import nearest_points
+
+    rings = [[r[:, 0] + 1j * r[:, 1] for r in source_rings], [r[:, 0] + 1j * r[:, 1] for r in target_rings]]
+    for k in (0, 1):
+        for h in small[k]:
+            hole = rings[1 - k][h]
+            j = int(np.argmin(np.abs(rings[1 - k][0] - _regions.centroid(hole, True))))
+            copy = rings[k][h]
+            c = _regions.centroid(copy, True)
+            radius = float(np.abs(copy - c).max())
+            poly = _regions.region_polygon([r for i, r in enumerate(rings[k]) if i not in small[k] or i < h])
+            near = rings[k][0][j]
+            inner = poly.buffer(-3 * radius)  # three of its radii in from the outline
+            if not inner.is_empty:
+                q = nearest_points(inner, shapely.Point(near.real, near.imag))[0]
+                near = complex(q.x, q.y)
+            at, room = _regions.inside_point(poly, near, radius)
+            rings[k][h] = at + (copy - c) * min(1.0, 0.5 * room / max(radius, 1e-300))
+    return tuple([np.c_[r.real, r.imag] for r in drawing] for drawing in rings)
+
+
 def _mesh_region(source_rings, target_rings, mesh_size, slide=True):
     """Compatible triangle meshes of one region pair.
 
@@ -673,11 +712,21 @@ def _solids(shapes, report, mesh_size, meshes=None):
             spacing = np.mean(np.concatenate([np.hypot(*(np.roll(x, -1, axis=0) - x).T) for x in rs]))
             size = max(float(spacing), coarsest)
         key = None if meshes is None else region_key(rs, rt, size)
+        small = [[i for i, p in enumerate(r) if i and any(np.array_equal(src.paths[p][0], v) for v in gone)]
+                 for gone in report.vanishing[:2]]  # the region's holes that one drawing draws as small copies
         try:
             if key is not None and key in meshes:
                 ms, mt, flipped, slid = meshes[key]
             else:
-                ms, mt, flipped, slid = _mesh_region(rs, rt, size, slide=not report.hinted)
+                try:
+                    ms, mt, flipped, slid = _mesh_region(rs, rt, size, slide=not report.hinted)
+                except ShapeError:
+                    if not any(small):
+                        raise
+                    # e.g. no straight cuts join a hole inside both drawings: small copies placed afresh,
+                    # by the part of the outline nearest to their hole in the other drawing
+                    rs, rt = _by_the_outline(rs, rt, small)
+                    ms, mt, flipped, slid = _mesh_region(rs, rt, size, slide=not report.hinted)
                 if key is not None:
                     meshes[key] = (ms, mt, flipped, slid)
         except (ShapeError, IncompatibleShapesError) as exc:
