@@ -31,7 +31,7 @@ from ..shape import MAX_COORDINATE, Shape
 from ._files import TEXT_BYTES_PER_BYTE, check_readable, write_text
 from ._mesh import chains
 
-__all__ = ["read_svg", "write_svg", "CURVE_SEGMENTS", "CURVE_TOLERANCE"]
+__all__ = ["read_svg", "write_svg", "join_strokes", "CURVE_SEGMENTS", "CURVE_TOLERANCE", "SPIKE_SINE"]
 
 #: curves are flattened so that no point of a curve is further than this fraction of the drawing's
 #: bounding-box diagonal from the polyline (the default; ``curve_segments`` fixes the count instead)
