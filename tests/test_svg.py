@@ -82,6 +82,18 @@ def test_a_filled_ring_that_turns_back_on_itself_loses_the_spike_a_stroke_keeps_
     assert "as outlines" not in report.summary()
 
 
+def test_a_filled_ring_through_one_point_twice_is_cut_there(tmp_path):
+    # a body with a wheel drawn onto it through one point of its top, as Bootstrap draws carts and bugs
+    s = read(tmp_path, '<path d="M0 0 H10 V4 H6 L7 6 L5 6 L6 4 H0 Z"/>')
+    rings = [s.vertices[i] for i, _ in s.paths]
+    assert sorted(len(r) for r in rings) == [3, 5] and sorted(map(len, s.regions)) == [1, 1]
+    np.testing.assert_allclose(sorted(abs(ring_area(r)) for r in rings), [2.0, 40.0])
+    for r in rings:  # neither passes through a point twice
+        assert len(np.unique(np.round(r, 9), axis=0)) == len(r)
+    a, b, report = correspond(s, s)
+    assert "as outlines" not in report.summary()
+
+
 def test_inherited_fill_opacity_and_colour(tmp_path):
     body = ('<g fill="#0000ff" opacity="0.5"><path d="M0 0 L4 0 L4 4"/></g>'
             '<path fill="#ff0000" fill-opacity="0.25" d="M10 0 h4 v4 h-4"/>')

@@ -159,6 +159,25 @@ def _clean(points, closed, spike=None):
     return points
 
 
+def _unpinched(points):
+    """A filled ring that passes through one point twice, cut there into two rings (and so on); (k, 2) arrays.
+
+    The fill is the same; each ring alone no longer touches itself, which no
+    mesh can follow.
+    """
+    tol = 1e-9 * max(float(np.ptp(points, axis=0).max()), 1e-300)
+    _, first, group, count = np.unique(np.round(points / tol).astype(np.int64), axis=0, return_index=True,
+                                       return_inverse=True, return_counts=True)
+    twice = np.flatnonzero(count[group.ravel()] > 1)
+    if not len(twice):
+        return [points]
+    j = int(twice[np.flatnonzero(twice != first[group.ravel()[twice]])[0]])  # a repeat, and where it was first
+    i = int(first[group.ravel()[j]])
+    # each starts after the shared point (a ring's first point tells whether another ring is around it)
+    rest = np.roll(np.r_[points[:i], points[j:]], -(i + 1), axis=0)
+    return _unpinched(np.roll(points[i:j], -1, axis=0)) + _unpinched(rest)
+
+
 def _quiet_numbers(reader):
     """Run ``reader`` without numpy's overflow warnings (overflowing numbers are refused instead)."""
 
@@ -270,6 +289,9 @@ def read_svg(path, curve_segments=None):
                 dropped.append(f"{label}: {kind} {k} has {len(points)} distinct point(s), needs {need}")
             elif paint.filled and abs(ring_area(points)) <= 1e-9 * _ring_length(points) ** 2:
                 dropped.append(f"{label}: filled subpath {k} encloses no area")
+            elif paint.filled:  # a ring through one point twice (a wheel drawn onto a cart): cut there
+                kept += [(loop, True) for loop in _unpinched(points)
+                         if len(loop) >= 3 and abs(ring_area(loop)) > 1e-9 * _ring_length(loop) ** 2]
             else:
                 kept.append((points, closed))
         base = len(rings)
