@@ -40,7 +40,7 @@ CURVE_TOLERANCE = 5e-4
 MAX_CURVE_SEGMENTS = 256
 CURVE_SEGMENTS = 16
 #: a filled ring's point where it turns back to within this sine of straight back may be a spike tip
-SPIKE_SINE = 0.1
+SPIKE_SINE = 0.5
 #: parameter steps at which a curve is first sampled to estimate its bending
 _PROBE = np.linspace(0.0, 1.0, 17)
 
@@ -134,11 +134,13 @@ def _clean(points, closed, spike=None):
     """Drop repeated consecutive points (and the closing repeat of a ring); with ``spike``, spike tips too.
 
     A spike tip is a point where a filled ring turns straight back, its two
-    edges overlapping (or nearly, the point within ``spike`` of the line
-    between its neighbours, as where a path's closing edge backs up its
-    last one): the fill draws nothing there, but the ring touches itself,
-    which no mesh can follow. ``spike``: a distance (the curve tolerance),
-    for filled rings; None keeps every point.
+    edges overlapping (or nearly: the point within ``spike`` of the line
+    between its neighbours, turning back to within `SPIKE_SINE` of straight
+    or at the end of an edge shorter than ``spike``, as where a path's
+    closing edge backs up its last one or rounded path data misses the
+    start): the fill draws (next to) nothing there, but the ring touches
+    itself, which no mesh can follow. ``spike``: a distance (the curve
+    tolerance), for filled rings; None keeps every point.
     """
     scale = max(float(np.ptp(points, axis=0).max()), 1e-300) if len(points) else 1.0
     tol = 1e-9 * scale
@@ -153,7 +155,8 @@ def _clean(points, closed, spike=None):
         at = np.clip(np.einsum("ij,ij->i", u, w) / np.maximum(np.einsum("ij,ij->i", w, w), tol * tol), 0.0, 1.0)
         off = np.hypot(*(before + at[:, None] * w - points).T)  # from the line between the neighbours
         sine = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / np.maximum(np.hypot(*u.T) * np.hypot(*v.T), tol * tol)
-        tip = (np.einsum("ij,ij->i", u, v) < 0) & (sine <= SPIKE_SINE) & ((sine <= 1e-9) | (off <= spike))
+        stub = np.minimum(np.hypot(*u.T), np.hypot(*v.T)) <= spike  # (then ``off`` is too)
+        tip = (np.einsum("ij,ij->i", u, v) < 0) & ((sine <= 1e-9) | ((off <= spike) & ((sine <= SPIKE_SINE) | stub)))
         if tip.any():
             points = _clean(points[~(tip & ~np.roll(tip, 1))], True)  # of two in a row, the first
     return points
