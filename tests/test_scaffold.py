@@ -12,7 +12,7 @@ import pytest
 
 import isotween
 from isotween.foldfree.scaffold import box_around, scaffold, separate_regions
-from isotween.geometry import triangle_areas
+from isotween.geometry import edge_table, triangle_areas
 from isotween.metrics import flipped_faces, outline_crossings
 
 pytest.importorskip("shapely")
@@ -50,12 +50,16 @@ def test_pieces_that_would_collide_are_held_apart(turning_bar):
         assert np.array_equal(seq.frames[k], aiap.frames[k])
 
 
-def test_the_scaffold_tiles_the_box_around_the_pieces(turning_bar):
-    a, b = turning_bar
-    shape = isotween.interpolate(a, b, frames=3, fold="allow").shape
+def built(files):
+    """The drawing's shape, its positions, the box and the scaffold around its pieces."""
+    shape = isotween.interpolate(*files, frames=3, fold="allow").shape
     z = shape.vertices[:, 0] + 1j * shape.vertices[:, 1]
     box = box_around(z[None])
-    sc = scaffold(shape, z, box)
+    return shape, z, box, scaffold(shape, z, box)
+
+
+def test_the_scaffold_tiles_the_box_around_the_pieces(turning_bar):
+    shape, z, box, sc = built(turning_bar)
     joint = np.r_[z, sc.source]
     areas = triangle_areas(joint, sc.faces)
     pieces = np.abs(shape.face_areas()).sum()
@@ -68,11 +72,7 @@ def test_the_scaffold_tiles_the_box_around_the_pieces(turning_bar):
 
 
 def test_a_scaffold_carried_along_stays_a_tiling_and_becomes_delaunay_again(turning_bar):
-    a, b = turning_bar
-    shape = isotween.interpolate(a, b, frames=3, fold="allow").shape
-    z = shape.vertices[:, 0] + 1j * shape.vertices[:, 1]
-    box = box_around(z[None])
-    sc = scaffold(shape, z, box)
+    shape, z, box, sc = built(turning_bar)
     # the bar slides along its length, the scaffold following: still positive, no longer Delaunay
     slid = np.where((np.abs(z.imag) < 0.3) & (np.abs(z.real) < 2.1), z + 0.8, z)
     moved = sc.follow(np.stack([z, slid]))[1]
@@ -86,17 +86,11 @@ def test_a_scaffold_carried_along_stays_a_tiling_and_becomes_delaunay_again(turn
     pieces = np.abs(triangle_areas(slid, shape.faces)).sum()
     np.testing.assert_allclose(areas.sum() + pieces, np.ptp(box.real) * np.ptp(box.imag), rtol=1e-9)
     # no edge between two of its triangles has the fourth vertex inside the first's circumcircle
-    f = again.faces
-    tri = {(int(f[i, (k + 1) % 3]), int(f[i, k])): (i, int(f[i, (k + 2) % 3])) for i in range(len(f)) for k in range(3)}
-    for i in range(len(f)):
-        for k in range(3):
-            u, v = f[i, k], f[i, (k + 1) % 3]
-            if (u, v) not in tri:  # an edge of a piece or of the box
-                continue
-            d = tri[(u, v)][1]
-            p = joint[[u, v, f[i, (k + 2) % 3]]] - joint[d]
-            lift = np.c_[p.real, p.imag, np.abs(p) ** 2]
-            assert np.linalg.det(lift) <= 1e-9 * np.abs(p).max() ** 4
+    u, v, w, _, twin = edge_table(again.faces)
+    inner = twin >= 0
+    p = joint[np.stack([u[inner], v[inner], w[inner]], axis=1)] - joint[w[twin[inner]]][:, None]
+    lift = np.stack([p.real, p.imag, np.abs(p) ** 2], axis=2)
+    assert np.all(np.linalg.det(lift) <= 1e-9 * np.abs(p).max(axis=1) ** 4)
 
 
 def test_a_piece_that_starts_on_another_is_left_out():
