@@ -704,6 +704,7 @@ def _solids(shapes, report, mesh_size, meshes=None):
         return shape.vertices[shape.paths[p][0]]
 
     both = np.vstack([src.vertices, tgt.vertices])
+    starts = [{int(v[0]) for v in gone} for gone in report.vanishing[:2]]  # first vertex of each small copy
     coarsest = MESH_FRACTION * bbox_diagonal(both)
     for r in src.regions:
         rs, rt = [ring_xy(src, p) for p in r], [ring_xy(tgt, p) for p in r]
@@ -712,8 +713,8 @@ def _solids(shapes, report, mesh_size, meshes=None):
             spacing = np.mean(np.concatenate([np.hypot(*(np.roll(x, -1, axis=0) - x).T) for x in rs]))
             size = max(float(spacing), coarsest)
         key = None if meshes is None else region_key(rs, rt, size)
-        small = [[i for i, p in enumerate(r) if i and any(np.array_equal(src.paths[p][0], v) for v in gone)]
-                 for gone in report.vanishing[:2]]  # the region's holes that one drawing draws as small copies
+        small = [[i for i, p in enumerate(r) if i and int(src.paths[p][0][0]) in gone]  # the region's holes
+                 for gone in starts]  # that one drawing draws as small copies
         try:
             if key is not None and key in meshes:
                 ms, mt, flipped, slid = meshes[key]

@@ -127,19 +127,18 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
                 state = np.r_[prev[:n], sc.source]
                 a = np.r_[a, sc.follow(np.stack([state[:n], a]))[1]]
                 joint = np.r_[f, g]
-                weight = np.r_[np.ones(len(f)),
-                               np.full(len(g), SCAFFOLD_WEIGHT * share / triangle_areas(state, g).sum())]
+                area = triangle_areas(state, g)
+                weight = np.r_[np.ones(len(f)), np.full(len(g), SCAFFOLD_WEIGHT * share / area.sum())]
                 if energy is None:
                     energy = SymmetricDirichlet(state, state, joint, np.r_[np.zeros(n, bool), sc.fixed], weight)
                 energy.weight = weight
             else:
-                state = prev
+                state, area = prev, np.zeros(0)
             sides = np.abs(a[np.roll(joint, -1, axis=1)] - a[joint])
             h2 = float(np.mean(sides[:len(f)] ** 2))
             # the scaffold rests as it is now, grown to at least the area of an equilateral triangle with a
             # fraction of the regions' mean edge: a barrier that pushes nothing but resists squeezing
             g = joint[len(f):]
-            area = triangle_areas(state, g)
             grow = np.sqrt(np.maximum(1.0, np.sqrt(3) / 4 * GAP ** 2 * h2 / area))
             sides[len(f):] = np.abs(state[np.roll(g, -1, axis=1)] - state[g]) * grow[:, None]
             energy.rest_lengths(sides)

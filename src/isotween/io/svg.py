@@ -154,12 +154,20 @@ def _clean(points, closed, spike=None):
         u, v, w = points - before, after - points, after - before
         at = np.clip(np.einsum("ij,ij->i", u, w) / np.maximum(np.einsum("ij,ij->i", w, w), tol * tol), 0.0, 1.0)
         off = np.hypot(*(before + at[:, None] * w - points).T)  # from the line between the neighbours
-        sine = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / np.maximum(np.hypot(*u.T) * np.hypot(*v.T), tol * tol)
-        stub = np.minimum(np.hypot(*u.T), np.hypot(*v.T)) <= spike  # (then ``off`` is too)
+        lu, lv = np.hypot(*u.T), np.hypot(*v.T)
+        sine = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / np.maximum(lu * lv, tol * tol)
+        stub = np.minimum(lu, lv) <= spike  # (then ``off`` is too)
         tip = (np.einsum("ij,ij->i", u, v) < 0) & ((sine <= 1e-9) | ((off <= spike) & ((sine <= SPIKE_SINE) | stub)))
         if tip.any():
             points = _clean(points[~(tip & ~np.roll(tip, 1))], True)  # of two in a row, the first
     return points
+
+
+def _same_points(points, tol):
+    """(n,) group of every point (n, 2) and (g,) count of each group: points that agree to ``tol`` share one."""
+    _, group, count = np.unique(np.round(points / tol).astype(np.int64), axis=0, return_inverse=True,
+                                return_counts=True)
+    return group.ravel(), count
 
 
 def _unpinched(points):
@@ -168,14 +176,11 @@ def _unpinched(points):
     The fill is the same; each ring alone no longer touches itself, which no
     mesh can follow.
     """
-    tol = 1e-9 * max(float(np.ptp(points, axis=0).max()), 1e-300)
-    _, first, group, count = np.unique(np.round(points / tol).astype(np.int64), axis=0, return_index=True,
-                                       return_inverse=True, return_counts=True)
-    twice = np.flatnonzero(count[group.ravel()] > 1)
+    group, count = _same_points(points, 1e-9 * max(float(np.ptp(points, axis=0).max()), 1e-300))
+    twice = np.flatnonzero(count[group] > 1)
     if not len(twice):
         return [points]
-    j = int(twice[np.flatnonzero(twice != first[group.ravel()[twice]])[0]])  # a repeat, and where it was first
-    i = int(first[group.ravel()[j]])
+    i, j = (int(x) for x in twice[group[twice] == group[twice[0]]][:2])  # a point, and where it comes again
     # each starts after the shared point (a ring's first point tells whether another ring is around it)
     rest = np.roll(np.r_[points[:i], points[j:]], -(i + 1), axis=0)
     return _unpinched(np.roll(points[i:j], -1, axis=0)) + _unpinched(rest)
@@ -377,9 +382,7 @@ def _chained(pieces, tol):
     """(points, closed) of the chains of open ``pieces`` (list of (k, 2) float) joined where two ends meet."""
     m = len(pieces)
     ends = np.array([[p[0], p[-1]] for p in pieces]).reshape(-1, 2)  # end 2i: piece i's start, 2i + 1: its end
-    _, group, count = np.unique(np.round(ends / tol).astype(np.int64), axis=0, return_inverse=True,
-                                return_counts=True)
-    group = group.ravel()
+    group, count = _same_points(ends, tol)
     link = np.full(2 * m, -1)
     two = np.flatnonzero(count == 2)
     if len(two):
@@ -390,28 +393,22 @@ def _chained(pieces, tol):
     seen = np.zeros(m, dtype=bool)
 
     def walk(end):
-        """Points from ``end`` through the pieces it leads to; and the end it stopped at (-1: a free end)."""
-        parts = []
+        """(first piece, points, closed) of the chain from ``end`` through the pieces it leads to."""
+        parts, first, start = [], end // 2, end
         while True:
             piece = end // 2
-            seen[piece] = True
+            seen[piece], first = True, min(first, piece)
             points = pieces[piece] if end % 2 == 0 else pieces[piece][::-1]
             parts.append(points if not parts else points[1:])
             end = link[end ^ 1]
             if end < 0 or seen[end // 2]:
-                return np.concatenate(parts), end
+                points = np.concatenate(parts)
+                closed = end == start and len(points) > 3  # back where it began: a ring
+                return first, points[:-1] if closed else points, closed
 
-    chains = []  # (first piece, points, closed): in the pieces' order
-    for start in np.flatnonzero(link < 0):  # open chains, from a free end
-        if not seen[start // 2]:
-            was = seen.copy()
-            points, _ = walk(start)
-            chains.append((int(np.flatnonzero(seen & ~was)[0]), points, False))
-    for piece in np.flatnonzero(~seen):  # the rest close
-        if not seen[piece]:
-            points, end = walk(2 * piece)
-            closed = end == 2 * piece and len(points) > 3
-            chains.append((int(piece), points[:-1] if closed else points, closed))
+    # open chains from a free end, then the rest (which close); in the order of their first pieces
+    chains = [walk(start) for start in np.flatnonzero(link < 0) if not seen[start // 2]]
+    chains += [walk(2 * piece) for piece in range(m) if not seen[piece]]
     return [(points, closed) for _, points, closed in sorted(chains, key=lambda c: c[0])]
 
 
