@@ -56,7 +56,8 @@ def outline_measures(seq, regions=None):
     The outline is every path of the sequence's shape (closed rings and open strokes);
     crossings are counted within each filled region (outer ring and holes: ``regions``,
     default the shape's) and within each path outside the regions, as
-    `isotween.metrics.outline_crossings` with ``scope="region"`` does.
+    `isotween.metrics.outline_crossings` with ``scope="region"`` does, leaving out paths drawn
+    with opacity 0 in a frame (``visible=True``).
     """
     import isotween
 
@@ -68,8 +69,13 @@ def outline_measures(seq, regions=None):
     regions = [[renumber[k] for k in r if k in renumber] for r in (regions or [])]
     edges = np.vstack([np.c_[p, np.roll(p, -1)] if closed else np.c_[p[:-1], p[1:]] for p, closed in paths])
     outline = isotween.Shape(shape.vertices, edges, paths=paths, regions=[r for r in regions if r] or None)
-    oseq = isotween.Sequence(frames=seq.frames, shape=outline, times=seq.times)
-    crossings = isotween.metrics.outline_crossings(oseq, scope="region")[1:-1]
+    paint = (seq.info or {}).get("paint")
+    info = {}
+    if paint and all(len(key) == len(shape.paths) for key in paint["keys"]):  # the drawn paths' paint
+        info["paint"] = {**paint, "keys": [[key[k] for k in drawn] for key in paint["keys"]],
+                         "regions": outline.regions}
+    oseq = isotween.Sequence(frames=seq.frames, shape=outline, times=seq.times, info=info)
+    crossings = isotween.metrics.outline_crossings(oseq, scope="region", visible=True)[1:-1]
     return [int(c) for c in crossings], isotween.metrics.edge_length_deviation(oseq)
 
 
@@ -156,10 +162,11 @@ def end_measures(seq, drawings):
     """
     keys = (seq.info.get("paint") or {}).get("keys")
     hd, specks = [], 0
-    for end, (frame, drawing) in enumerate(zip((0, -1), drawings, strict=True)):
+    for frame, drawing in zip((0, -1), drawings, strict=True):
         keep = None
-        if keys and len(keys[end]) == len(seq.shape.paths):
-            keep = [k.get("opacity", 1.0) > 0 for k in keys[end]]
+        key = keys[frame] if keys else None  # the paint of the first (last) key time
+        if key and len(key) == len(seq.shape.paths):
+            keep = [k.get("opacity", 1.0) > 0 for k in key]
         d, n = end_error(seq.frames[frame], seq.shape.paths, drawing, keep)
         hd.append(d)
         specks += n
@@ -366,7 +373,7 @@ def run_isotween(job):
         else:
             out["mesh_flips"] = 0
         out["frame_flips"] = frame_flips(seq, src)
-        crossings = isotween.metrics.outline_crossings(seq)
+        crossings = isotween.metrics.outline_crossings(seq, visible=True)
         out["all_crossings"] = [int(c) for c in crossings[1:-1]]
         out["end_crossings"] = [int(crossings[0]), int(crossings[-1])]  # the inputs' own, e.g. an 'x' stroke
         out["crossings"], out["edge_deviation"] = outline_measures(seq)
@@ -701,7 +708,9 @@ def main():
         "on the path data of the same subpaths, time of the tween and its frames; its cubic Beziers are sampled at 8 "
         "points each for the measures. "
         "**Clean**: no two outline edges of the whole drawing cross (different regions included; "
-        "`metrics.outline_crossings` with its default scope) and no triangle flips, in any in-between frame; the "
+        "`metrics.outline_crossings` with its default scope and ``visible=True``: a path drawn with opacity 0 in a "
+        "frame, a piece with no partner before or after its span, is left out there) and no triangle flips, in "
+        "any in-between frame; the "
         "older per-region measure counts only crossings within one region. **Exact ends**: the symmetric Hausdorff "
         "distance between frame 0 and the source drawing's outline (every path, curves in 64 pieces each), and "
         "between the last frame and the target's, both sampled every 0.02 % of the diagonal, at most "

@@ -13,7 +13,7 @@ from ._callable import make_callable
 from ._heap import keep_heap_if_asked
 from ._validate import is_int
 from .correspondence.compatibility import as_shape, check_compatible
-from .errors import MethodError
+from .errors import MethodError, ParameterError
 from .initialisation import INITIALISERS
 from .optimisation import backend
 from .optimisation.global_solver import LINEAR_SOLVERS
@@ -21,7 +21,7 @@ from .optimisation.local_solver import ASSEMBLY
 from .optimisation.problem import DEFAULT_TOL, Result, bbox_diagonal
 from .optimisation.schemes import SCHEMES
 from .optimisation.solve import SOLVERS, solve
-from .paint import paint_keys
+from .paint import Paint, lerp_paint, paint_keys
 from .problems import check_choice, check_movable, check_stopping, keyed_problem
 from .resources import check_memory, solve_bytes
 from .times import frame_times
@@ -45,7 +45,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
                 times: ArrayLike | None = None, assembly: str = "shared",
                 linear_solver: str = "cg", max_memory: float | None = None,
                 fold: str | None = None, correspondence: str = "auto",
-                correspond_options: dict | None = None) -> Sequence:
+                correspond_options: dict | None = None, spans: ArrayLike | None = None) -> Sequence:
     """Interpolate two shapes as-isometrically-as-possible.
 
     The two-key case of :func:`isotween.interpolate_keyframes`: both solve a
@@ -112,6 +112,19 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     correspond_options : dict, optional
         Options of `isotween.correspond` (``points``, ``segment``,
         ``mesh_size``, ...); giving them puts the inputs in correspondence.
+    spans : (n, 2) array_like, optional
+        Per vertex, the times ``(start, end)`` within [0, 1] over which it
+        moves: before ``start`` it rests where the source has it, after
+        ``end`` where the target has it, in between it follows the morph
+        played at the speed that fits (staggered timing, e.g. one piece
+        leaving before another arrives). Every vertex of a connected piece
+        shares its span; its paint follows it. Default: every vertex
+        ``(0, 1)``. The frames are solved at the times all spans need and
+        each piece takes its own (`ParameterError` for spans that are not
+        within [0, 1], not increasing, or differ within a piece). Under
+        ``fold='fallback'``, where the fold check cannot repair the
+        staggered motion, it goes on with the unstaggered one and
+        ``info['spans']`` says so.
 
     Returns
     -------
@@ -137,6 +150,10 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     if needs_correspondence(source, target, correspondence=correspondence, options=bool(correspond_options)):
         from .pipeline import morph
 
+        if spans is not None:
+            raise ParameterError("spans need compatible inputs: the vertices of two drawings are only known after "
+                                 "correspondence (isotween.morph staggers pieces with no partner itself)")
+
         return morph(source, target, frames=frames, correspondence=correspondence, fold=fold,
                      correspond_options=correspond_options, solver=solver, init=init, scheme=scheme, tol=tol,
                      max_iter=max_iter, callback=callback, method=method, times=times, assembly=assembly,
@@ -151,6 +168,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
                      f"interpolating {frames} frames of {source.n_vertices} vertices and {source.n_edges} edges",
                      max_memory)
     t = frame_times(frames, times)
+    spans = _checked_spans(spans, source)
     check_choice("solver", solver, SOLVERS)
     check_choice("init", init, INITIALISERS)
     check_choice("scheme", scheme, SCHEMES)
@@ -161,9 +179,32 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     options = dict(frames=len(t), solver=solver, init=init, scheme=scheme, tol=tol,
                    max_iter=max_iter, method=method, times=times, assembly=assembly,
                    linear_solver=linear_solver, fold=fold)
-    if method != "aiap":
-        seq = _baseline(method, source, target, t, options, callback)
-        return _fallback(seq, source, target, t, options) if fold == "fallback" else seq
+
+    def run(spans):
+        if method != "aiap":
+            return _baseline(method, source, target, t, options, callback, spans)
+        seq = _spanned(lambda grid: _aiap(source, target, grid, options, callback), t, spans)
+        seq.timings["total"] = time.perf_counter() - start
+        seq.info.update(_paint(source, target, spans))
+        return seq
+
+    seq = run(spans)
+    if fold != "fallback":
+        return seq
+
+    def unstaggered():  # a staggered piece may find no room where it starts: every piece on the whole span
+        plain = _fallback(run(None), source, target, t, options, None, repair_only=True)
+        if plain is not None:
+            plain.info["spans"] = "not used: the fold check could repair the morph only without them"
+        return plain
+
+    return _fallback(seq, source, target, t, options, spans, unstaggered if spans is not None else None)
+
+
+def _aiap(source, target, t, options, callback):
+    """AIAP's sequence of two compatible shapes at frame times ``t`` (Algorithm 1 or 2)."""
+    init, scheme, tol, max_iter = (options[k] for k in ("init", "scheme", "tol", "max_iter"))
+    start = time.perf_counter()
     diag = bbox_diagonal(source.vertices, target.vertices)
     top = source.topology
     z0, z1 = _complex(source.vertices), _complex(target.vertices)
@@ -180,14 +221,70 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
             problem = keyed_problem([source, target], t, np.array([0, len(t) - 1]), init=init, scheme=scheme,
                                     tol=tol, max_iter=max_iter, diagonal=diag)
             init_time = time.perf_counter() - t0
-            result = solve(problem, solver=solver, assembly=assembly, linear_solver=linear_solver,
-                           callback=callback)
+            result = solve(problem, solver=options["solver"], assembly=options["assembly"],
+                           linear_solver=options["linear_solver"], callback=callback)
         result.timings = {"init": init_time, **result.timings}
     result.timings["total"] = time.perf_counter() - start
-    seq = result.sequence(source, t, method="aiap", scheme=scheme,
-                          info={"options": options, "max_move": result.max_move,
-                                **paint_keys([source, target], [0.0, 1.0])})
-    return _fallback(seq, source, target, t, options) if fold == "fallback" else seq
+    return result.sequence(source, t, method="aiap", scheme=scheme,
+                           info={"options": options, "max_move": result.max_move})
+
+
+def _checked_spans(spans, shape):
+    """``spans`` as an (n, 2) float array, or None where every vertex moves over the whole morph."""
+    if spans is None:
+        return None
+    try:
+        s = np.array(spans, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ParameterError("spans must be an (n, 2) array of times") from None
+    if s.shape != (shape.n_vertices, 2):
+        raise ParameterError(f"spans must be ({shape.n_vertices}, 2), one (start, end) per vertex; got {s.shape}")
+    if not np.all(np.isfinite(s)) or np.any(s[:, 0] < 0) or np.any(s[:, 1] > 1) or np.any(s[:, 0] >= s[:, 1]):
+        raise ParameterError("every span must be (start, end) with 0 <= start < end <= 1")
+    top = shape.topology
+    differ = np.flatnonzero(np.any(s[top.first] != s[top.second], axis=1))
+    if differ.size:
+        i, j = top.edges[differ[0]]
+        raise ParameterError(f"spans differ across edge ({i}, {j}): every vertex of a connected piece moves "
+                             f"over the same span")
+    return None if np.all(s == (0.0, 1.0)) else s
+
+
+def _spanned(run, t, spans):
+    """``run(grid)``'s sequence brought to frame times ``t``, every vertex at its own time in its span.
+
+    A vertex with span (a, b) is at time ``clip((t - a) / (b - a), 0, 1)`` of
+    the morph in the frame of time ``t``: ``run`` is called once with every
+    time some vertex needs (``t`` itself among them), and each frame takes
+    every vertex from the time its span asks for.
+    """
+    if spans is None:
+        return run(t)
+    rows, cls = np.unique(spans, axis=0, return_inverse=True)
+    local = np.clip((t - rows[:, :1]) / (rows[:, 1:] - rows[:, :1]), 0.0, 1.0)  # (C, F)
+    grid, index = np.unique(np.round(np.r_[t, local.ravel()], 12), return_inverse=True)
+    seq = run(grid)
+    pick = index[len(t):].reshape(local.shape)
+    frames = np.empty((len(t),) + seq.frames.shape[1:])
+    for c in range(len(rows)):
+        idx = np.flatnonzero(cls.ravel() == c)
+        frames[:, idx] = seq.frames[np.ix_(pick[c], idx)]
+    return dataclasses.replace(seq, frames=frames, times=np.array(t))
+
+
+def _paint(source, target, spans):
+    """`paint_keys` of the two ends, with a key wherever a span starts or ends (each path's paint follows its span)."""
+    keys = paint_keys([source, target], [0.0, 1.0])
+    if not keys or spans is None or not source.paths:
+        return keys
+    ends = [[Paint.from_dict(p) for p in key] for key in keys["paint"]["keys"]]
+    span = spans[[p[0] for p, _ in source.paths]]
+    key_times = np.unique(np.r_[0.0, 1.0, span.ravel()])
+    local = np.clip((key_times - span[:, :1]) / (span[:, 1:] - span[:, :1]), 0.0, 1.0)  # (P, K)
+    keys["paint"]["times"] = [float(k) for k in key_times]
+    keys["paint"]["keys"] = [[lerp_paint(a, b, [u[k]])[0].to_dict() for a, b, u in zip(*ends, local, strict=True)]
+                             for k in range(len(key_times))]
+    return keys
 
 
 def _complex_frames(frames):
@@ -201,17 +298,17 @@ def _complex(v):
     return np.ascontiguousarray(v, dtype=np.float64).view(complex)[:, 0]
 
 
-def _baseline(method, source, target, t, options, callback):
+def _baseline(method, source, target, t, options, callback, spans):
     start = time.perf_counter()
-    seq = baselines.run(method, source, target, len(t), times=t, tol=options["tol"],
-                        max_iter=options["max_iter"], callback=callback)
+    seq = _spanned(lambda grid: baselines.run(method, source, target, len(grid), times=grid, tol=options["tol"],
+                                              max_iter=options["max_iter"], callback=callback), t, spans)
     seq.timings.setdefault("total", time.perf_counter() - start)
     seq.info.setdefault("options", options)
-    seq.info.update(paint_keys([source, target], [0.0, 1.0]))
+    seq.info.update(_paint(source, target, spans))
     return seq
 
 
-def _fallback(seq, source, target, t, options):
+def _fallback(seq, source, target, t, options, spans, unstaggered=None, repair_only=False):
     """``seq``; where an in-between frame folds or collides, its folding frames repaired, else the fold-free morph.
 
     A frame folds where a triangle flips or a region's outline crosses
@@ -223,17 +320,22 @@ def _fallback(seq, source, target, t, options):
     kept; folds are repaired in the regions only, and if a repaired frame
     still has crossing outline edges, the fold-free 'injective' morph (else
     'convex') replaces the whole sequence. ``info['fallback']`` says which.
+    Where ``unstaggered`` is given (the sequence has spans), the morph
+    without them, repaired, comes before keeping or replacing this one;
+    ``repair_only``: None instead of keeping or replacing.
     """
     from . import metrics
     from .foldfree.repair import repair_folds
+    from .foldfree.scaffold import Around
 
     if seq.method in ("convex", "injective") or len(t) < 3:
         return seq
     flips = metrics.flipped_faces(seq, None)[1:-1]
     z = _complex_frames(seq.frames)
-    within, across = _crossed(seq.shape, z[[0, -1]])
-    crossings = np.array([within(frame) for frame in z[1:-1]], dtype=np.int64)
-    collisions = np.array([across(frame) for frame in z[1:-1]], dtype=np.int64)
+    hidden = _hidden(seq.shape, t, spans)
+    within, across = _crossed(seq.shape, z[[0, -1]], hidden)
+    crossings = np.array([within(k, frame) for k, frame in enumerate(z[1:-1], 1)], dtype=np.int64)
+    collisions = np.array([across(k, frame) for k, frame in enumerate(z[1:-1], 1)], dtype=np.int64)
     if not (flips.any() or crossings.any() or collisions.any()):
         return seq
     bad = flips | crossings | collisions
@@ -241,9 +343,9 @@ def _fallback(seq, source, target, t, options):
               f"({int(flips.sum())} flipped triangles, {int(crossings.sum() + collisions.sum())} outline crossings)")
     attempts = []  # (scaffold, accept): with the scaffold around the pieces, then the regions alone
     if seq.shape.faces is not None and seq.shape.regions:
-        attempts.append((_scaffold(seq.shape, z), lambda k, x: not (within(x) or across(x))))
+        attempts.append((Around(seq.shape, z, hidden), lambda k, x: not (within(k, x) or across(k, x))))
     if seq.shape.faces is not None and (flips.any() or crossings.any()):
-        attempts.append((None, lambda k, x: not within(x)))
+        attempts.append((None, lambda k, x: not within(k, x)))
     started = time.perf_counter()
     for scaffold, accept in attempts:
         try:
@@ -261,16 +363,19 @@ def _fallback(seq, source, target, t, options):
         repaired.info["repair"] = info
         repaired.timings["repair"] = time.perf_counter() - started
         return repaired
+    plain = unstaggered() if unstaggered is not None else None  # the morph with its pieces on the whole span
+    if plain is not None or repair_only:
+        return plain
     if not (flips.any() or crossings.any()):  # pieces meet, but no fold: the method's frames kept
         seq.info["collisions"] = (f"{int(collisions.sum())} crossings between pieces in "
                                   f"{int(np.count_nonzero(collisions))} frames; no scaffold could hold them apart")
         return seq
     try:
-        free = _baseline("injective", source, target, t, options, None)
+        free = _baseline("injective", source, target, t, options, None, spans)
         free.info["fallback"] = f"{folded}; replaced by the fold-free injective morph"
     except MethodError as exc:
         try:
-            free = _baseline("convex", source, target, t, options, None)
+            free = _baseline("convex", source, target, t, options, None, spans)
         except MethodError:
             seq.info["fallback"] = f"{folded}; kept, as no fold-free morph (injective, convex) can be built: {exc}"
             return seq
@@ -279,44 +384,53 @@ def _fallback(seq, source, target, t, options):
     return free
 
 
-def _crossed(shape, ends):
-    """``(within, across)``: functions of positions ``z`` (N,) complex counting outline crossings.
+def _hidden(shape, t, spans):
+    """``hidden(k)``: the filled regions out of sight in frame k (a staggered piece before or after its span)."""
+    if spans is None or not shape.regions:
+        return None
+    span = spans[[shape.paths[r[0]][0][0] for r in shape.regions]]  # (R, 2): each region's span
+    out = ((span[:, :1] > 0) & (t <= span[:, :1])) | ((span[:, 1:] < 1) & (t >= span[:, 1:]))  # (R, F)
+    return lambda k: set(np.flatnonzero(out[:, k]).tolist())
 
-    ``within(z)``: crossings within every region (outer ring and holes) and
-    path; ``across(z)``: crossings between the outlines of different filled
-    regions that lie on no other at either end, ``ends`` (2, N) complex
-    (`isotween.foldfree.scaffold.separate_regions`: a piece that splits
-    off from another may overlap it), always 0 where an end already has such
-    a crossing (layered pieces, as in an emoji).
+
+def _crossed(shape, ends, hidden=None):
+    """``(within, across)``: functions counting outline crossings at positions ``z`` (N,) complex.
+
+    ``within(k, z)``: crossings within every region (outer ring and holes)
+    and path of frame k; ``across(k, z)``: crossings between the outlines
+    of different filled regions that lie on no other at either end,
+    ``ends`` (2, N) complex (`isotween.foldfree.scaffold.separate_regions`:
+    a piece that splits off from another may overlap it), always 0 where
+    an end already has such a crossing (layered pieces, as in an emoji).
+    Both leave out the regions ``hidden(k)`` (out of sight in frame k: a
+    staggered piece before or after its span).
     """
     from . import metrics
     from .foldfree.scaffold import separate_regions
 
     edges, group = metrics.outline_edges(shape, scope="region")
 
-    def within(z):
-        return metrics.crossing_pairs(z, edges, group)
+    def seen(k, e, g):  # the edges e (of groups g) in sight in frame k
+        if hidden is None or not hidden(k):
+            return e, g
+        keep = ~np.isin(g, len(shape.paths) + np.array(sorted(hidden(k)), dtype=np.int64))
+        return e[keep], g[keep]
+
+    def within(k, z):
+        return metrics.crossing_pairs(z, *seen(k, edges, group))
 
     if group is None:
-        return within, (lambda z: 0)
+        return within, (lambda k, z: 0)
     solid = np.isin(group, len(shape.paths) + np.array(separate_regions(shape, ends), dtype=np.int64))
     pieces, owner = edges[solid], group[solid]
 
-    def across(z):
-        return metrics.crossing_pairs(z, pieces) - metrics.crossing_pairs(z, pieces, owner)
+    def across(k, z):
+        e, g = seen(k, pieces, owner)
+        return metrics.crossing_pairs(z, e) - metrics.crossing_pairs(z, e, g)
 
-    if not len(pieces) or any(across(z) for z in ends):
-        return within, (lambda z: 0)
+    if not len(pieces) or any(across(k, z) for k, z in ((0, ends[0]), (-1, ends[1]))):
+        return within, (lambda k, z: 0)
     return within, across
-
-
-def _scaffold(shape, z):
-    """``scaffold(x)``: the space around ``shape``'s separate pieces at ``x``, in a box around frames ``z``."""
-    from .foldfree.scaffold import box_around, scaffold, separate_regions
-
-    keep = separate_regions(shape, z[[0, -1]])
-    box = box_around(z)
-    return lambda x: scaffold(shape, x, box, keep)
 
 
 # `isotween.interpolate(...)` calls `interpolate`; `import isotween.interpolate` still gives this module

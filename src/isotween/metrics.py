@@ -15,6 +15,7 @@ from .errors import ParameterError
 from .geometry import bbox_diagonal, orient, ring_areas
 from .optimisation.schemes import SCHEMES
 from .optimisation.schemes import isometric_energy as _energy
+from .paint import sequence_paint
 
 if TYPE_CHECKING:
     from .sequence import Sequence
@@ -227,7 +228,7 @@ def crossing_pairs(z, edges, group=None):
     return int(np.count_nonzero((d1 * d2 < 0) & (d3 * d4 < 0)))
 
 
-def outline_crossings(seq, scope="all"):
+def outline_crossings(seq, scope="all", visible=False):
     """(F,) int: pairs of outline edges that cross each other, per frame.
 
     Outline edges are those of the shape's paths (rings and polylines; for a
@@ -239,11 +240,24 @@ def outline_crossings(seq, scope="all"):
         filled region (its outer ring and holes) or within one path outside
         the regions, i.e. self-intersections of each item, not overlaps of
         separate items.
+    visible : bool
+        Leave out, in each frame, the paths drawn with opacity 0 there
+        (`isotween.paint.sequence_paint`: a piece that has faded out, or not
+        yet in); they cannot be seen to cross anything.
     """
     edges, group = outline_edges(seq.shape, scope)
     if not len(edges):
         return np.zeros(len(seq), dtype=np.int64)
-    return np.array([crossing_pairs(z, edges, group) for z in seq.z], dtype=np.int64)
+    paints = sequence_paint(seq)[1] if visible and seq.shape.paths else None
+    if paints is None:
+        return np.array([crossing_pairs(z, edges, group) for z in seq.z], dtype=np.int64)
+    drawn = [k for k, (p, _) in enumerate(seq.shape.paths) if len(p) > 1]
+    path = np.repeat(drawn, [len(seq.shape.paths[k][0]) - (0 if seq.shape.paths[k][1] else 1) for k in drawn])
+    out = []
+    for z, paint in zip(seq.z, paints, strict=True):
+        keep = np.array([paint[k].opacity > 0 for k in range(len(paint))])[path]
+        out.append(crossing_pairs(z, edges[keep], None if group is None else group[keep]))
+    return np.array(out, dtype=np.int64)
 
 
 def outline_edges(shape, scope="all"):

@@ -17,13 +17,16 @@ from typing import TypeGuard
 from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
 __all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_steps", "mesh_prepared", "prepare_keys", "morph",
-           "collapse_vanishing", "needs_correspondence", "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES"]
+           "collapse_vanishing", "unmatched_spans", "needs_correspondence", "onto_connectivity", "CORRESPONDENCE",
+           "DRAWING_SUFFIXES", "STAGGER"]
 
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
 CORRESPONDENCE = ("auto", "always", "never")
 #: file kinds whose point order means nothing: correspondence always runs on them under 'auto'
 DRAWING_SUFFIXES = (".svg",)
 
+#: a piece with no partner leaves within this first share of a morph, one that appears comes in the last
+STAGGER = 0.5
 #: options of `isotween.correspond` that `prepare_pair` passes on
 CORRESPOND_OPTIONS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched", "pairs", "landmarks",
                       "meshes")
@@ -443,8 +446,57 @@ def collapse_vanishing(seq, report):
             seq.frames[frame] = np.c_[z.real, z.imag]
 
 
+def unmatched_spans(shape, report, stagger=STAGGER):
+    """Spans of time (`isotween.interpolate`'s ``spans``) that stagger the pieces with no partner.
+
+    A piece (a connected part of ``shape``) that is only a small copy in the
+    target shrinks to it, and fades out, within the first ``stagger`` of the
+    morph; one that is only a small copy in the source grows and fades in
+    within the last ``stagger``. So what leaves is gone before what comes
+    arrives, as an animator staggers them, and the two rarely meet. A hole
+    copy inside a piece that stays keeps the piece's span.
+
+    Parameters
+    ----------
+    shape : Shape
+        The corresponded source.
+    report : CorrespondenceReport or None
+        Its ``vanishing`` rings: per drawing, the rings that are small copies there.
+    stagger : float
+        In (0, 1]; 1 leaves every piece on the whole morph.
+
+    Returns
+    -------
+    (n, 2) float array, or None
+        None where no piece is staggered.
+    """
+    import numpy as np
+
+    from ._validate import check_number
+
+    stagger = check_number("stagger", stagger, bound="a number in (0, 1]")
+    if stagger > 1.0:
+        raise ParameterError(f"stagger must be a number in (0, 1], got {stagger!r}")
+    vanishing = getattr(report, "vanishing", None) or []
+    if stagger == 1.0 or not any(vanishing) or not shape.paths:
+        return None
+    component = shape.topology.components
+    on_path = np.zeros(shape.n_vertices, dtype=bool)
+    for idx, _ in shape.paths:
+        on_path[idx] = True
+    spans = np.tile([0.0, 1.0], (shape.n_vertices, 1))
+    for end, rings in enumerate(vanishing[:2]):
+        small = np.zeros(shape.n_vertices, dtype=bool)
+        for idx in rings:
+            small[idx] = True
+        # pieces whose every outline vertex is a small copy at this end
+        whole = np.setdiff1d(np.unique(component[small]), np.unique(component[on_path & ~small]))
+        spans[np.isin(component, whole)] = (1.0 - stagger, 1.0) if end == 0 else (0.0, stagger)
+    return None if np.all(spans == (0.0, 1.0)) else spans
+
+
 def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=None, correspond_options=None,
-          render_options=None, **options):
+          render_options=None, stagger=STAGGER, **options):
     """Any two inputs to an in-between sequence (and an output file).
 
     Parameters
@@ -464,6 +516,11 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
         Options of `isotween.correspond`.
     render_options : dict, optional
         Options of `isotween.write_output`.
+    stagger : float
+        A piece with no partner in the other drawing leaves (shrinks and
+        fades) within this first share of the morph, and one that appears
+        comes in within the last (`unmatched_spans`); 1: both over the whole
+        morph.
     **options
         Options of `isotween.interpolate` (``method``, ``solver``, ...).
 
@@ -488,7 +545,9 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
     prepared = prepare_pair(source, target, correspondence=correspondence, **(correspond_options or {}))
     if fold is None:
         fold = "fallback" if prepared.built_meshes else "allow"
-    seq = interpolate(prepared.source, prepared.target, frames=frames, fold=fold, correspondence="never", **options)
+    spans = unmatched_spans(prepared.source, prepared.report, stagger)
+    seq = interpolate(prepared.source, prepared.target, frames=frames, fold=fold, correspondence="never",
+                      spans=spans, **options)
     seq.info["correspondence"] = prepared.summary()
     collapse_vanishing(seq, prepared.report)
     if output is not None:

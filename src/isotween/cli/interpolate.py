@@ -21,8 +21,11 @@ from .prepare import correspondence_kwargs, correspondence_options, make_compati
 @frames_option
 @solver_options
 @correspondence_options
+@click.option("--stagger", type=float, default=None, metavar="SHARE",
+              help="A piece with no partner in the other drawing leaves within this first share of the morph, "
+                   "and one that appears comes in within the last; 1: both over the whole morph [default: 0.5].")
 @output_options
-def interpolate_command(source, target, output, fmt, texture, plot, quiet, **params):
+def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagger, **params):
     """Interpolate SOURCE into TARGET as-isometrically-as-possible.
 
     SOURCE and TARGET are shape files (.obj .off .svg .json .npz). Shapes
@@ -43,14 +46,16 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, **par
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
     options = correspondence_kwargs(params)
-    from ..pipeline import collapse_vanishing
+    from ..pipeline import STAGGER, collapse_vanishing, unmatched_spans
 
     prepared = make_compatible(load(source), load(target), source, target, quiet=quiet, prepared=True, **options)
     kwargs = solver_kwargs(params)
     if prepared.built_meshes:  # meshes built here: a folding result falls back to the fold-free morph
         kwargs.setdefault("fold", "fallback")
+    spans = unmatched_spans(prepared.source, prepared.report, STAGGER if stagger is None else stagger)
     with progress(quiet) as callback:
-        seq = interpolate(prepared.source, prepared.target, callback=callback, correspondence="never", **kwargs)
+        seq = interpolate(prepared.source, prepared.target, callback=callback, correspondence="never", spans=spans,
+                          **kwargs)
     collapse_vanishing(seq, prepared.report)  # items that vanish are points at their ends, not specks
     if "fallback" in seq.info and not quiet:
         click.echo(f"fold check: {seq.info['fallback']}")

@@ -56,11 +56,11 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
         ``accept(k, x)`` with a repaired frame ``x`` (N,) complex: False
         stops the repair (`MethodError`), e.g. when the frame's outline
         crosses itself, which no repair of flips mends.
-    scaffold : callable, optional
-        ``scaffold(z)``: the empty space around the regions at positions
-        ``z`` (N,) complex, triangulated (a
-        `isotween.foldfree.scaffold.Scaffold`). Rebuilt before every
-        repaired frame where the pieces are then, its triangles join the
+    scaffold : Around, optional
+        ``scaffold(k, z)``: the empty space around the regions held apart in
+        frame k (``scaffold.held(k)``) at positions ``z`` (N,) complex,
+        triangulated (a `isotween.foldfree.scaffold.Scaffold`; built afresh
+        where the regions held apart change). Its triangles join the
         repair at weight `SCAFFOLD_WEIGHT` (per unit area, against the
         regions'), each resting as it is, grown to at least a small area
         (`GAP`): a barrier that pushes nothing but resists squeezing, so a
@@ -105,20 +105,21 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
     share = np.abs(area0).sum()
     energy = None if scaffold is not None else SymmetricDirichlet(frames[0], frames[0], f, np.zeros(n, bool))
     prev = frames[folded[0] - 1]  # the last repaired frame (and the scaffold's vertices, once there is one)
-    sc, worst = None, 0.0  # the scaffold in use, and its smallest angle when it was built
+    sc, worst, held = None, 0.0, ()  # the scaffold in use, its smallest angle when built, the regions it holds
     for k in range(folded[0], folded[-1] + 1):
         for retry in (False, True):
             a, joint = frames[k], f
             carried = False
             if scaffold is not None:  # the space around the pieces: the last frame's while it keeps its shape
-                carried = not retry and sc is not None and triangle_angles(prev, sc.faces).min() >= WORN * worst
+                carried = (not retry and sc is not None and held == scaffold.held(k)
+                           and triangle_angles(prev, sc.faces).min() >= WORN * worst)
                 if carried:
                     faces, sc = sc.faces, sc.moved(prev)
                     if not np.array_equal(faces, sc.faces):
                         energy = None
                 else:  # triangulated afresh where the pieces are now
                     try:
-                        sc = scaffold(prev[:n])
+                        held, sc = scaffold.held(k), scaffold(k, prev[:n])
                     except ShapeError as exc:
                         raise MethodError(f"no scaffold around frame {k - 1}: {exc}") from None
                     worst = triangle_angles(np.r_[prev[:n], sc.source], sc.faces).min()

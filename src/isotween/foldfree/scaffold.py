@@ -30,7 +30,7 @@ import numpy as np
 from ..errors import ShapeError
 from ..geometry import bbox_diagonal, edge_table
 
-__all__ = ["Scaffold", "box_around", "scaffold", "separate_regions", "MARGIN", "BOX_SIDE"]
+__all__ = ["Scaffold", "Around", "box_around", "scaffold", "separate_regions", "MARGIN", "BOX_SIDE"]
 
 MARGIN = 0.5  # the box lies this far (in bounding-box diagonals of all frames) around every frame
 BOX_SIDE = 6  # vertices on each side of the box (corners included once)
@@ -98,6 +98,37 @@ class Scaffold(NamedTuple):
             ext = lu.solve(np.ascontiguousarray(rhs.real)) + 1j * lu.solve(np.ascontiguousarray(rhs.imag))
             out[:, ~self.fixed] += ext.T
         return out
+
+
+class Around:
+    """The scaffolds of a sequence's frames: which pieces each frame holds apart, and their scaffold.
+
+    Parameters
+    ----------
+    shape : Shape
+        A meshed shape with ``regions``.
+    frames : (T, N) complex
+        Its frames: the box lies around all of them (`box_around`), and the
+        pieces held apart are those that lie on no other at either end
+        (`separate_regions`).
+    hidden : callable, optional
+        ``hidden(k)``: regions out of sight in frame k (a staggered piece
+        before or after its span), left out of that frame's scaffold.
+    """
+
+    def __init__(self, shape, frames, hidden=None):
+        self.shape, self.box = shape, box_around(frames)
+        self.keep = separate_regions(shape, np.asarray(frames)[[0, -1]])
+        self.hidden = hidden
+
+    def held(self, k):
+        """The regions held apart in frame k (a tuple of indices into ``shape.regions``)."""
+        gone = self.hidden(k) if self.hidden is not None else ()
+        return tuple(r for r in self.keep if r not in gone)
+
+    def __call__(self, k, z):
+        """The scaffold around the pieces of frame k at positions ``z`` (N,) complex."""
+        return scaffold(self.shape, z, self.box, list(self.held(k)))
 
 
 def separate_regions(shape, ends):

@@ -429,7 +429,8 @@ class Session:
         `isotween.pipeline.prepare_pair` makes them compatible (its ``'auto'``
         policy: drawings and inputs given correspondence options or hints are
         corresponded, compatible inputs kept), `isotween.interpolate` solves
-        (``fold='fallback'`` where meshes were built here) and vanishing items
+        (``fold='fallback'`` where meshes were built here, pieces with no
+        partner staggered: `pipeline.unmatched_spans`) and vanishing items
         collapse at their ends (`pipeline.collapse_vanishing`). The outline
         correspondence is kept and meshed separately (`pipeline.mesh_prepared`), so that
         the outline preview and the meshes share it and region pairs that a
@@ -438,7 +439,7 @@ class Session:
         ``hooks``: (the solver's callback, the supersession check, the progress stage setter).
         """
         from ..interpolate import interpolate
-        from ..pipeline import mesh_prepared, prepare_pair
+        from ..pipeline import mesh_prepared, prepare_pair, unmatched_spans
         from .reuse import pending_vertices
 
         progress, check, stage = hooks
@@ -482,6 +483,9 @@ class Session:
         kwargs: dict[str, Any] = {"method": options["method"], "times": times}
         if prepared.built_meshes:  # meshes built here: as the command line does
             kwargs["fold"] = "fallback"
+        spans = unmatched_spans(prepared.source, prepared.report)  # pieces with no partner staggered, as morph does
+        if spans is not None:
+            kwargs["spans"] = spans
         bkey = ("base", which, ids, tag, frames, json.dumps(curves), options["method"])
 
         def solve() -> Any:

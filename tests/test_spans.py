@@ -1,0 +1,126 @@
+"""Staggered timing: every piece moves over its own span of time; pieces with no partner leave before others come.
+
+`interpolate(..., spans=...)` plays each connected piece's morph within its
+own (start, end); `morph` gives a piece that vanishes the first half and one
+that appears the last half (`pipeline.unmatched_spans`), with its paint.
+"""
+
+import numpy as np
+import pytest
+
+import isotween
+from isotween import Shape, metrics
+from isotween.errors import ParameterError
+from isotween.paint import Paint, sequence_paint
+
+
+def two_bars(paint=None):
+    """Two separate straight bars of 5 vertices (a polyline each)."""
+    left = np.c_[np.linspace(0.0, 4.0, 5), np.zeros(5)]
+    return Shape.from_paths([left, left + [0.0, 3.0]], closed=[False, False], paint=paint)
+
+
+def turned(shape, angle):
+    """Every path of ``shape`` turned by ``angle`` about its own centroid."""
+    z = shape.z.copy()
+    for idx, _ in shape.paths:
+        c = z[idx].mean()
+        z[idx] = c + (z[idx] - c) * np.exp(1j * angle)
+    return shape.with_vertices(np.c_[z.real, z.imag])
+
+
+def direction(frame, idx):
+    """Angle of the first edge of the path ``idx`` in a (n, 2) frame."""
+    d = frame[idx[1]] - frame[idx[0]]
+    return np.arctan2(d[1], d[0])
+
+
+def test_each_piece_turns_within_its_own_span():
+    src = two_bars()
+    tgt = turned(src, np.pi / 2)
+    spans = np.tile([0.0, 1.0], (src.n_vertices, 1))
+    late = src.paths[1][0]
+    spans[late] = (0.5, 1.0)
+    frames = 9
+    seq = isotween.interpolate(src, tgt, frames=frames, spans=spans)
+    t = np.linspace(0.0, 1.0, frames)
+    np.testing.assert_allclose(seq.times, t)
+    first = [direction(f, src.paths[0][0]) for f in seq.frames]
+    second = [direction(f, late) for f in seq.frames]
+    # a rigid turn is recovered exactly: the first bar over the whole morph, the second only after t = 0.5
+    np.testing.assert_allclose(first, np.pi / 2 * t, atol=1e-6)
+    np.testing.assert_allclose(second, np.pi / 2 * np.clip(2 * t - 1, 0, 1), atol=1e-6)
+    assert metrics.edge_length_deviation(seq) < 1e-6
+    # spans that need times off the frame grid (5 frames, a span of a third) are solved there
+    spans[late] = (0.0, 1 / 3)
+    seq = isotween.interpolate(src, tgt, frames=5, spans=spans)
+    local = np.clip(np.linspace(0, 1, 5) * 3, 0, 1)
+    np.testing.assert_allclose([direction(f, late) for f in seq.frames], np.pi / 2 * local, atol=1e-6)
+
+
+def test_a_piece_paint_follows_its_span():
+    src = two_bars([Paint(stroke=(0, 0, 0, 1)), Paint(stroke=(0, 0, 0, 1))])
+    tgt = turned(two_bars([Paint(stroke=(0, 0, 0, 1)), Paint(stroke=(0, 0, 0, 1), opacity=0.0)]), 0.3)
+    spans = np.tile([0.0, 1.0], (src.n_vertices, 1))
+    spans[src.paths[1][0]] = (0.0, 0.5)
+    seq = isotween.interpolate(src, tgt, frames=5, spans=spans)
+    _, paints = sequence_paint(seq)
+    assert [p[1].opacity for p in paints] == pytest.approx([1.0, 0.5, 0.0, 0.0, 0.0])
+    assert [p[0].opacity for p in paints] == pytest.approx([1.0] * 5)
+
+
+def test_spans_are_checked():
+    src = two_bars()
+    tgt = turned(src, 0.3)
+    n = src.n_vertices
+    with pytest.raises(ParameterError, match=r"\(10, 2\)"):
+        isotween.interpolate(src, tgt, spans=np.zeros((3, 2)))
+    with pytest.raises(ParameterError, match="0 <= start < end <= 1"):
+        isotween.interpolate(src, tgt, spans=np.tile([0.5, 0.5], (n, 1)))
+    split = np.tile([0.0, 1.0], (n, 1))
+    split[0] = (0.0, 0.5)
+    with pytest.raises(ParameterError, match=r"edge \(0, 1\)"):
+        isotween.interpolate(src, tgt, spans=split)
+
+
+SQUARES = ('<path fill="#036" d="M1 1h5v5h-5z"/><path fill="#036" d="M10 10h5v5h-5z"/>')
+ONE = '<path fill="#036" d="M1 1h6v5h-6z"/>'
+
+
+def drawing(path, body):
+    path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16">{body}</svg>')
+    return str(path)
+
+
+def test_a_vanishing_piece_is_gone_by_half_time(tmp_path):
+    pytest.importorskip("svgelements")
+    a, b = drawing(tmp_path / "two.svg", SQUARES), drawing(tmp_path / "one.svg", ONE)
+    seq = isotween.morph(a, b, frames=11)
+    prepared = isotween.prepare_pair(a, b)
+    spans = isotween.pipeline.unmatched_spans(prepared.source, prepared.report)
+    gone = np.flatnonzero(spans[:, 1] < 1)
+    assert len(gone) and np.all(spans[gone] == (0.0, 0.5))
+    _, paints = sequence_paint(seq)
+    path = next(k for k, (idx, _) in enumerate(seq.shape.paths) if idx[0] in gone)
+    # shrunk and faded out by t = 0.5, then still until the last frame collapses it to a point
+    assert [p[path].opacity for p in paints[5:]] == [0.0] * 6 and paints[4][path].opacity > 0
+    for k in range(6, 10):
+        np.testing.assert_allclose(seq.frames[k, gone], seq.frames[5, gone], atol=1e-9)
+    # the piece that stays moves over the whole morph, as without staggering
+    whole = isotween.morph(a, b, frames=11, stagger=1.0)
+    stay = np.flatnonzero(spans[:, 1] == 1)
+    np.testing.assert_allclose(seq.frames[:, stay], whole.frames[:, stay], atol=1e-6)
+    assert np.abs(np.diff(whole.frames[5:10, gone], axis=0)).max() > 1e-3  # without it, it is still moving
+    with pytest.raises(ParameterError, match="stagger"):
+        isotween.morph(a, b, stagger=1.5)
+
+
+def test_paths_out_of_sight_are_not_crossings():
+    # a vertical bar crosses a horizontal one; it fades out by the middle frame
+    bars = [[[0, 1], [4, 1]], [[2, 0], [2, 2]]]
+    paint = [Paint(stroke=(0, 0, 0, 1)), Paint(stroke=(0, 0, 0, 1))]
+    gone = [Paint(stroke=(0, 0, 0, 1)), Paint(stroke=(0, 0, 0, 1), opacity=0.0)]
+    seq = isotween.interpolate(Shape.from_paths(bars, closed=False, paint=paint),
+                               Shape.from_paths(bars, closed=False, paint=gone), frames=3)
+    assert list(metrics.outline_crossings(seq)) == [1, 1, 1]
+    assert list(metrics.outline_crossings(seq, visible=True)) == [1, 1, 0]
