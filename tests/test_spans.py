@@ -124,3 +124,13 @@ def test_paths_out_of_sight_are_not_crossings():
                                Shape.from_paths(bars, closed=False, paint=gone), frames=3)
     assert list(metrics.outline_crossings(seq)) == [1, 1, 1]
     assert list(metrics.outline_crossings(seq, visible=True)) == [1, 1, 0]
+
+
+def test_a_stroke_with_no_partner_is_not_staggered(tmp_path):
+    # it grows out of the nearest stroke, drawn as it is: held back, it would sit there as a dot
+    pytest.importorskip("svgelements")
+    lines = '<path d="M1 1h12M1 8h12" fill="none" stroke="#000" stroke-width="2"/>'
+    a, b = drawing(tmp_path / "two.svg", lines), drawing(tmp_path / "one.svg", lines.replace("M1 8h12", ""))
+    prepared = isotween.prepare_pair(a, b)
+    assert prepared.report.lines["shrunk"] == 1
+    assert isotween.pipeline.unmatched_spans(prepared.source, prepared.report) is None

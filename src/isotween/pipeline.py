@@ -449,12 +449,14 @@ def collapse_vanishing(seq, report):
 def unmatched_spans(shape, report, stagger=STAGGER):
     """Spans of time (`isotween.interpolate`'s ``spans``) that stagger the pieces with no partner.
 
-    A piece (a connected part of ``shape``) that is only a small copy in the
-    target shrinks to it, and fades out, within the first ``stagger`` of the
-    morph; one that is only a small copy in the source grows and fades in
-    within the last ``stagger``. So what leaves is gone before what comes
-    arrives, as an animator staggers them, and the two rarely meet. A hole
-    copy inside a piece that stays keeps the piece's span.
+    A filled piece (a connected part of ``shape`` with a region) that is
+    only a small copy in the target shrinks to it, and fades out, within the
+    first ``stagger`` of the morph; one that is only a small copy in the
+    source grows and fades in within the last ``stagger``. So what leaves is
+    gone before what comes arrives, as an animator staggers them, and the
+    two rarely meet. A hole copy inside a piece that stays keeps the
+    piece's span, and so does a stroke (it grows out of another stroke,
+    drawn as it is, over the whole morph).
 
     Parameters
     ----------
@@ -478,19 +480,20 @@ def unmatched_spans(shape, report, stagger=STAGGER):
     if stagger > 1.0:
         raise ParameterError(f"stagger must be a number in (0, 1], got {stagger!r}")
     vanishing = getattr(report, "vanishing", None) or []
-    if stagger == 1.0 or not any(vanishing) or not shape.paths:
+    if stagger == 1.0 or not any(vanishing) or not shape.regions:
         return None
     component = shape.topology.components
     on_path = np.zeros(shape.n_vertices, dtype=bool)
     for idx, _ in shape.paths:
         on_path[idx] = True
+    filled = np.unique(component[np.concatenate([shape.paths[r[0]][0] for r in shape.regions])])
     spans = np.tile([0.0, 1.0], (shape.n_vertices, 1))
     for end, rings in enumerate(vanishing[:2]):
         small = np.zeros(shape.n_vertices, dtype=bool)
         for idx in rings:
             small[idx] = True
-        # pieces whose every outline vertex is a small copy at this end
-        whole = np.setdiff1d(np.unique(component[small]), np.unique(component[on_path & ~small]))
+        # filled pieces whose every outline vertex is a small copy at this end
+        whole = np.setdiff1d(np.intersect1d(component[small], filled), component[on_path & ~small])
         spans[np.isin(component, whole)] = (1.0 - stagger, 1.0) if end == 0 else (0.0, stagger)
     return None if np.all(spans == (0.0, 1.0)) else spans
 
