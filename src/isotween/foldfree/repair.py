@@ -22,7 +22,10 @@ Delaunay, and triangulated afresh where its smallest angle falls below
 `WORN` of what it was when built, or where a frame repaired in the carried
 one is refused (pieces that touch leave it a gap). Frames
 from the first folding one to the last folding one are repaired (so the
-motion has no jump inside that range); the others are kept bit for bit.
+motion has no jump inside that range), and after it those that the
+repaired motion needs to catch up with the given one (pieces held apart
+may lag behind where the given ones passed through each other; at most
+`CATCH_UP` of the sequence); the others are kept bit for bit.
 """
 
 import numpy as np
@@ -31,7 +34,7 @@ from ..errors import MethodError, ShapeError
 from ..geometry import triangle_angles, triangle_areas
 from ..optimisation.barrier import SymmetricDirichlet, max_step, minimise
 
-__all__ = ["repair_folds", "GAP", "JUMP", "PULL", "MAX_ITER", "SCAFFOLD_WEIGHT", "TOL", "WORK", "WORN"]
+__all__ = ["repair_folds", "CATCH_UP", "GAP", "JUMP", "PULL", "MAX_ITER", "SCAFFOLD_WEIGHT", "TOL", "WORK", "WORN"]
 
 PULL = 1.0  # weight of the pull to the folding frame, in units of the least energy per vertex and squared edge
 MAX_ITER = 30  # Newton iterations per frame at most
@@ -39,6 +42,7 @@ TOL = 1e-2  # stop when an iteration lowers the energy above its least value by 
 SCAFFOLD_WEIGHT = 0.1  # the scaffold's symmetric Dirichlet per unit area, against the regions'
 GAP = 0.25  # the scaffold's triangles rest no smaller than an equilateral one with this fraction of the mean edge
 JUMP = 2.0  # the last repaired frame ends at most this many of the sequence's largest steps from the next
+CATCH_UP = 0.15  # past the last folding frame, at most this share of the frames is repaired to catch up with the motion
 WORN = 0.5  # the scaffold is triangulated afresh once its smallest angle falls below this share of its first
 WORK = 2_000_000  # Newton iterations x vertices for the whole repair; beyond it the repair gives up
 
@@ -83,9 +87,9 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
         Frame 0 has a degenerate face, the last frame a flipped or degenerate
         one, a Newton system cannot be solved, ``accept`` refused a frame,
         the repair needs more than `WORK` (Newton iterations times
-        vertices), or the last repaired frame ends more than `JUMP` times
-        the sequence's largest frame-to-frame step away from the next frame
-        (the repair could not follow the motion).
+        vertices), or the last repaired frame (`CATCH_UP` included) ends
+        more than `JUMP` times the sequence's largest frame-to-frame step
+        away from the next frame (the repair could not follow the motion).
     """
     frames = np.asarray(frames, dtype=complex)
     f = np.asarray(faces, dtype=np.int64)
@@ -106,7 +110,10 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
     energy = None if scaffold is not None else SymmetricDirichlet(frames[0], frames[0], f, np.zeros(n, bool))
     prev = frames[folded[0] - 1]  # the last repaired frame (and the scaffold's vertices, once there is one)
     sc, worst, held = None, 0.0, ()  # the scaffold in use, its smallest angle when built, the regions it holds
-    for k in range(folded[0], folded[-1] + 1):
+    stride = np.abs(np.diff(frames, axis=0)).max()
+    k, last = folded[0], folded[-1]
+    latest = min(len(frames) - 2, last + int(CATCH_UP * (len(frames) - 1)))
+    while k <= last:
         for retry in (False, True):
             a, joint = frames[k], f
             carried = False
@@ -157,7 +164,10 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
         prev, out[k] = x, x[:n]
         info["deviation"] = max(info["deviation"], float(np.abs(x[:n] - frames[k]).max()))
         info["frames"].append(k)
-    jump, stride = np.abs(frames[folded[-1] + 1] - prev[:n]).max(), np.abs(np.diff(frames, axis=0)).max()
+        jump = np.abs(frames[k + 1] - prev[:n]).max()
+        if k == last < latest and jump > JUMP * stride:
+            last += 1  # not caught up with the motion yet: the next frame is repaired too
+        k += 1
     if jump > JUMP * stride:
         raise MethodError(f"the repaired frames end {jump / stride:.2g} times the sequence's largest step "
                           f"away from the next frame")
