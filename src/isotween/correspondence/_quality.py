@@ -26,8 +26,13 @@ def _sine(z, f):
 
 def _sine_area(z, f):
     """(F,) `_sine` and (F,) signed area of triangles ``f`` (F, 3), from one pass over the sides."""
-    u = z[f[:, 1]] - z[f[:, 0]]
-    v = z[f[:, 2]] - z[f[:, 0]]
+    return _corner_sine_area(z[f])
+
+
+def _corner_sine_area(p):
+    """`_sine_area` of triangles given by their corners ``p`` (..., 3) complex."""
+    u = p[..., 1] - p[..., 0]
+    v = p[..., 2] - p[..., 0]
     cross = (np.conj(u) * v).imag  # 2 A
     d = v - u
     l1, l2, l3 = u.real ** 2 + u.imag ** 2, v.real ** 2 + v.imag ** 2, d.real ** 2 + d.imag ** 2
@@ -107,29 +112,28 @@ def _smooth(z, w, f, K, eps, joint):
         own = vk[st]
         count = np.diff(np.r_[st, len(vk)])
         went = np.zeros(len(own), dtype=bool)
+        mine = tri == np.repeat(own, count)[:, None]  # (m, 3): the corner of each star face that moves
         for group in ((0, 1),) if joint else ((0,), (1,)):
             goals = [{i: np.add.reduceat(pos[i][tri].sum(axis=1) - pos[i][vk], st) / (2 * count)
                       for i in group}]  # Laplacian (each neighbour twice): affine images stay affine images
             if not joint:
                 goals.insert(0, {i: _circumcentre_mean(pos[i][tri], st) for i in group})
             old = np.min([np.minimum.reduceat(_sine(pos[i], tri), st) for i in group], axis=0)
-            done = np.zeros(len(own), dtype=bool)
-            for goal, step in [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]:
-                if done.all():
-                    break
-                ok = np.ones(len(own), dtype=bool)
-                q = np.full(len(own), np.inf)
-                trial = {}
-                for i in group:
-                    trial[i] = pos[i].copy()
-                    trial[i][own[~done]] += step * (goal[i] - pos[i][own])[~done]
-                    sine, area = _sine_area(trial[i], tri)
-                    ok &= np.minimum.reduceat((area > eps[i]).astype(np.int8), st) > 0
-                    q = np.minimum(q, np.minimum.reduceat(sine, st))
-                gain = ~done & ok & (q > old + 1e-9)
-                for i in group:
-                    pos[i][own[gain]] = trial[i][own[gain]]
-                done |= gain
+            # every trial (goal, step) of every vertex at once: the stars of a class share no face
+            trials = [(g, t) for g in goals for t in (1.0, 0.5, 0.25)]
+            ok = np.ones((len(trials), len(own)), dtype=bool)
+            q = np.full((len(trials), len(own)), np.inf)
+            to = {i: np.stack([pos[i][own] + t * (g[i] - pos[i][own]) for g, t in trials]) for i in group}  # (T, v)
+            for i in group:
+                corners = np.where(mine, np.repeat(to[i], count, axis=1)[..., None], pos[i][tri])  # (T, m, 3)
+                sine, area = _corner_sine_area(corners)
+                ok &= np.minimum.reduceat((area > eps[i]).astype(np.int8), st, axis=1) > 0
+                q = np.minimum(q, np.minimum.reduceat(sine, st, axis=1))
+            gain = ok & (q > old + 1e-9)
+            first = np.argmax(gain, axis=0)  # the first trial that gains, in the order tried
+            done = gain[first, np.arange(len(own))]
+            for i in group:
+                pos[i][own[done]] = to[i][first[done], np.flatnonzero(done)]
             went |= done
         moved += int(went.sum())
     return pos[0], pos[1], moved
