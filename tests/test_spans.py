@@ -134,3 +134,24 @@ def test_a_stroke_with_no_partner_is_not_staggered(tmp_path):
     prepared = isotween.prepare_pair(a, b)
     assert prepared.report.lines["shrunk"] == 1
     assert isotween.pipeline.unmatched_spans(prepared.source, prepared.report) is None
+
+
+def test_the_command_line_staggers_and_refuses_a_bad_share(tmp_path):
+    pytest.importorskip("svgelements")
+    from click.testing import CliRunner
+
+    from isotween.cli import main
+
+    a, b = drawing(tmp_path / "two.svg", SQUARES), drawing(tmp_path / "one.svg", ONE)
+    bad = CliRunner().invoke(main, ["interpolate", a, b, "--stagger", "0", "-o", str(tmp_path / "bad.npz")])
+    assert bad.exit_code == 2 and "stagger" in bad.output and not bad.output.startswith("correspondence")
+    assert not (tmp_path / "bad.npz").exists()
+    runs = {}
+    for share in ("0.5", "1"):
+        out = tmp_path / f"{share}.npz"
+        assert CliRunner().invoke(main, ["interpolate", a, b, "-n", "11", "--stagger", share, "-q",
+                                         "-o", str(out)]).exit_code == 0
+        runs[share] = isotween.io.load_sequence(out)
+    library = isotween.morph(a, b, frames=11)
+    np.testing.assert_allclose(runs["0.5"].frames, library.frames, atol=1e-9)  # as the library does
+    assert not np.allclose(runs["1"].frames, library.frames, atol=1e-6)

@@ -17,8 +17,8 @@ from typing import TypeGuard
 from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
 __all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_steps", "mesh_prepared", "prepare_keys", "morph",
-           "collapse_vanishing", "unmatched_spans", "needs_correspondence", "onto_connectivity", "CORRESPONDENCE",
-           "DRAWING_SUFFIXES", "STAGGER"]
+           "collapse_vanishing", "unmatched_spans", "check_stagger", "needs_correspondence", "onto_connectivity",
+           "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER"]
 
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
 CORRESPONDENCE = ("auto", "always", "never")
@@ -446,6 +446,16 @@ def collapse_vanishing(seq, report):
             seq.frames[frame] = np.c_[z.real, z.imag]
 
 
+def check_stagger(stagger):
+    """``stagger`` as a float in (0, 1], or `ParameterError` naming it."""
+    from ._validate import check_number
+
+    value = check_number("stagger", stagger, bound="a number in (0, 1]")
+    if value > 1.0:
+        raise ParameterError(f"stagger must be a number in (0, 1], got {stagger!r}")
+    return value
+
+
 def unmatched_spans(shape, report, stagger=STAGGER):
     """Spans of time (`isotween.interpolate`'s ``spans``) that stagger the pieces with no partner.
 
@@ -474,11 +484,7 @@ def unmatched_spans(shape, report, stagger=STAGGER):
     """
     import numpy as np
 
-    from ._validate import check_number
-
-    stagger = check_number("stagger", stagger, bound="a number in (0, 1]")
-    if stagger > 1.0:
-        raise ParameterError(f"stagger must be a number in (0, 1], got {stagger!r}")
+    stagger = check_stagger(stagger)
     vanishing = getattr(report, "vanishing", None) or []
     if stagger == 1.0 or not any(vanishing) or not shape.regions:
         return None
@@ -545,6 +551,7 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
     """
     from .interpolate import interpolate
 
+    stagger = check_stagger(stagger)  # before any work
     prepared = prepare_pair(source, target, correspondence=correspondence, **(correspond_options or {}))
     if fold is None:
         fold = "fallback" if prepared.built_meshes else "allow"

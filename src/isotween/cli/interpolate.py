@@ -46,13 +46,14 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
     options = correspondence_kwargs(params)
-    from ..pipeline import STAGGER, collapse_vanishing, unmatched_spans
+    from ..pipeline import STAGGER, check_stagger, collapse_vanishing, unmatched_spans
 
+    stagger = check_stagger(STAGGER if stagger is None else stagger)  # before any work
     prepared = make_compatible(load(source), load(target), source, target, quiet=quiet, prepared=True, **options)
     kwargs = solver_kwargs(params)
     if prepared.built_meshes:  # meshes built here: a folding result falls back to the fold-free morph
         kwargs.setdefault("fold", "fallback")
-    spans = unmatched_spans(prepared.source, prepared.report, STAGGER if stagger is None else stagger)
+    spans = unmatched_spans(prepared.source, prepared.report, stagger)
     with progress(quiet) as callback:
         seq = interpolate(prepared.source, prepared.target, callback=callback, correspondence="never", spans=spans,
                           **kwargs)
