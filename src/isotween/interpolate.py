@@ -316,7 +316,9 @@ def _fallback(seq, source, target, t, options, spans, unstaggered=None, repair_o
     (`_crossed`). First `isotween.foldfree.repair.repair_folds` with the
     scaffold around the pieces (`isotween.foldfree.scaffold`): the frames
     moved as little as no flip in the regions or in the empty space around
-    them allows. Where that cannot follow the motion: collisions alone are
+    them allows (where AIAP only flips triangles, first in the regions
+    alone: fewer unknowns, kept where no pieces meet). Where that cannot
+    follow the motion: collisions alone are
     kept; folds are repaired in the regions only, and if a repaired frame
     still has crossing outline edges, the fold-free 'injective' morph (else
     'convex') replaces the whole sequence. ``info['fallback']`` says which.
@@ -342,8 +344,11 @@ def _fallback(seq, source, target, t, options, spans, unstaggered=None, repair_o
     folded = (f"{seq.method} folded in {int(np.count_nonzero(bad))} of {len(t) - 2} in-between frames "
               f"({int(flips.sum())} flipped triangles, {int(crossings.sum() + collisions.sum())} outline crossings)")
     attempts = []  # (scaffold, accept): with the scaffold around the pieces, then the regions alone
+    both = lambda k, x: not (within(k, x) or across(k, x))  # noqa: E731
+    if seq.shape.faces is not None and flips.any() and not (crossings.any() or collisions.any()):
+        attempts.append((None, both))  # flips alone: repaired in the regions, where that keeps pieces apart
     if seq.shape.faces is not None and seq.shape.regions:
-        attempts.append((Around(seq.shape, z, hidden), lambda k, x: not (within(k, x) or across(k, x))))
+        attempts.append((Around(seq.shape, z, hidden), both))
     if seq.shape.faces is not None and (flips.any() or crossings.any()):
         attempts.append((None, lambda k, x: not within(k, x)))
     started = time.perf_counter()
