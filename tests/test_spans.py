@@ -2,7 +2,8 @@
 
 `interpolate(..., spans=...)` plays each connected piece's morph within its
 own (start, end); `morph` gives a piece that vanishes the first half and one
-that appears the last half (`pipeline.unmatched_spans`), with its paint.
+that appears the last half (`pipeline.unmatched_spans`), with its paint; where the fold check cannot keep
+the pieces apart, a shorter share, then none.
 """
 
 import numpy as np
@@ -97,9 +98,13 @@ def test_a_vanishing_piece_is_gone_by_half_time(tmp_path):
     a, b = drawing(tmp_path / "two.svg", SQUARES), drawing(tmp_path / "one.svg", ONE)
     seq = isotween.morph(a, b, frames=11)
     prepared = isotween.prepare_pair(a, b)
-    spans = isotween.pipeline.unmatched_spans(prepared.source, prepared.report)
+    alternatives = isotween.pipeline.unmatched_spans(prepared.source, prepared.report)
+    spans = alternatives[0]
     gone = np.flatnonzero(spans[:, 1] < 1)
     assert len(gone) and np.all(spans[gone] == (0.0, 0.5))
+    # the shorter share follows as the alternative, for the same piece
+    np.testing.assert_array_equal(np.flatnonzero(alternatives[1][:, 1] < 1), gone)
+    assert np.all(alternatives[1][gone] == (0.0, isotween.pipeline.QUICK_STAGGER))
     _, paints = sequence_paint(seq)
     path = next(k for k, (idx, _) in enumerate(seq.shape.paths) if idx[0] in gone)
     # shrunk and faded out by t = 0.5, then still until the last frame collapses it to a point
@@ -155,3 +160,30 @@ def test_the_command_line_staggers_and_refuses_a_bad_share(tmp_path):
     library = isotween.morph(a, b, frames=11)
     np.testing.assert_allclose(runs["0.5"].frames, library.frames, atol=1e-9)  # as the library does
     assert not np.allclose(runs["1"].frames, library.frames, atol=1e-6)
+
+
+def test_alternative_spans_are_checked_and_the_first_is_kept_where_it_can_be():
+    src = two_bars()
+    tgt = turned(src, 0.3)
+    first = np.tile([0.0, 1.0], (src.n_vertices, 1))
+    first[src.paths[1][0]] = (0.5, 1.0)
+    second = np.tile([0.0, 1.0], (src.n_vertices, 1))
+    second[src.paths[1][0]] = (0.8, 1.0)
+    seq = isotween.interpolate(src, tgt, frames=5, spans=[first, second], fold="fallback")
+    one = isotween.interpolate(src, tgt, frames=5, spans=first)
+    np.testing.assert_allclose(seq.frames, one.frames)  # nothing to repair: the first timing
+    assert "spans" not in seq.info
+    with pytest.raises(ParameterError, match=r"\(10, 2\)"):
+        isotween.interpolate(src, tgt, spans=np.zeros((2, 3, 2)))
+    bad = second.copy()
+    bad[0] = (0.2, 0.1)
+    with pytest.raises(ParameterError, match="0 <= start < end <= 1"):
+        isotween.interpolate(src, tgt, spans=[first, bad])
+
+
+def test_a_short_stagger_falls_back_to_the_whole_morph(tmp_path):
+    pytest.importorskip("svgelements")
+    a, b = drawing(tmp_path / "two.svg", SQUARES), drawing(tmp_path / "one.svg", ONE)
+    prepared = isotween.prepare_pair(a, b)
+    quick = isotween.pipeline.unmatched_spans(prepared.source, prepared.report, stagger=0.1)
+    assert np.all(quick[0][quick[0][:, 1] < 1] == (0.0, 0.1)) and np.all(quick[1] == (0.0, 1.0))

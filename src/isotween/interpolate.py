@@ -112,7 +112,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     correspond_options : dict, optional
         Options of `isotween.correspond` (``points``, ``segment``,
         ``mesh_size``, ...); giving them puts the inputs in correspondence.
-    spans : (n, 2) array_like, optional
+    spans : (n, 2) or (m, n, 2) array_like, optional
         Per vertex, the times ``(start, end)`` within [0, 1] over which it
         moves: before ``start`` it rests where the source has it, after
         ``end`` where the target has it, in between it follows the morph
@@ -121,10 +121,12 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         shares its span; its paint follows it. Default: every vertex
         ``(0, 1)``. The frames are solved at the times all spans need and
         each piece takes its own (`ParameterError` for spans that are not
-        within [0, 1], not increasing, or differ within a piece). Under
-        ``fold='fallback'``, where the fold check cannot repair the
-        staggered motion, it goes on with the unstaggered one and
-        ``info['spans']`` says so.
+        within [0, 1], not increasing, or differ within a piece). Several
+        (m, n, 2) are alternatives: the first is used, and where the fold
+        check cannot keep its pieces apart (frames as they are, or
+        repaired), it tries the next ones in turn (one of ``(0, 1)``
+        everywhere: every piece on the whole morph), and ``info['spans']``
+        says which it kept.
 
     Returns
     -------
@@ -188,17 +190,13 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         seq.info.update(_paint(source, target, spans))
         return seq
 
-    seq = run(spans)
+    first = None if spans is None else spans[0]
+    seq = run(first)
     if fold != "fallback":
         return seq
-
-    def unstaggered():  # a staggered piece may find no room where it starts: every piece on the whole span
-        plain = _fallback(run(None), source, target, t, options, None, repair_only=True)
-        if plain is not None:
-            plain.info["spans"] = "not used: the fold check could repair the morph only without them"
-        return plain
-
-    return _fallback(seq, source, target, t, options, spans, unstaggered if spans is not None else None)
+    # other timings the fold check tries, before a repair that lets pieces meet
+    alternatives = [(lambda s=s: run(s), s) for s in ([] if spans is None else spans[1:])]
+    return _fallback(seq, source, target, t, options, first, alternatives)
 
 
 def _aiap(source, target, t, options, callback):
@@ -230,24 +228,28 @@ def _aiap(source, target, t, options, callback):
 
 
 def _checked_spans(spans, shape):
-    """``spans`` as an (n, 2) float array, or None where every vertex moves over the whole morph."""
+    """``spans`` as a list of alternatives ((n, 2) arrays, None: the whole morph); None if the first is that."""
     if spans is None:
         return None
     try:
         s = np.array(spans, dtype=np.float64)
     except (TypeError, ValueError):
         raise ParameterError("spans must be an (n, 2) array of times") from None
-    if s.shape != (shape.n_vertices, 2):
+    if s.ndim == 2:
+        s = s[None]
+    if s.shape[1:] != (shape.n_vertices, 2) or not len(s):
         raise ParameterError(f"spans must be ({shape.n_vertices}, 2), one (start, end) per vertex; got {s.shape}")
-    if not np.all(np.isfinite(s)) or np.any(s[:, 0] < 0) or np.any(s[:, 1] > 1) or np.any(s[:, 0] >= s[:, 1]):
+    a, b = s[..., 0], s[..., 1]
+    if not np.all(np.isfinite(s)) or np.any(a < 0) or np.any(b > 1) or np.any(a >= b):
         raise ParameterError("every span must be (start, end) with 0 <= start < end <= 1")
     top = shape.topology
-    differ = np.flatnonzero(np.any(s[top.first] != s[top.second], axis=1))
+    differ = np.flatnonzero(np.any(s[:, top.first] != s[:, top.second], axis=(0, 2)))
     if differ.size:
         i, j = top.edges[differ[0]]
         raise ParameterError(f"spans differ across edge ({i}, {j}): every vertex of a connected piece moves "
                              f"over the same span")
-    return None if np.all(s == (0.0, 1.0)) else s
+    whole = [bool(np.all(x == (0.0, 1.0))) for x in s]
+    return None if whole[0] else [None if w else x for x, w in zip(s, whole, strict=True)]
 
 
 def _spanned(run, t, spans):
@@ -308,7 +310,7 @@ def _baseline(method, source, target, t, options, callback, spans):
     return seq
 
 
-def _fallback(seq, source, target, t, options, spans, unstaggered=None, repair_only=False):
+def _fallback(seq, source, target, t, options, spans, alternatives=(), apart_only=False):
     """``seq``; where an in-between frame folds or collides, its folding frames repaired, else the fold-free morph.
 
     A frame folds where a triangle flips or a region's outline crosses
@@ -322,12 +324,13 @@ def _fallback(seq, source, target, t, options, spans, unstaggered=None, repair_o
     kept; folds are repaired in the regions only, and if a repaired frame
     still has crossing outline edges, the fold-free 'injective' morph (else
     'convex') replaces the whole sequence. ``info['fallback']`` says which.
-    Where ``unstaggered`` is given (the sequence has spans), the morph
-    without them, repaired, comes before keeping or replacing this one;
-    ``repair_only``: None instead of keeping or replacing.
+    ``alternatives``: (``make()``, spans) of other timings of the same
+    morph (`interpolate`'s ``spans``), each checked in turn where this one
+    cannot be kept with its pieces apart, before the repair in the regions
+    alone, keeping or replacing; ``apart_only``: only the repairs that keep
+    pieces apart, else None.
     """
     from . import metrics
-    from .foldfree.repair import repair_folds
     from .foldfree.scaffold import Around
 
     if seq.method in ("convex", "injective") or len(t) < 3:
@@ -343,14 +346,49 @@ def _fallback(seq, source, target, t, options, spans, unstaggered=None, repair_o
     bad = flips | crossings | collisions
     folded = (f"{seq.method} folded in {int(np.count_nonzero(bad))} of {len(t) - 2} in-between frames "
               f"({int(flips.sum())} flipped triangles, {int(crossings.sum() + collisions.sum())} outline crossings)")
-    attempts = []  # (scaffold, accept): with the scaffold around the pieces, then the regions alone
+    apart = []  # (scaffold, accept) of the repairs that keep pieces apart: the regions alone, then the scaffold
     both = lambda k, x: not (within(k, x) or across(k, x))  # noqa: E731
     if seq.shape.faces is not None and flips.any() and not (crossings.any() or collisions.any()):
-        attempts.append((None, both))  # flips alone: repaired in the regions, where that keeps pieces apart
+        apart.append((None, both))  # flips alone: repaired in the regions, where that keeps pieces apart
     if seq.shape.faces is not None and seq.shape.regions:
-        attempts.append((Around(seq.shape, z, hidden), both))
-    if seq.shape.faces is not None and (flips.any() or crossings.any()):
-        attempts.append((None, lambda k, x: not within(k, x)))
+        apart.append((Around(seq.shape, z, hidden), both))
+    repaired = _repaired(seq, z, apart, folded)
+    if repaired is not None:
+        return repaired
+    for n, (make, other) in enumerate(alternatives, 2):  # another timing of the morph, with its pieces apart
+        done = _fallback(make(), source, target, t, options, other, apart_only=True)
+        if done is not None:
+            done.info["spans"] = ("not used" if other is None else f"alternative {n} used") + \
+                ": the fold check could not keep the pieces apart with the first"
+            return done
+    if apart_only:
+        return None
+    if seq.shape.faces is not None and (flips.any() or crossings.any()):  # the regions alone, pieces may meet
+        repaired = _repaired(seq, z, [(None, lambda k, x: not within(k, x))], folded)
+        if repaired is not None:
+            return repaired
+    if not (flips.any() or crossings.any()):  # pieces meet, but no fold: the method's frames kept
+        seq.info["collisions"] = (f"{int(collisions.sum())} crossings between pieces in "
+                                  f"{int(np.count_nonzero(collisions))} frames; no scaffold could hold them apart")
+        return seq
+    try:
+        free = _baseline("injective", source, target, t, options, None, spans)
+        free.info["fallback"] = f"{folded}; replaced by the fold-free injective morph"
+    except MethodError as exc:
+        try:
+            free = _baseline("convex", source, target, t, options, None, spans)
+        except MethodError:
+            seq.info["fallback"] = f"{folded}; kept, as no fold-free morph (injective, convex) can be built: {exc}"
+            return seq
+        free.info["fallback"] = f"{folded}; replaced by the fold-free convex morph (injective failed: {exc})"
+    free.timings["total"] = free.timings.get("total", 0.0) + seq.timings.get("total", 0.0)
+    return free
+
+
+def _repaired(seq, z, attempts, folded):
+    """``seq`` with its folding frames repaired by the first of ``attempts`` ((scaffold, accept)) that can, or None."""
+    from .foldfree.repair import repair_folds
+
     started = time.perf_counter()
     for scaffold, accept in attempts:
         try:
@@ -368,25 +406,7 @@ def _fallback(seq, source, target, t, options, spans, unstaggered=None, repair_o
         repaired.info["repair"] = info
         repaired.timings["repair"] = time.perf_counter() - started
         return repaired
-    plain = unstaggered() if unstaggered is not None else None  # the morph with its pieces on the whole span
-    if plain is not None or repair_only:
-        return plain
-    if not (flips.any() or crossings.any()):  # pieces meet, but no fold: the method's frames kept
-        seq.info["collisions"] = (f"{int(collisions.sum())} crossings between pieces in "
-                                  f"{int(np.count_nonzero(collisions))} frames; no scaffold could hold them apart")
-        return seq
-    try:
-        free = _baseline("injective", source, target, t, options, None, spans)
-        free.info["fallback"] = f"{folded}; replaced by the fold-free injective morph"
-    except MethodError as exc:
-        try:
-            free = _baseline("convex", source, target, t, options, None, spans)
-        except MethodError:
-            seq.info["fallback"] = f"{folded}; kept, as no fold-free morph (injective, convex) can be built: {exc}"
-            return seq
-        free.info["fallback"] = f"{folded}; replaced by the fold-free convex morph (injective failed: {exc})"
-    free.timings["total"] = free.timings.get("total", 0.0) + seq.timings.get("total", 0.0)
-    return free
+    return None
 
 
 def _hidden(shape, t, spans):

@@ -18,7 +18,7 @@ from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
 __all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_steps", "mesh_prepared", "prepare_keys", "morph",
            "collapse_vanishing", "unmatched_spans", "check_stagger", "needs_correspondence", "onto_connectivity",
-           "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER"]
+           "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER", "QUICK_STAGGER"]
 
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
 CORRESPONDENCE = ("auto", "always", "never")
@@ -27,6 +27,8 @@ DRAWING_SUFFIXES = (".svg",)
 
 #: a piece with no partner leaves within this first share of a morph, one that appears comes in the last
 STAGGER = 0.5
+#: the shorter share tried where the pieces cannot be kept apart with the first
+QUICK_STAGGER = 0.2
 #: options of `isotween.correspond` that `prepare_pair` passes on
 CORRESPOND_OPTIONS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched", "pairs", "landmarks",
                       "meshes")
@@ -466,7 +468,11 @@ def unmatched_spans(shape, report, stagger=STAGGER):
     gone before what comes arrives, as an animator staggers them, and the
     two rarely meet. A hole copy inside a piece that stays keeps the
     piece's span, and so does a stroke (it grows out of another stroke,
-    drawn as it is, over the whole morph).
+    drawn as it is, over the whole morph). The spans of a second share
+    follow as an alternative, which `isotween.interpolate` tries where the
+    fold check cannot keep the pieces apart with the first: `QUICK_STAGGER`
+    (a piece that comes in later finds the others gone from its place), or
+    where ``stagger`` is that short already, the whole morph.
 
     Parameters
     ----------
@@ -479,8 +485,8 @@ def unmatched_spans(shape, report, stagger=STAGGER):
 
     Returns
     -------
-    (n, 2) float array, or None
-        None where no piece is staggered.
+    (2, n, 2) float array, or None
+        The two alternatives; None where no piece is staggered.
     """
     import numpy as np
 
@@ -493,15 +499,19 @@ def unmatched_spans(shape, report, stagger=STAGGER):
     for idx, _ in shape.paths:
         on_path[idx] = True
     filled = np.unique(component[np.concatenate([shape.paths[r[0]][0] for r in shape.regions])])
-    spans = np.tile([0.0, 1.0], (shape.n_vertices, 1))
+    shares = [stagger, QUICK_STAGGER if stagger > QUICK_STAGGER else 1.0]
+    spans = np.tile([0.0, 1.0], (len(shares), shape.n_vertices, 1))
     for end, rings in enumerate(vanishing[:2]):
         small = np.zeros(shape.n_vertices, dtype=bool)
         for idx in rings:
             small[idx] = True
         # filled pieces whose every outline vertex is a small copy at this end
-        whole = np.setdiff1d(np.intersect1d(component[small], filled), component[on_path & ~small])
-        spans[np.isin(component, whole)] = (1.0 - stagger, 1.0) if end == 0 else (0.0, stagger)
-    return None if np.all(spans == (0.0, 1.0)) else spans
+        whole = np.isin(component, np.setdiff1d(np.intersect1d(component[small], filled),
+                                                component[on_path & ~small]))
+        for spans_m, share in zip(spans, shares, strict=True):
+            if share < 1.0:
+                spans_m[whole] = (1.0 - share, 1.0) if end == 0 else (0.0, share)
+    return None if np.all(spans[0] == (0.0, 1.0)) else spans
 
 
 def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=None, correspond_options=None,
