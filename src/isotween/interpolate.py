@@ -170,7 +170,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
                      f"interpolating {frames} frames of {source.n_vertices} vertices and {source.n_edges} edges",
                      max_memory)
     t = frame_times(frames, times)
-    spans = _checked_spans(spans, source)
+    timings = _checked_spans(spans, source)
     check_choice("solver", solver, SOLVERS)
     check_choice("init", init, INITIALISERS)
     check_choice("scheme", scheme, SCHEMES)
@@ -190,12 +190,12 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         seq.info.update(_paint(source, target, spans))
         return seq
 
-    first = None if spans is None else spans[0]
+    first = None if timings is None else timings[0]
     seq = run(first)
     if fold != "fallback":
         return seq
     # other timings the fold check tries, before a repair that lets pieces meet
-    alternatives = [(lambda s=s: run(s), s) for s in ([] if spans is None else spans[1:])]
+    alternatives = [(lambda s=s: run(s), s) for s in ([] if timings is None else timings[1:])]
     return _fallback(seq, source, target, t, options, first, alternatives)
 
 
