@@ -242,12 +242,21 @@ _PREPARED = []
 
 
 def _timed(fn, key):
+    """``fn`` timed into ``_CLOCK[key]``, a call within a call of the same key counted once (in the outer one).
+
+    The fold check runs the fold check of another timing inside itself.
+    """
+    depth = [0]
+
     def wrapper(*args, **kwargs):
         t0 = time.perf_counter()
+        depth[0] += 1
         try:
             return fn(*args, **kwargs)
         finally:
-            _CLOCK[key] = _CLOCK.get(key, 0.0) + time.perf_counter() - t0
+            depth[0] -= 1
+            if not depth[0]:
+                _CLOCK[key] = _CLOCK.get(key, 0.0) + time.perf_counter() - t0
 
     wrapper.__wrapped__ = fn
     return wrapper

@@ -18,7 +18,7 @@ from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
 __all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_steps", "mesh_prepared", "prepare_keys", "morph",
            "collapse_vanishing", "unmatched_spans", "check_stagger", "needs_correspondence", "onto_connectivity",
-           "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER", "QUICK_STAGGER"]
+           "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER", "QUICK_STAGGERS"]
 
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
 CORRESPONDENCE = ("auto", "always", "never")
@@ -27,8 +27,8 @@ DRAWING_SUFFIXES = (".svg",)
 
 #: a piece with no partner leaves within this first share of a morph, one that appears comes in the last
 STAGGER = 0.5
-#: the shorter share tried where the pieces cannot be kept apart with the first
-QUICK_STAGGER = 0.2
+#: the shorter shares tried, in turn, where the pieces cannot be kept apart with the first
+QUICK_STAGGERS = (0.2, 0.1)
 #: options of `isotween.correspond` that `prepare_pair` passes on
 CORRESPOND_OPTIONS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched", "pairs", "landmarks",
                       "meshes")
@@ -468,11 +468,12 @@ def unmatched_spans(shape, report, stagger=STAGGER):
     gone before what comes arrives, as an animator staggers them, and the
     two rarely meet. A hole copy inside a piece that stays keeps the
     piece's span, and so does a stroke (it grows out of another stroke,
-    drawn as it is, over the whole morph). The spans of a second share
-    follow as an alternative, which `isotween.interpolate` tries where the
-    fold check cannot keep the pieces apart with the first: `QUICK_STAGGER`
-    (a piece that comes in later finds the others gone from its place), or
-    where ``stagger`` is that short already, the whole morph.
+    drawn as it is, over the whole morph). The spans of shorter shares
+    follow as alternatives, which `isotween.interpolate` tries in turn
+    where the fold check cannot keep the pieces apart with the first:
+    `QUICK_STAGGERS` below ``stagger`` (a piece that comes in later finds
+    the others gone from its place), or where ``stagger`` is that short
+    already, the whole morph.
 
     Parameters
     ----------
@@ -485,8 +486,8 @@ def unmatched_spans(shape, report, stagger=STAGGER):
 
     Returns
     -------
-    (2, n, 2) float array, or None
-        The two alternatives; None where no piece is staggered.
+    (m, n, 2) float array, or None
+        The alternatives; None where no piece is staggered.
     """
     import numpy as np
 
@@ -499,7 +500,9 @@ def unmatched_spans(shape, report, stagger=STAGGER):
     for idx, _ in shape.paths:
         on_path[idx] = True
     filled = np.unique(component[np.concatenate([shape.paths[r[0]][0] for r in shape.regions])])
-    shares = [stagger, QUICK_STAGGER if stagger > QUICK_STAGGER else 1.0]
+    shares = [stagger, *[q for q in QUICK_STAGGERS if q < stagger]]
+    if len(shares) == 1:  # short already: the whole morph is the alternative
+        shares.append(1.0)
     spans = np.tile([0.0, 1.0], (len(shares), shape.n_vertices, 1))
     for end, rings in enumerate(vanishing[:2]):
         small = np.zeros(shape.n_vertices, dtype=bool)

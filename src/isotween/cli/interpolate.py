@@ -24,7 +24,7 @@ from .prepare import correspondence_kwargs, correspondence_options, make_compati
 @click.option("--stagger", type=float, default=None, metavar="SHARE",
               help="A piece with no partner in the other drawing leaves within this first share of the morph, "
                    "and one that appears comes in within the last (where the pieces cannot be kept apart so, 0.2 "
-                   "is tried); 1: both over the whole morph [default: 0.5].")
+                   "then 0.1 are tried); 1: both over the whole morph [default: 0.5].")
 @output_options
 def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagger, **params):
     """Interpolate SOURCE into TARGET as-isometrically-as-possible.
