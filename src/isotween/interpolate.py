@@ -21,9 +21,9 @@ from .optimisation.local_solver import ASSEMBLY
 from .optimisation.problem import DEFAULT_TOL, Result, bbox_diagonal
 from .optimisation.schemes import SCHEMES
 from .optimisation.solve import SOLVERS, solve
-from .paint import Paint, lerp_paint, paint_keys
 from .problems import check_choice, check_movable, check_stopping, keyed_problem
 from .resources import check_memory, solve_bytes
+from .spans import check_spans, hidden_regions, span_paint, spanned
 from .times import frame_times
 
 if TYPE_CHECKING:
@@ -170,7 +170,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
                      f"interpolating {frames} frames of {source.n_vertices} vertices and {source.n_edges} edges",
                      max_memory)
     t = frame_times(frames, times)
-    timings = _checked_spans(spans, source)
+    timings = check_spans(spans, source)
     check_choice("solver", solver, SOLVERS)
     check_choice("init", init, INITIALISERS)
     check_choice("scheme", scheme, SCHEMES)
@@ -185,9 +185,9 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     def run(spans):
         if method != "aiap":
             return _baseline(method, source, target, t, options, callback, spans)
-        seq = _spanned(lambda grid: _aiap(source, target, grid, options, callback), t, spans)
+        seq = spanned(lambda grid: _aiap(source, target, grid, options, callback), t, spans)
         seq.timings["total"] = time.perf_counter() - start
-        seq.info.update(_paint(source, target, spans))
+        seq.info.update(span_paint(source, target, spans))
         return seq
 
     first = None if timings is None else timings[0]
@@ -227,68 +227,6 @@ def _aiap(source, target, t, options, callback):
                            info={"options": options, "max_move": result.max_move})
 
 
-def _checked_spans(spans, shape):
-    """``spans`` as a list of alternatives ((n, 2) arrays, None: the whole morph); None if the first is that."""
-    if spans is None:
-        return None
-    try:
-        s = np.array(spans, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ParameterError("spans must be an (n, 2) array of times") from None
-    if s.ndim == 2:
-        s = s[None]
-    if s.shape[1:] != (shape.n_vertices, 2) or not len(s):
-        raise ParameterError(f"spans must be ({shape.n_vertices}, 2), one (start, end) per vertex; got {s.shape}")
-    a, b = s[..., 0], s[..., 1]
-    if not np.all(np.isfinite(s)) or np.any(a < 0) or np.any(b > 1) or np.any(a >= b):
-        raise ParameterError("every span must be (start, end) with 0 <= start < end <= 1")
-    top = shape.topology
-    differ = np.flatnonzero(np.any(s[:, top.first] != s[:, top.second], axis=(0, 2)))
-    if differ.size:
-        i, j = top.edges[differ[0]]
-        raise ParameterError(f"spans differ across edge ({i}, {j}): every vertex of a connected piece moves "
-                             f"over the same span")
-    whole = [bool(np.all(x == (0.0, 1.0))) for x in s]
-    return None if whole[0] else [None if w else x for x, w in zip(s, whole, strict=True)]
-
-
-def _spanned(run, t, spans):
-    """``run(grid)``'s sequence brought to frame times ``t``, every vertex at its own time in its span.
-
-    A vertex with span (a, b) is at time ``clip((t - a) / (b - a), 0, 1)`` of
-    the morph in the frame of time ``t``: ``run`` is called once with every
-    time some vertex needs (``t`` itself among them), and each frame takes
-    every vertex from the time its span asks for.
-    """
-    if spans is None:
-        return run(t)
-    rows, cls = np.unique(spans, axis=0, return_inverse=True)
-    local = np.clip((t - rows[:, :1]) / (rows[:, 1:] - rows[:, :1]), 0.0, 1.0)  # (C, F)
-    grid, index = np.unique(np.round(np.r_[t, local.ravel()], 12), return_inverse=True)
-    seq = run(grid)
-    pick = index[len(t):].reshape(local.shape)
-    frames = np.empty((len(t),) + seq.frames.shape[1:])
-    for c in range(len(rows)):
-        idx = np.flatnonzero(cls.ravel() == c)
-        frames[:, idx] = seq.frames[np.ix_(pick[c], idx)]
-    return dataclasses.replace(seq, frames=frames, times=np.array(t))
-
-
-def _paint(source, target, spans):
-    """`paint_keys` of the two ends, with a key wherever a span starts or ends (each path's paint follows its span)."""
-    keys = paint_keys([source, target], [0.0, 1.0])
-    if not keys or spans is None or not source.paths:
-        return keys
-    ends = [[Paint.from_dict(p) for p in key] for key in keys["paint"]["keys"]]
-    span = spans[[p[0] for p, _ in source.paths]]
-    key_times = np.unique(np.r_[0.0, 1.0, span.ravel()])
-    local = np.clip((key_times - span[:, :1]) / (span[:, 1:] - span[:, :1]), 0.0, 1.0)  # (P, K)
-    keys["paint"]["times"] = [float(k) for k in key_times]
-    keys["paint"]["keys"] = [[lerp_paint(a, b, [u[k]])[0].to_dict() for a, b, u in zip(*ends, local, strict=True)]
-                             for k in range(len(key_times))]
-    return keys
-
-
 def _complex_frames(frames):
     """(T, n) complex copy of (T, n, 2) float frames."""
     frames = np.asarray(frames, dtype=np.float64)
@@ -302,11 +240,11 @@ def _complex(v):
 
 def _baseline(method, source, target, t, options, callback, spans):
     start = time.perf_counter()
-    seq = _spanned(lambda grid: baselines.run(method, source, target, len(grid), times=grid, tol=options["tol"],
+    seq = spanned(lambda grid: baselines.run(method, source, target, len(grid), times=grid, tol=options["tol"],
                                               max_iter=options["max_iter"], callback=callback), t, spans)
     seq.timings.setdefault("total", time.perf_counter() - start)
     seq.info.setdefault("options", options)
-    seq.info.update(_paint(source, target, spans))
+    seq.info.update(span_paint(source, target, spans))
     return seq
 
 
@@ -337,7 +275,7 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), apart_onl
         return seq
     flips = metrics.flipped_faces(seq, None)[1:-1]
     z = _complex_frames(seq.frames)
-    hidden = _hidden(seq.shape, t, spans)
+    hidden = hidden_regions(seq.shape, t, spans)
     within, across = _crossed(seq.shape, z[[0, -1]], hidden)
     crossings = np.array([within(k, frame) for k, frame in enumerate(z[1:-1], 1)], dtype=np.int64)
     collisions = np.array([across(k, frame) for k, frame in enumerate(z[1:-1], 1)], dtype=np.int64)
@@ -407,15 +345,6 @@ def _repaired(seq, z, attempts, folded):
         repaired.timings["repair"] = time.perf_counter() - started
         return repaired
     return None
-
-
-def _hidden(shape, t, spans):
-    """``hidden(k)``: the filled regions out of sight in frame k (a staggered piece before or after its span)."""
-    if spans is None or not shape.regions:
-        return None
-    span = spans[[shape.paths[r[0]][0][0] for r in shape.regions]]  # (R, 2): each region's span
-    out = ((span[:, :1] > 0) & (t <= span[:, :1])) | ((span[:, 1:] < 1) & (t >= span[:, 1:]))  # (R, F)
-    return lambda k: set(np.flatnonzero(out[:, k]).tolist())
 
 
 def _crossed(shape, ends, hidden=None):
