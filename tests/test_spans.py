@@ -190,3 +190,9 @@ def test_a_short_stagger_falls_back_to_the_whole_morph(tmp_path):
     quick = isotween.pipeline.unmatched_spans(prepared.source, prepared.report, stagger=0.05)
     assert len(quick) == 2 and np.all(quick[1] == (0.0, 1.0))
     assert np.all(quick[0][quick[0][:, 1] < 1] == (0.0, 0.05))
+
+
+def test_the_shares_tried_in_turn():
+    shares = isotween.pipeline.stagger_shares
+    assert shares(0.5) == [0.5, *isotween.pipeline.QUICK_STAGGERS]
+    assert shares(0.15) == [0.15, 0.1] and shares(0.05) == [0.05, 1.0]

@@ -126,7 +126,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         check cannot keep its pieces apart (frames as they are, or
         repaired), it tries the next ones in turn (one of ``(0, 1)``
         everywhere: every piece on the whole morph), and ``info['spans']``
-        says which it kept.
+        says which it kept (``{'used': index, 'why': ...}``).
 
     Returns
     -------
@@ -296,8 +296,8 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), apart_onl
     for n, (make, other) in enumerate(alternatives, 2):  # another timing of the morph, with its pieces apart
         done = _fallback(make(), source, target, t, options, other, apart_only=True)
         if done is not None:
-            done.info["spans"] = ("not used" if other is None else f"alternative {n} used") + \
-                ": the fold check could not keep the pieces apart with the first"
+            done.info["spans"] = {"used": n - 1, "why": "the fold check could not keep the pieces apart with the "
+                                                        "first spans"}
             return done
     if apart_only:
         return None

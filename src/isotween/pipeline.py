@@ -17,8 +17,8 @@ from typing import TypeGuard
 from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
 __all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_steps", "mesh_prepared", "prepare_keys", "morph",
-           "collapse_vanishing", "unmatched_spans", "check_stagger", "needs_correspondence", "onto_connectivity",
-           "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER", "QUICK_STAGGERS"]
+           "collapse_vanishing", "unmatched_spans", "stagger_shares", "check_stagger", "needs_correspondence",
+           "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER", "QUICK_STAGGERS"]
 
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
 CORRESPONDENCE = ("auto", "always", "never")
@@ -458,6 +458,12 @@ def check_stagger(stagger):
     return value
 
 
+def stagger_shares(stagger):
+    """The shares `unmatched_spans` gives, in the order `isotween.interpolate` tries them (1.0: the whole morph)."""
+    shares = [stagger, *[q for q in QUICK_STAGGERS if q < stagger]]
+    return shares if len(shares) > 1 else [stagger, 1.0]  # short already: the whole morph is the alternative
+
+
 def unmatched_spans(shape, report, stagger=STAGGER):
     """Spans of time (`isotween.interpolate`'s ``spans``) that stagger the pieces with no partner.
 
@@ -500,9 +506,7 @@ def unmatched_spans(shape, report, stagger=STAGGER):
     for idx, _ in shape.paths:
         on_path[idx] = True
     filled = np.unique(component[np.concatenate([shape.paths[r[0]][0] for r in shape.regions])])
-    shares = [stagger, *[q for q in QUICK_STAGGERS if q < stagger]]
-    if len(shares) == 1:  # short already: the whole morph is the alternative
-        shares.append(1.0)
+    shares = stagger_shares(stagger)
     spans = np.tile([0.0, 1.0], (len(shares), shape.n_vertices, 1))
     for end, rings in enumerate(vanishing[:2]):
         small = np.zeros(shape.n_vertices, dtype=bool)

@@ -47,7 +47,7 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
     options = correspondence_kwargs(params)
-    from ..pipeline import STAGGER, check_stagger, collapse_vanishing, unmatched_spans
+    from ..pipeline import STAGGER, check_stagger, collapse_vanishing, stagger_shares, unmatched_spans
 
     stagger = check_stagger(STAGGER if stagger is None else stagger)  # before any work
     prepared = make_compatible(load(source), load(target), source, target, quiet=quiet, prepared=True, **options)
@@ -61,4 +61,7 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
     collapse_vanishing(seq, prepared.report)  # items that vanish are points at their ends, not specks
     if "fallback" in seq.info and not quiet:
         click.echo(f"fold check: {seq.info['fallback']}")
+    if "spans" in seq.info and not quiet:  # the staggering was shortened or dropped to keep the pieces apart
+        share = stagger_shares(stagger)[seq.info["spans"]["used"]]
+        click.echo(f"stagger: {share:g} instead of {stagger:g}: {seq.info['spans']['why']}")
     emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())
