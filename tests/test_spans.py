@@ -196,3 +196,20 @@ def test_the_shares_tried_in_turn():
     shares = isotween.pipeline.stagger_shares
     assert shares(0.5) == [0.5, *isotween.pipeline.QUICK_STAGGERS]
     assert shares(0.15) == [0.15, 0.1] and shares(0.05) == [0.05, 1.0]
+
+
+def test_the_fold_check_leaves_a_piece_out_of_sight_out():
+    from isotween.foldfree.scaffold import Around
+    from isotween.interpolate import _crossed
+
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    shape = Shape.from_paths([square, square + [3, 0]], regions=[[0], [1]])
+    z = shape.z
+    ends = np.stack([z, z])
+    onto = z.copy()
+    onto[4:] -= 2.5 - 0.5j  # the second square over the first one's corner: their outlines cross
+    hidden = lambda k: {1} if k == 2 else set()  # noqa: E731
+    within, across = _crossed(shape, ends, hidden)
+    assert across(1, onto) > 0 and across(2, onto) == 0 and within(2, onto) == 0
+    around = Around(shape, np.stack([z, onto, z]), hidden)
+    assert around.held(1) == (0, 1) and around.held(2) == (0,)
