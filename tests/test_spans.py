@@ -68,6 +68,12 @@ def test_a_piece_paint_follows_its_span():
     _, paints = sequence_paint(seq)
     assert [p[1].opacity for p in paints] == pytest.approx([1.0, 0.5, 0.0, 0.0, 0.0])
     assert [p[0].opacity for p in paints] == pytest.approx([1.0] * 5)
+    # out of sight where it is drawn with opacity 0, and only there (what the fold check leaves out)
+    from isotween.paint import out_of_sight
+
+    assert out_of_sight(seq).tolist() == [[False, False]] * 2 + [[False, True]] * 3
+    unpainted = isotween.interpolate(two_bars(), turned(two_bars(), 0.3), frames=5, spans=spans)
+    assert not out_of_sight(unpainted).any()  # a piece at rest before its span is still drawn
 
 
 def test_spans_are_checked():

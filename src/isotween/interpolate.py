@@ -23,7 +23,7 @@ from .optimisation.schemes import SCHEMES
 from .optimisation.solve import SOLVERS, solve
 from .problems import check_choice, check_movable, check_stopping, keyed_problem
 from .resources import check_memory, solve_bytes
-from .spans import check_spans, hidden_regions, span_paint, spanned
+from .spans import check_spans, span_paint, spanned
 from .times import frame_times
 
 if TYPE_CHECKING:
@@ -275,7 +275,7 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), apart_onl
         return seq
     flips = metrics.flipped_faces(seq, None)[1:-1]
     z = _complex_frames(seq.frames)
-    hidden = hidden_regions(seq.shape, t, spans)
+    hidden = _hidden(seq)
     within, across = _crossed(seq.shape, z[[0, -1]], hidden)
     crossings = np.array([within(k, frame) for k, frame in enumerate(z[1:-1], 1)], dtype=np.int64)
     collisions = np.array([across(k, frame) for k, frame in enumerate(z[1:-1], 1)], dtype=np.int64)
@@ -347,6 +347,17 @@ def _repaired(seq, z, attempts, folded):
     return None
 
 
+def _hidden(seq):
+    """``hidden(k)``: the filled regions drawn with opacity 0 in frame k (`paint.out_of_sight`), or None."""
+    from .paint import out_of_sight
+
+    gone = out_of_sight(seq)
+    if not seq.shape.regions or not gone.any():
+        return None
+    outer = [r[0] for r in seq.shape.regions]
+    return lambda k: set(np.flatnonzero(gone[k, outer]).tolist())
+
+
 def _crossed(shape, ends, hidden=None):
     """``(within, across)``: functions counting outline crossings at positions ``z`` (N,) complex.
 
@@ -357,7 +368,7 @@ def _crossed(shape, ends, hidden=None):
     a piece that splits off from another may overlap it), always 0 where
     an end already has such a crossing (layered pieces, as in an emoji).
     Both leave out the regions ``hidden(k)`` (out of sight in frame k: a
-    staggered piece before or after its span).
+    piece faded out, or not yet in).
     """
     from . import metrics
     from .foldfree.scaffold import separate_regions

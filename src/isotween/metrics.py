@@ -15,7 +15,7 @@ from .errors import ParameterError
 from .geometry import bbox_diagonal, orient, ring_areas
 from .optimisation.schemes import SCHEMES
 from .optimisation.schemes import isometric_energy as _energy
-from .paint import sequence_paint
+from .paint import out_of_sight
 
 if TYPE_CHECKING:
     from .sequence import Sequence
@@ -242,22 +242,19 @@ def outline_crossings(seq, scope="all", visible=False):
         separate items.
     visible : bool
         Leave out, in each frame, the paths drawn with opacity 0 there
-        (`isotween.paint.sequence_paint`: a piece that has faded out, or not
+        (`isotween.paint.out_of_sight`: a piece that has faded out, or not
         yet in); they cannot be seen to cross anything.
     """
     edges, group = outline_edges(seq.shape, scope)
     if not len(edges):
         return np.zeros(len(seq), dtype=np.int64)
-    paints = sequence_paint(seq)[1] if visible and seq.shape.paths else None
-    if paints is None:
+    gone = out_of_sight(seq) if visible and seq.shape.paths else None
+    if gone is None or not gone.any():
         return np.array([crossing_pairs(z, edges, group) for z in seq.z], dtype=np.int64)
     drawn = [k for k, (p, _) in enumerate(seq.shape.paths) if len(p) > 1]
     path = np.repeat(drawn, [len(seq.shape.paths[k][0]) - (0 if seq.shape.paths[k][1] else 1) for k in drawn])
-    out = []
-    for z, paint in zip(seq.z, paints, strict=True):
-        keep = np.array([paint[k].opacity > 0 for k in range(len(paint))])[path]
-        out.append(crossing_pairs(z, edges[keep], None if group is None else group[keep]))
-    return np.array(out, dtype=np.int64)
+    return np.array([crossing_pairs(z, edges[~g[path]], None if group is None else group[~g[path]])
+                     for z, g in zip(seq.z, gone, strict=True)], dtype=np.int64)
 
 
 def outline_edges(shape, scope="all"):

@@ -13,7 +13,7 @@ import numpy as np
 from .errors import ParameterError
 
 __all__ = ["Paint", "DEFAULT_FILL", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb", "paint_keys", "sequence_paint",
-           "paint_groups", "svg_paint_attributes"]
+           "out_of_sight", "paint_groups", "svg_paint_attributes"]
 
 #: SVG's initial fill: opaque black
 DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
@@ -237,6 +237,20 @@ def sequence_paint(seq):
             for k, value in zip(frames, lerp_paint(keys[s][p], keys[s + 1][p], u), strict=False):
                 out[k][p] = value
     return regions, out
+
+
+def out_of_sight(seq):
+    """(F, P) bool: the paths drawn with opacity 0 in each frame (none where the sequence has no paint).
+
+    Such a path (a piece faded out, or not yet in) cannot be seen to cross
+    anything: `isotween.metrics.outline_crossings` (``visible=True``) and
+    the fold check leave it out.
+    """
+    _, paints = sequence_paint(seq)
+    n = len(seq.shape.paths or [])
+    if paints is None:
+        return np.zeros((len(seq), n), dtype=bool)
+    return np.array([[p.opacity <= 0 for p in frame] for frame in paints], dtype=bool).reshape(len(seq), n)
 
 
 def paint_groups(shape):

@@ -3,9 +3,9 @@
 A vertex with span ``(a, b)`` is, in the frame of time ``t``, where the
 morph has it at time ``clip((t - a) / (b - a), 0, 1)``: at rest in the
 source before ``a``, in the target after ``b``. `isotween.interpolate`
-solves once at every time some span needs (`spanned`), gives the paint a key
-where a span starts or ends (`span_paint`), and its fold check leaves a piece
-out of sight before or after its span out (`hidden_regions`).
+solves once at every time some span needs (`spanned`) and gives the paint a
+key where a span starts or ends (`span_paint`), so a piece with no partner is
+out of sight (opacity 0) before or after its span.
 """
 
 import dataclasses
@@ -15,7 +15,7 @@ import numpy as np
 from .errors import ParameterError
 from .paint import Paint, lerp_paint, paint_keys
 
-__all__ = ["check_spans", "spanned", "span_paint", "hidden_regions"]
+__all__ = ["check_spans", "spanned", "span_paint"]
 
 
 def check_spans(spans, shape):
@@ -107,15 +107,3 @@ def span_paint(source, target, spans):
     keys["paint"]["keys"] = [[lerp_paint(a, b, [u[k]])[0].to_dict() for a, b, u in zip(*ends, local, strict=True)]
                              for k in range(len(key_times))]
     return keys
-
-
-def hidden_regions(shape, t, spans):
-    """``hidden(k)``: the filled regions out of sight in frame k (a staggered piece before or after its span).
-
-    None where ``spans`` is None or the shape has no regions; ``t`` (F,) the frame times.
-    """
-    if spans is None or not shape.regions:
-        return None
-    span = spans[[shape.paths[r[0]][0][0] for r in shape.regions]]  # (R, 2): each region's span
-    out = ((span[:, :1] > 0) & (t <= span[:, :1])) | ((span[:, 1:] < 1) & (t >= span[:, 1:]))  # (R, F)
-    return lambda k: set(np.flatnonzero(out[:, k]).tolist())

@@ -112,8 +112,8 @@ class Around:
         pieces held apart are those that lie on no other at either end
         (`separate_regions`).
     hidden : callable, optional
-        ``hidden(k)``: regions out of sight in frame k (a staggered piece
-        before or after its span), left out of that frame's scaffold.
+        ``hidden(k)``: regions out of sight in frame k (drawn with opacity 0:
+        a piece faded out, or not yet in), left out of that frame's scaffold.
     """
 
     def __init__(self, shape, frames, hidden=None):
