@@ -388,6 +388,7 @@ def run_isotween(job):
         out["crossings"], out["edge_deviation"] = outline_measures(seq)
         out["ends"], out["specks"] = end_measures(seq, drawings)
         out["stroke"] = stroke_measures(seq, drawings)
+        out["untangled"] = seq.info.get("strokes", "")  # strokes drawn off and on instead of crossing
     except Exception as exc:  # noqa: BLE001 - every failure is a measured outcome
         out["ok"] = False
         out["error"] = f"{type(exc).__name__}: {exc}"
@@ -764,6 +765,12 @@ def main():
                  "its end (a piece with no partner)."
                  + ("" if not not_strokes else " Not as strokes: " + ", ".join(f"{v} x {k}" for k, v in
                                                                                  not_strokes.items()) + ".")]
+        changed = [r for r in strokes if r.get("untangled")]
+        n_changed = sum(int(r["untangled"].split()[0]) for r in changed)
+        n_all = sum(r["stroke"]["stroked_paths"] for r in strokes if r["stroke"])
+        body += ["", f"Strokes drawn off and on instead of passing through other paths (`isotween.strokes.untangle`): "
+                 f"{n_changed} of the {n_all} stroked paths, in {len(changed)} of the {len(strokes)} stroked pairs; "
+                 "the others morph."]
     by_time = sorted(good, key=lambda r: -r["seconds"])[:10]
     by_end = sorted(good, key=lambda r: -max(r["ends"]))[:10]
     body += ["", "Slowest pairs: " + "; ".join(

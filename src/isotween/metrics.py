@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 
 __all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped", "flipped_faces",
            "symmetry_error", "report", "loop_areas", "outline_crossings",
-           "outline_edges", "crossing_pairs"]
+           "outline_edges", "crossing_pairs", "crossing_edges"]
 
 
 def isometric_energy(seq: Sequence, scheme: str | None = None) -> float:
@@ -198,34 +198,69 @@ def _boundary_edges(shape):
 def crossing_pairs(z, edges, group=None):
     """Number of pairs of ``edges`` that cross properly at positions ``z`` (n,) complex (in one ``group``).
 
-    Candidate pairs come from a sweep over x (intervals sorted by their left
-    end); edges that share a vertex are never counted, and touching or
-    collinear overlaps are not crossings.
+    See `crossing_edges`, which names them.
     """
-    a, b = z[edges[:, 0]], z[edges[:, 1]]
+    return len(crossing_edges(z, edges, group)[0])
+
+
+def crossing_edges(z, edges, group=None, seen=None):
+    """The pairs of ``edges`` that cross properly at positions ``z``, in one frame or in each of several.
+
+    Candidate pairs come from a sweep over x (intervals sorted by their left
+    end; the frames side by side); edges that share a vertex, or have an end
+    at the same place, are never counted, and touching or collinear overlaps
+    are not crossings.
+
+    Parameters
+    ----------
+    z : (n,) or (F, n) complex
+        Vertex positions, in one frame or per frame.
+    edges : (B, 2) int
+    group : (B,) int, optional
+        Only pairs within one group count.
+    seen : (F, B) bool, optional
+        The edges drawn in each frame (default all).
+
+    Returns
+    -------
+    i, j : (C,) int arrays
+        Rows of ``edges``: edge ``i[c]`` crosses edge ``j[c]``.
+    frame : (C,) int array
+        Only for (F, n) ``z``: the frame of each crossing.
+    """
+    frames = np.atleast_2d(z)
+    F, B = len(frames), len(edges)
+    f, e = (np.repeat(np.arange(F), B), np.tile(np.arange(B), F)) if seen is None else np.nonzero(seen)
+    a, b = frames[f, edges[e, 0]], frames[f, edges[e, 1]]
+    real = a != b  # an edge of length 0 crosses nothing
+    f, e, a, b = f[real], e[real], a[real], b[real]
     lo, hi = np.minimum(a.real, b.real), np.maximum(a.real, b.real)
+    if F > 1 and len(lo):  # frames side by side: no interval of one frame reaches into the next
+        shift = f * (2.0 * (hi.max() - lo.min()) + 1.0)
+        lo, hi = lo + shift, hi + shift
     order = np.argsort(lo, kind="stable")
-    lo_s, hi_s = lo[order], hi[order]
-    end = np.searchsorted(lo_s, hi_s, side="right")
+    end = np.searchsorted(lo[order], hi[order], side="right")
     n = len(order)
     counts = np.maximum(end - np.arange(1, n + 1), 0)
     total = int(counts.sum())
-    if total == 0:
-        return 0
     first = np.repeat(np.arange(n), counts)
     second = first + 1 + np.arange(total) - np.repeat(np.cumsum(counts) - counts, counts)
     i, j = order[first], order[second]
-    ylo_i, yhi_i = np.minimum(a.imag[i], b.imag[i]), np.maximum(a.imag[i], b.imag[i])
-    ylo_j, yhi_j = np.minimum(a.imag[j], b.imag[j]), np.maximum(a.imag[j], b.imag[j])
-    ei, ej = edges[i], edges[j]
-    keep = (ylo_i <= yhi_j) & (ylo_j <= yhi_i) & np.all(ei[:, :, None] != ej[:, None, :], axis=(1, 2))
+    ylo, yhi = np.minimum(a.imag, b.imag), np.maximum(a.imag, b.imag)
+    keep = (ylo[i] <= yhi[j]) & (ylo[j] <= yhi[i])
     if group is not None:
-        keep &= group[i] == group[j]
+        keep &= group[e[i]] == group[e[j]]
     i, j = i[keep], j[keep]
-
+    # edges that share a vertex, or an end at the same place, only touch
+    ei, ej = edges[e[i]], edges[e[j]]
+    pi, pj = np.c_[a[i], b[i]], np.c_[a[j], b[j]]
+    keep = np.all(ei[:, :, None] != ej[:, None, :], axis=(1, 2)) & np.all(pi[:, :, None] != pj[:, None, :], axis=(1, 2))
+    i, j = i[keep], j[keep]
     d1, d2 = orient(a[i], b[i], a[j]), orient(a[i], b[i], b[j])
     d3, d4 = orient(a[j], b[j], a[i]), orient(a[j], b[j], b[i])
-    return int(np.count_nonzero((d1 * d2 < 0) & (d3 * d4 < 0)))
+    cross = (d1 * d2 < 0) & (d3 * d4 < 0)
+    i, j = i[cross], j[cross]
+    return (e[i], e[j]) if np.ndim(z) == 1 else (e[i], e[j], f[i])
 
 
 def outline_crossings(seq, scope="all", visible=False):

@@ -13,7 +13,7 @@ import numpy as np
 from .errors import ParameterError
 
 __all__ = ["Paint", "DEFAULT_FILL", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb", "paint_keys", "sequence_paint",
-           "out_of_sight", "paint_groups", "svg_paint_attributes"]
+           "paint_at", "out_of_sight", "paint_groups", "svg_paint_attributes"]
 
 #: SVG's initial fill: opaque black
 DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
@@ -224,11 +224,31 @@ def sequence_paint(seq):
     n_paths = len(shape.paths or [])
     if len(keys) != len(key_times) or not keys or any(len(k) != n_paths for k in keys):
         raise ParameterError(f"the sequence's paint must give one paint per path ({n_paths}) for each key time")
-    times = np.clip(np.asarray(seq.times, dtype=np.float64), key_times[0], key_times[-1])
-    seg = np.clip(np.searchsorted(key_times, times, side="right") - 1, 0, max(len(key_times) - 2, 0))
-    out = [[None] * n_paths for _ in times]
+    return regions, paint_at(key_times, keys, seq.times)
+
+
+def paint_at(key_times, keys, times):
+    """Every path's paint at ``times``, blended with `lerp_paint` between the keys around each.
+
+    Parameters
+    ----------
+    key_times : (K,) float
+        Increasing.
+    keys : list (K) of list (P) of Paint
+    times : (F,) array_like of float
+        Clipped to the keys' times.
+
+    Returns
+    -------
+    list (F) of list (P) of Paint
+    """
+    key_times = np.asarray(key_times, dtype=np.float64)
+    times = np.clip(np.asarray(times, dtype=np.float64), key_times[0], key_times[-1])
     if len(keys) == 1:
-        return regions, [list(keys[0]) for _ in times]
+        return [list(keys[0]) for _ in times]
+    n_paths = len(keys[0])
+    seg = np.clip(np.searchsorted(key_times, times, side="right") - 1, 0, len(key_times) - 2)
+    out = [[None] * n_paths for _ in times]
     for s in np.unique(seg):
         frames = np.flatnonzero(seg == s)
         span = key_times[s + 1] - key_times[s]
@@ -236,7 +256,7 @@ def sequence_paint(seq):
         for p in range(n_paths):
             for k, value in zip(frames, lerp_paint(keys[s][p], keys[s + 1][p], u), strict=False):
                 out[k][p] = value
-    return regions, out
+    return out
 
 
 def out_of_sight(seq):

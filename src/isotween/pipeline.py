@@ -546,7 +546,9 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
         A piece with no partner in the other drawing leaves (shrinks and
         fades) within this first share of the morph, and one that appears
         comes in within the last (`unmatched_spans`); 1: both over the whole
-        morph.
+        morph. A stroke that would pass through another path is drawn off
+        within the first share (at most half) and on within the last
+        (`isotween.strokes.untangle`; ``info['strokes']`` says which).
     **options
         Options of `isotween.interpolate` (``method``, ``solver``, ...).
 
@@ -567,6 +569,7 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
     (5, 24, 2)
     """
     from .interpolate import interpolate
+    from .strokes import untangle
 
     stagger = check_stagger(stagger)  # before any work
     prepared = prepare_pair(source, target, correspondence=correspondence, **(correspond_options or {}))
@@ -577,6 +580,7 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
                       spans=spans, **options)
     seq.info["correspondence"] = prepared.summary()
     collapse_vanishing(seq, prepared.report)
+    untangle(seq, prepared.report, stagger)
     if output is not None:
         from .outputs import write_output
 

@@ -24,7 +24,8 @@ from .prepare import correspondence_kwargs, correspondence_options, make_compati
 @click.option("--stagger", type=float, default=None, metavar="SHARE",
               help="A piece with no partner in the other drawing leaves within this first share of the morph, "
                    "and one that appears comes in within the last (where the pieces cannot be kept apart so, 0.2 "
-                   "then 0.1 are tried); 1: both over the whole morph [default: 0.5].")
+                   "then 0.1 are tried); 1: both over the whole morph. A stroke that would pass through another "
+                   "path is drawn off within this share (at most half) and on within the last [default: 0.5].")
 @output_options
 def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagger, **params):
     """Interpolate SOURCE into TARGET as-isometrically-as-possible.
@@ -48,6 +49,7 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
     check_outputs(output, fmt, texture, plot)
     options = correspondence_kwargs(params)
     from ..pipeline import STAGGER, check_stagger, collapse_vanishing, stagger_shares, unmatched_spans
+    from ..strokes import untangle
 
     stagger = check_stagger(STAGGER if stagger is None else stagger)  # before any work
     prepared = make_compatible(load(source), load(target), source, target, quiet=quiet, prepared=True, **options)
@@ -59,9 +61,12 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
         seq = interpolate(prepared.source, prepared.target, callback=callback, correspondence="never", spans=spans,
                           **kwargs)
     collapse_vanishing(seq, prepared.report)  # items that vanish are points at their ends, not specks
+    untangle(seq, prepared.report, stagger)  # strokes that would pass through others drawn off and on
     if "fallback" in seq.info and not quiet:
         click.echo(f"fold check: {seq.info['fallback']}")
     if "spans" in seq.info and not quiet:  # the staggering was shortened or dropped to keep the pieces apart
         share = stagger_shares(stagger)[seq.info["spans"]["used"]]
         click.echo(f"stagger: {share:g} instead of {stagger:g}: {seq.info['spans']['why']}")
+    if "strokes" in seq.info and not quiet:
+        click.echo(f"strokes: {seq.info['strokes']}")
     emit(seq, output, fmt=fmt, texture=texture, quiet=quiet, plot=plot, seconds=elapsed())

@@ -397,12 +397,15 @@ class Session:
             moved = self._cached(tkey, make_transfer)
             check()
         shown = seq
-        if len(doc["inputs"]) == 2 and getattr(report, "vanishing", None) and any(report.vanishing):
-            # as `isotween.morph`: an item one drawing lacks is one point in its end frame, no speck left
+        if len(doc["inputs"]) == 2 and report is not None and not report.unchanged:
+            # as `isotween.morph`: an item one drawing lacks is one point in its end frame, no speck left, and
+            # strokes that would pass through others are drawn off and on
             from ..pipeline import collapse_vanishing
+            from ..strokes import untangle
 
             shown = dataclasses.replace(seq, frames=seq.frames.copy(), info=dict(seq.info))
             collapse_vanishing(shown, report)
+            untangle(shown, report)
         return Solved(inputs, src, tgt, report, base, shown, moved, notes, keys, preview, raw=seq)
 
     def _solve_saved(self, doc: dict, saved: Any, options: dict, curves: list, notes: list) -> tuple:

@@ -1,0 +1,227 @@
+"""Strokes that would pass through each other are drawn off and on instead.
+
+Stroked paths (polylines and unfilled rings) have no mesh around them, so
+nothing keeps two of them from passing through each other when they morph
+(a bar turning over into a line across a frame, a grown stroke sweeping
+across another). Where that happens in an in-between frame and the two
+do not cross in either drawing, `untangle` changes the motion of one of
+them at a time, the one in most such crossings: its source stroke is drawn
+off (it retracts along itself back to its first point, fading at the last) within
+the first ``share`` of the morph, and its target stroke is drawn on
+(it extends along itself from its first point) within the last, as line
+art is drawn on the web. A stroke drawn off or on only covers where it is
+in its drawing, so it can only meet what moves across it; the changes stop
+when no such crossing is left or no stroke is left to change, and the
+version with the fewest crossings is kept.
+"""
+
+import numpy as np
+
+from .metrics import crossing_edges, outline_edges
+from .paint import Paint, out_of_sight, paint_at
+
+__all__ = ["drawn", "untangle", "stroke_paths", "FADE"]
+
+#: share of a stroke's time drawn off (on) in which it also fades out (in): its last moments, a dot
+FADE = 0.25
+
+
+def drawn(z, u, closed=False):
+    """A stroke drawn up to a share of its length, the rest of its vertices at the tip.
+
+    Parameters
+    ----------
+    z : (k,) complex
+        The stroke's vertices.
+    u : (F,) float
+        Share of its length drawn, in [0, 1], per frame.
+    closed : bool
+        A ring: its first half of vertices go round it at every other vertex
+        and the second half come back the same way, so the undrawn rest is
+        never a chord from the tip back to the start (where nothing is drawn
+        yet, the ring's closing edge would be one).
+
+    Returns
+    -------
+    (F, k) complex
+        Vertex positions per frame: exactly ``z`` where ``u`` is 1 (for an
+        open stroke; a ring covers itself at every other vertex there),
+        every vertex at ``z[0]`` where it is 0.
+    """
+    u = np.clip(np.asarray(u, dtype=np.float64), 0.0, 1.0)
+    k = len(z)
+    w = np.r_[z, z[:1]] if closed else z
+    s = np.r_[0.0, np.cumsum(np.abs(np.diff(w)))]  # arc length at each vertex of the path drawn
+    if closed:  # out along the even vertices, back along them
+        i = np.arange(k)
+        sigma = s[np.minimum(2 * i, 2 * (k - i))]
+    else:
+        sigma = s
+    at = np.minimum(sigma[None, :], u[:, None] * s[-1])  # (F, k) arc length of every vertex
+    return np.interp(at, s, w.real) + 1j * np.interp(at, s, w.imag)
+
+
+def stroke_paths(shape):
+    """Indices of the paths that are strokes: open ones, and closed ones in no filled region."""
+    paths = shape.paths or []
+    filled = {i for r in (shape.regions or []) for i in r}
+    paint = shape.paint
+    out = []
+    for k, (idx, closed) in enumerate(paths):
+        if len(idx) < 2 or k in filled:
+            continue
+        if closed and (shape.regions is None or (paint is not None and paint[k].fill is not None)):
+            continue
+        out.append(k)
+    return out
+
+
+def _keys(seq):
+    """(key times, keys: list of list of Paint) of the sequence's paint, or None."""
+    info = (seq.info or {}).get("paint")
+    if not info:
+        if seq.shape.paint is None:
+            return None
+        return np.array([0.0, 1.0]), [list(seq.shape.paint)] * 2
+    return np.asarray(info["times"], dtype=np.float64), [[Paint.from_dict(p) for p in key] for key in info["keys"]]
+
+
+class _Swaps:
+    """The sequence's frames and paint with a set of strokes drawn off and on; their crossings."""
+
+    def __init__(self, seq, vanishing, share):
+        self.seq, self.share = seq, share
+        self.z = seq.frames[..., 0] + 1j * seq.frames[..., 1]
+        self.t = np.asarray(seq.times, dtype=np.float64)
+        self.edges, _ = outline_edges(seq.shape, "all")
+        shape = seq.shape
+        drawn_paths = [k for k, (p, _) in enumerate(shape.paths) if len(p) > 1]
+        counts = [len(shape.paths[k][0]) - (0 if shape.paths[k][1] else 1) for k in drawn_paths]
+        self.path_of = np.repeat(drawn_paths, counts)  # (B,) the path of each outline edge
+        self.absent = [set(), set()]  # paths that are small copies at the start, at the end
+        first = {int(p[0]): k for k, (p, _) in enumerate(shape.paths) if len(p)}
+        for end, rings in enumerate(vanishing[:2]):
+            self.absent[end] = {first[int(idx[0])] for idx in rings if int(idx[0]) in first}
+        self.keys = _keys(seq)
+        self.out_of_sight = out_of_sight(seq)
+
+    def hidden(self, swapped):
+        """(F, P) bool: paths drawn with opacity 0 in each frame."""
+        out = self.out_of_sight.copy()
+        a, b = self.share, 1.0 - self.share
+        for p in swapped:
+            out[:, p] = ((self.t >= a) & (self.t <= b)) | ((self.t < a) & (p in self.absent[0])) \
+                | ((self.t > b) & (p in self.absent[1]))
+            out[0, p] = p in self.absent[0]
+            out[-1, p] = p in self.absent[1]
+        return out
+
+    def frames(self, swapped):
+        """(F, n) complex frames with the ``swapped`` paths drawn off and on."""
+        z = self.z.copy()
+        a, b = self.share, 1.0 - self.share
+        for p in swapped:
+            idx = self.seq.shape.paths[p][0]
+            start, end = self.z[0, idx], self.z[-1, idx]
+            closed = self.seq.shape.paths[p][1]
+            off = drawn(start, 1.0 - self.t / a, closed)
+            on = drawn(end, (self.t - b) / a, closed)
+            rest = start[0] if p in self.absent[1] else end[0]  # out of sight between the two
+            z[:, idx] = np.where((self.t <= a)[:, None], off, np.where((self.t >= b)[:, None], on, rest))
+            if p in self.absent[0]:  # nothing to draw off: it waits where it is drawn on
+                z[np.ix_(self.t < b, idx)] = end[0]
+            if p in self.absent[1]:
+                z[np.ix_(self.t > a, idx)] = start[0]
+            z[0, idx], z[-1, idx] = start, end
+        return z
+
+    def crossings(self, swapped):
+        """(P,) crossings per path, in the in-betweens, between paths that do not cross in either drawing."""
+        z, hidden = self.frames(swapped), self.hidden(swapped)
+        n = len(self.seq.shape.paths)
+        i, j, _ = crossing_edges(z[[0, -1]], self.edges)
+        own = set(zip(self.path_of[i].tolist(), self.path_of[j].tolist(), strict=True))
+        i, j, _ = crossing_edges(z[1:-1], self.edges, seen=~hidden[1:-1][:, self.path_of])
+        p, q = self.path_of[i], self.path_of[j]
+        new = np.array([(x, y) not in own and (y, x) not in own for x, y in zip(p.tolist(), q.tolist(), strict=True)],
+                       dtype=bool)
+        return np.bincount(np.r_[p[new], q[new]], minlength=n)
+
+    def paint(self, swapped):
+        """``seq.info['paint']`` with the ``swapped`` paths out of sight while neither drawn off nor on.
+
+        A stroke keeps its paint as it is drawn off and fades out in the last
+        `FADE` of that, where it is only a dot (its caps); it fades in the same
+        way as it is drawn on.
+        """
+        key_times, keys = self.keys
+        a, b = self.share, 1.0 - self.share
+        times = np.unique(np.r_[key_times, a * (1.0 - FADE), a, b, b + a * FADE])
+        new = paint_at(key_times, keys, times)
+        for p in swapped:
+            start, end = keys[0][p], keys[-1][p]
+            for k, t in enumerate(times):
+                was = start if t <= 0.5 else end
+                seen = np.clip(max((a - t) / (a * FADE), (t - b) / (a * FADE)), 0.0, 1.0)
+                new[k][p] = start if t <= 0.0 else end if t >= 1.0 else \
+                    Paint.from_dict({**was.to_dict(), "opacity": was.opacity * float(seen)})
+        info = dict((self.seq.info or {}).get("paint") or {})
+        info["times"] = [float(t) for t in times]
+        info["keys"] = [[p.to_dict() for p in key] for key in new]
+        info.setdefault("regions", self.seq.shape.regions)
+        return info
+
+
+def untangle(seq, report, share=0.5):
+    """Draw off and on, instead of morphing, the strokes that would pass through other paths.
+
+    Parameters
+    ----------
+    seq : Sequence
+        A morph of corresponded drawings; changed in place (frames, paint,
+        and ``info['strokes']``, a line saying which strokes were drawn off and on).
+    report : CorrespondenceReport or None
+        Its ``vanishing`` rings say which strokes are absent at an end.
+    share : float
+        In (0, 0.5]: a stroke is drawn off within this first share of the
+        morph and drawn on within the last.
+
+    Returns
+    -------
+    Sequence
+        ``seq``.
+    """
+    shape = seq.shape
+    if len(seq) < 3 or shape.faces is not None and len(shape.faces) and not shape.paths:
+        return seq
+    candidates = stroke_paths(shape)
+    if not candidates:
+        return seq
+    share = min(float(share), 0.5)
+    swaps = _Swaps(seq, getattr(report, "vanishing", None) or [], share)
+    swapped, count = [], swaps.crossings([])
+    best = (int(count.sum()), [])
+    while best[0] and len(swapped) < len(candidates):
+        free = [k for k in candidates if k not in swapped]
+        worst = max(free, key=lambda k: count[k])
+        if not count[worst]:
+            break
+        swapped.append(worst)
+        count = swaps.crossings(swapped)
+        if int(count.sum()) < best[0]:
+            best = (int(count.sum()), list(swapped))
+    left, chosen = best
+    for k in list(chosen):  # one that others' changes made needless morphs again
+        fewer = [c for c in chosen if c != k]
+        n = int(swaps.crossings(fewer).sum())
+        if n <= left:
+            left, chosen = n, fewer
+    if not chosen:
+        return seq
+    z = swaps.frames(chosen)
+    seq.frames[...] = np.stack([z.real, z.imag], axis=-1)
+    if swaps.keys is not None:
+        seq.info["paint"] = swaps.paint(chosen)
+    seq.info["strokes"] = (f"{len(chosen)} of {len(candidates)} strokes drawn off and on instead of passing through "
+                           f"other paths" + (f"; {left} crossings left" if left else ""))
+    return seq

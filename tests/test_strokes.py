@@ -1,0 +1,133 @@
+"""Strokes that would pass through other paths are drawn off and on (`isotween.strokes`).
+
+`drawn` draws a stroke up to a share of its length, on the stroke itself;
+`untangle` (run by `morph`, the command line and the studio) changes the
+strokes in crossings that neither drawing has until none is left, keeping
+both ends exact.
+"""
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import isotween
+from isotween import metrics
+from isotween.cli import main
+from isotween.metrics import crossing_edges
+from isotween.paint import sequence_paint
+from isotween.pipeline import prepare_pair
+from isotween.strokes import drawn
+
+HEAD = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 24 24" fill="none" stroke="black" '
+        'stroke-width="1">')
+#: four short strokes round a long bar; the target turns the bar upright, so it sweeps through two of them
+BAR_ACROSS = (HEAD + '<path d="M2 12h20"/><path d="M16 7h2"/><path d="M6 7h2"/><path d="M6 17h2"/>'
+              '<path d="M16 17h2"/></svg>')
+BAR_UPRIGHT = BAR_ACROSS.replace("M2 12h20", "M12 2v20")
+
+
+def distance_to_polyline(points, line):
+    """(m,) distance of complex ``points`` to the polyline ``line`` (k,) complex."""
+    a, b = line[:-1], line[1:]
+    d = b - a
+    w = np.clip(((points[:, None] - a) * np.conj(d)).real / np.maximum(np.abs(d) ** 2, 1e-300), 0, 1)
+    return np.abs(points[:, None] - (a + w * d)).min(axis=1)
+
+
+def wiggle(k, closed):
+    s = np.linspace(0, 2 * np.pi, k, endpoint=not closed)
+    return (3 + np.cos(3 * s)) * np.exp(1j * s) if closed else s + 1j * np.sin(2 * s)
+
+
+def test_an_open_stroke_is_drawn_on_itself_up_to_its_share():
+    z = wiggle(40, closed=False)
+    length = np.abs(np.diff(z)).sum()
+    u = np.array([0.0, 0.3, 0.7, 1.0])
+    frames = drawn(z, u)
+    np.testing.assert_array_equal(frames[-1], z)  # whole: exactly the stroke
+    np.testing.assert_array_equal(frames[0], np.full(len(z), z[0]))  # nothing drawn: one point
+    for f, share in zip(frames, u, strict=True):
+        np.testing.assert_allclose(np.abs(np.diff(f)).sum(), share * length, rtol=1e-12, atol=1e-12)
+        assert distance_to_polyline(f, z).max() < 1e-12  # every vertex on the stroke
+
+
+def test_a_ring_is_drawn_with_no_chord_back_to_its_start():
+    z = wiggle(41, closed=True)
+    ring = np.r_[z, z[:1]]
+    longest = np.abs(ring[2:] - ring[:-2]).max()  # the longest chord over two edges
+    k = len(z)
+    edges = np.c_[np.arange(k), np.roll(np.arange(k), -1)]
+    for u in (0.0, 0.2, 0.5, 0.8, 1.0):
+        f = drawn(z, [u], closed=True)[0]
+        assert distance_to_polyline(f, ring).max() < 1e-12
+        closing = np.abs(np.r_[f, f[:1]][1:] - f)  # every edge, the closing one included
+        assert closing.max() <= longest + 1e-12
+        assert len(crossing_edges(f, edges)[0]) == 0  # out and back the same way: no self-crossing
+    np.testing.assert_array_equal(drawn(z, [0.0], closed=True)[0], np.full(k, z[0]))
+
+
+@pytest.fixture
+def bar_pair(tmp_path):
+    a, b = tmp_path / "across.svg", tmp_path / "upright.svg"
+    a.write_text(BAR_ACROSS)
+    b.write_text(BAR_UPRIGHT)
+    return a, b
+
+
+def test_a_stroke_that_would_cross_another_is_drawn_off_and_on(bar_pair):
+    a, b = bar_pair
+    prepared = prepare_pair(a, b)
+    plain = isotween.interpolate(prepared.source, prepared.target, frames=11, correspondence="never")
+    assert metrics.outline_crossings(plain, visible=True)[1:-1].sum() > 0  # the morph alone crosses
+    seq = isotween.morph(a, b, frames=11)
+    assert "drawn off and on" in seq.info["strokes"]
+    assert not metrics.outline_crossings(seq, visible=True).any()
+    np.testing.assert_array_equal(seq.frames[[0, -1]], plain.frames[[0, -1]])  # exact ends
+    # the strokes that changed: on their source stroke, then out of sight, then on their target stroke
+    _, paints = sequence_paint(seq)
+    changed = [k for k, (idx, _) in enumerate(seq.shape.paths)
+               if not np.allclose(seq.frames[:, idx], plain.frames[:, idx])]
+    assert changed
+    z = seq.z
+    for k in changed:
+        idx = seq.shape.paths[k][0]
+        for f, t in enumerate(seq.times):
+            if t < 0.5:
+                assert distance_to_polyline(z[f, idx], z[0, idx]).max() < 1e-9
+            elif t > 0.5:
+                assert distance_to_polyline(z[f, idx], z[-1, idx]).max() < 1e-9
+            else:
+                assert paints[f][k].opacity == 0.0
+        assert paints[0][k].opacity == paints[-1][k].opacity == 1.0
+    # the strokes left alone keep the morph
+    for k, (idx, _) in enumerate(seq.shape.paths):
+        if k not in changed:
+            np.testing.assert_array_equal(seq.frames[:, idx], plain.frames[:, idx])
+
+
+def test_the_command_line_says_which_strokes_changed(bar_pair, tmp_path):
+    a, b = bar_pair
+    out = tmp_path / "m.npz"
+    result = CliRunner().invoke(main, ["interpolate", str(a), str(b), "-n", "11", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    line = next(s for s in result.output.splitlines() if s.startswith("strokes: "))
+    seq = isotween.load_sequence(out)
+    assert not metrics.outline_crossings(seq, visible=True).any()
+    assert line == f"strokes: {seq.info['strokes']}"
+
+
+def test_crossings_of_several_frames_at_once_are_those_of_each():
+    rng = np.random.default_rng(3)
+    z = rng.random((6, 60)) + 1j * rng.random((6, 60))
+    edges = np.c_[np.arange(59), np.arange(1, 60)]
+    seen = rng.random((6, 59)) < 0.8
+    i, j, f = crossing_edges(z, edges, seen=seen)
+    for k in range(6):
+        rows = np.flatnonzero(seen[k])
+        ik, jk = crossing_edges(z[k], edges[rows])
+        assert sorted(zip(i[f == k], j[f == k], strict=True)) == sorted(zip(rows[ik], rows[jk], strict=True))
+    # two edges with an end at the same place (not the same vertex) only touch
+    touch = np.array([0, 2, 1j + 1, -1j + 1])
+    assert len(crossing_edges(touch, np.array([[0, 1], [2, 3]]))[0]) == 1
+    touch[2] = touch[1]
+    assert len(crossing_edges(touch, np.array([[0, 1], [2, 3]]))[0]) == 0
