@@ -131,3 +131,20 @@ def test_crossings_of_several_frames_at_once_are_those_of_each():
     assert len(crossing_edges(touch, np.array([[0, 1], [2, 3]]))[0]) == 1
     touch[2] = touch[1]
     assert len(crossing_edges(touch, np.array([[0, 1], [2, 3]]))[0]) == 0
+
+
+def test_new_crossings_leave_out_those_the_drawings_have():
+    from isotween import Shape
+
+    bar = np.c_[np.linspace(-2.0, 2.0, 8), np.zeros(8)]  # no vertex where the two strokes of the x cross
+    cross = Shape.from_paths([bar, bar[:, ::-1]], closed=[False, False])  # an 'x' (a '+'): its strokes cross
+    turned = cross.with_vertices(cross.vertices @ np.array([[0.6, 0.8], [-0.8, 0.6]]))
+    seq = isotween.interpolate(cross, turned, frames=7)
+    assert np.all(metrics.outline_crossings(seq) > 0)  # the 'x' crosses itself in every frame
+    assert not metrics.new_crossings(seq).any()
+    # a bar that moves up across an upright one passes through it: crossings no end has
+    upright = np.c_[np.zeros(8), np.linspace(1.0, 3.0, 8)]
+    apart = Shape.from_paths([bar, upright], closed=[False, False])
+    seq = isotween.interpolate(apart, apart.with_vertices(np.r_[bar + [0.0, 4.0], upright]), frames=7)
+    assert not metrics.new_crossings(seq)[[0, -1]].any()
+    assert metrics.new_crossings(seq)[1:-1].any()

@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 
 __all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped", "flipped_faces",
            "symmetry_error", "report", "loop_areas", "outline_crossings",
-           "outline_edges", "crossing_pairs", "crossing_edges"]
+           "outline_edges", "crossing_pairs", "crossing_edges", "path_crossings", "new_crossings"]
 
 
 def isometric_energy(seq: Sequence, scheme: str | None = None) -> float:
@@ -290,6 +290,48 @@ def outline_crossings(seq, scope="all", visible=False):
     path = np.repeat(drawn, [len(seq.shape.paths[k][0]) - (0 if seq.shape.paths[k][1] else 1) for k in drawn])
     return np.array([crossing_pairs(z, edges[~g[path]], None if group is None else group[~g[path]])
                      for z, g in zip(seq.z, gone, strict=True)], dtype=np.int64)
+
+
+def path_crossings(shape, z, hidden=None):
+    """Every crossing of two outline edges in frames ``z``, as the frame and the two edges' paths.
+
+    Parameters
+    ----------
+    shape : Shape
+        With paths.
+    z : (F, n) complex
+        Vertex positions per frame.
+    hidden : (F, P) bool, optional
+        Paths left out in each frame (`isotween.paint.out_of_sight`).
+
+    Returns
+    -------
+    frame, p, q : (C,) int arrays
+        Crossing ``c`` is in frame ``frame[c]``, between an edge of path ``p[c]``
+        and one of path ``q[c]`` (the same path: it crosses itself).
+    """
+    edges, _ = outline_edges(shape, "all")
+    drawn = [k for k, (idx, _) in enumerate(shape.paths) if len(idx) > 1]
+    path_of = np.repeat(drawn, [len(shape.paths[k][0]) - (0 if shape.paths[k][1] else 1) for k in drawn])
+    i, j, frame = crossing_edges(z, edges, seen=None if hidden is None else ~hidden[:, path_of])
+    return frame, path_of[i], path_of[j]
+
+
+def new_crossings(seq, visible=True):
+    """(F,) int: crossings per frame between two paths (or within one) that do not cross in the first or last frame.
+
+    What `outline_crossings` counts, less the crossings the end drawings have
+    themselves (two strokes of an 'x' cross in every frame of its morph).
+    A shape without paths: `outline_crossings`.
+    """
+    if not seq.shape.paths:
+        return outline_crossings(seq, visible=visible)
+    frame, p, q = path_crossings(seq.shape, seq.z, out_of_sight(seq) if visible else None)
+    end = (frame == 0) | (frame == len(seq) - 1)
+    own = {(int(a), int(b)) for a, b in zip(np.minimum(p, q)[end], np.maximum(p, q)[end], strict=True)}
+    new = np.array([(int(a), int(b)) not in own for a, b in zip(np.minimum(p, q), np.maximum(p, q), strict=True)],
+                   dtype=bool)
+    return np.bincount(frame[new], minlength=len(seq)).astype(np.int64)
 
 
 def outline_edges(shape, scope="all"):

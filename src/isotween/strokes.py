@@ -17,7 +17,7 @@ version with the fewest crossings is kept.
 
 import numpy as np
 
-from .metrics import crossing_edges, outline_edges
+from .metrics import path_crossings
 from .paint import Paint, out_of_sight, paint_at
 
 __all__ = ["drawn", "untangle", "stroke_paths", "FADE"]
@@ -93,11 +93,7 @@ class _Swaps:
         self.seq, self.share = seq, share
         self.z = seq.frames[..., 0] + 1j * seq.frames[..., 1]
         self.t = np.asarray(seq.times, dtype=np.float64)
-        self.edges, _ = outline_edges(seq.shape, "all")
         shape = seq.shape
-        drawn_paths = [k for k, (p, _) in enumerate(shape.paths) if len(p) > 1]
-        counts = [len(shape.paths[k][0]) - (0 if shape.paths[k][1] else 1) for k in drawn_paths]
-        self.path_of = np.repeat(drawn_paths, counts)  # (B,) the path of each outline edge
         self.absent = [set(), set()]  # paths that are small copies at the start, at the end
         first = {int(p[0]): k for k, (p, _) in enumerate(shape.paths) if len(p)}
         for end, rings in enumerate(vanishing[:2]):
@@ -137,15 +133,12 @@ class _Swaps:
 
     def crossings(self, swapped):
         """(P,) crossings per path, in the in-betweens, between paths that do not cross in either drawing."""
-        z, hidden = self.frames(swapped), self.hidden(swapped)
-        n = len(self.seq.shape.paths)
-        i, j, _ = crossing_edges(z[[0, -1]], self.edges)
-        own = set(zip(self.path_of[i].tolist(), self.path_of[j].tolist(), strict=True))
-        i, j, _ = crossing_edges(z[1:-1], self.edges, seen=~hidden[1:-1][:, self.path_of])
-        p, q = self.path_of[i], self.path_of[j]
-        new = np.array([(x, y) not in own and (y, x) not in own for x, y in zip(p.tolist(), q.tolist(), strict=True)],
-                       dtype=bool)
-        return np.bincount(np.r_[p[new], q[new]], minlength=n)
+        frame, p, q = path_crossings(self.seq.shape, self.frames(swapped), self.hidden(swapped))
+        p, q = np.minimum(p, q), np.maximum(p, q)
+        end = (frame == 0) | (frame == len(self.t) - 1)
+        own = set(zip(p[end].tolist(), q[end].tolist(), strict=True))
+        new = np.array([pair not in own for pair in zip(p.tolist(), q.tolist(), strict=True)], dtype=bool)
+        return np.bincount(np.r_[p[new], q[new]], minlength=len(self.seq.shape.paths))
 
     def paint(self, swapped):
         """``seq.info['paint']`` with the ``swapped`` paths out of sight while neither drawn off nor on.
