@@ -13,6 +13,7 @@ from click.testing import CliRunner
 import isotween
 from isotween import metrics
 from isotween.cli import main
+from isotween.errors import ParameterError
 from isotween.metrics import crossing_edges
 from isotween.paint import sequence_paint
 from isotween.pipeline import prepare_pair
@@ -148,3 +149,17 @@ def test_new_crossings_leave_out_those_the_drawings_have():
     seq = isotween.interpolate(apart, apart.with_vertices(np.r_[bar + [0.0, 4.0], upright]), frames=7)
     assert not metrics.new_crossings(seq)[[0, -1]].any()
     assert metrics.new_crossings(seq)[1:-1].any()
+
+
+def test_strokes_morph_keeps_every_stroke_morphing(bar_pair, tmp_path):
+    a, b = bar_pair
+    prepared = prepare_pair(a, b)
+    plain = isotween.interpolate(prepared.source, prepared.target, frames=11, correspondence="never")
+    seq = isotween.morph(a, b, frames=11, strokes="morph")
+    np.testing.assert_array_equal(seq.frames, plain.frames)
+    assert "strokes" not in seq.info
+    result = CliRunner().invoke(main, ["interpolate", str(a), str(b), "-n", "11", "--strokes", "morph",
+                                       "-o", str(tmp_path / "m.npz")])
+    assert result.exit_code == 0 and "strokes:" not in result.output
+    with pytest.raises(ParameterError, match="strokes"):
+        isotween.morph(a, b, strokes="cross")

@@ -18,7 +18,7 @@ from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
 __all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_steps", "mesh_prepared", "prepare_keys", "morph",
            "collapse_vanishing", "unmatched_spans", "stagger_shares", "check_stagger", "needs_correspondence",
-           "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER", "QUICK_STAGGERS"]
+           "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER", "QUICK_STAGGERS", "STROKES"]
 
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
 CORRESPONDENCE = ("auto", "always", "never")
@@ -29,6 +29,8 @@ DRAWING_SUFFIXES = (".svg",)
 STAGGER = 0.5
 #: the shorter shares tried, in turn, where the pieces cannot be kept apart with the first
 QUICK_STAGGERS = (0.2, 0.1)
+#: what strokes that would pass through other paths do: drawn off and on ('untangle'), or morph all the same
+STROKES = ("untangle", "morph")
 #: options of `isotween.correspond` that `prepare_pair` passes on
 CORRESPOND_OPTIONS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched", "pairs", "landmarks",
                       "meshes")
@@ -522,7 +524,7 @@ def unmatched_spans(shape, report, stagger=STAGGER):
 
 
 def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=None, correspond_options=None,
-          render_options=None, stagger=STAGGER, **options):
+          render_options=None, stagger=STAGGER, strokes="untangle", **options):
     """Any two inputs to an in-between sequence (and an output file).
 
     Parameters
@@ -546,9 +548,12 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
         A piece with no partner in the other drawing leaves (shrinks and
         fades) within this first share of the morph, and one that appears
         comes in within the last (`unmatched_spans`); 1: both over the whole
-        morph. A stroke that would pass through another path is drawn off
-        within the first share (at most half) and on within the last
-        (`isotween.strokes.untangle`; ``info['strokes']`` says which).
+        morph.
+    strokes : {'untangle', 'morph'}
+        'untangle': a stroke that would pass through another path is drawn
+        off within the first ``stagger`` (at most half) and on within the
+        last (`isotween.strokes.untangle`; ``info['strokes']`` says how
+        many); 'morph': every stroke morphs, through others or not.
     **options
         Options of `isotween.interpolate` (``method``, ``solver``, ...).
 
@@ -568,10 +573,12 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
     >>> seq.frames.shape
     (5, 24, 2)
     """
+    from ._validate import check_choice
     from .interpolate import interpolate
     from .strokes import untangle
 
     stagger = check_stagger(stagger)  # before any work
+    check_choice("strokes", strokes, STROKES)
     prepared = prepare_pair(source, target, correspondence=correspondence, **(correspond_options or {}))
     if fold is None:
         fold = "fallback" if prepared.built_meshes else "allow"
@@ -580,7 +587,8 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
                       spans=spans, **options)
     seq.info["correspondence"] = prepared.summary()
     collapse_vanishing(seq, prepared.report)
-    untangle(seq, prepared.report, stagger)
+    if strokes == "untangle":
+        untangle(seq, prepared.report, stagger)
     if output is not None:
         from .outputs import write_output
 

@@ -26,8 +26,12 @@ from .prepare import correspondence_kwargs, correspondence_options, make_compati
                    "and one that appears comes in within the last (where the pieces cannot be kept apart so, 0.2 "
                    "then 0.1 are tried); 1: both over the whole morph. A stroke that would pass through another "
                    "path is drawn off within this share (at most half) and on within the last [default: 0.5].")
+@click.option("--strokes", "strokes", type=click.Choice(["untangle", "morph"]), default="untangle",
+              show_default=True,
+              help="untangle: a stroke that would pass through another path is drawn off and on instead; "
+                   "morph: every stroke morphs.")
 @output_options
-def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagger, **params):
+def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagger, strokes, **params):
     """Interpolate SOURCE into TARGET as-isometrically-as-possible.
 
     SOURCE and TARGET are shape files (.obj .off .svg .json .npz). Shapes
@@ -61,7 +65,8 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
         seq = interpolate(prepared.source, prepared.target, callback=callback, correspondence="never", spans=spans,
                           **kwargs)
     collapse_vanishing(seq, prepared.report)  # items that vanish are points at their ends, not specks
-    untangle(seq, prepared.report, stagger)  # strokes that would pass through others drawn off and on
+    if strokes == "untangle":  # strokes that would pass through others drawn off and on
+        untangle(seq, prepared.report, stagger)
     if "fallback" in seq.info and not quiet:
         click.echo(f"fold check: {seq.info['fallback']}")
     if "spans" in seq.info and not quiet:  # the staggering was shortened or dropped to keep the pieces apart
