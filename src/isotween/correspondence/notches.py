@@ -8,7 +8,11 @@ paired, a hole of one drawing whose area lies mostly (`OPEN`) in a notch of
 the other drawing (inside its convex hull, outside its outlines, once the
 two are aligned: `alignment.align`) not much larger than the hole (`ROOM`)
 is joined to its region's outer ring by a slit of width `SLIT`, across the
-region's material where the other drawing is empty (the gap). The region's
+region's material where the other drawing is empty (the gap). Failing
+that, a notch of the paired region of about the hole's size, moved onto
+the hole by at most `MOVE` of the diagonal (an open lock's hook beside
+where the closed lock's shackle was), where the cut ring is then more like
+the paired outline than the uncut one (`_moved_notch`, `_slit`). The region's
 outer ring then runs into the slit, round the hole and out again, and is
 matched to the other drawing's notched outline like any ring. At its own
 end the slit is closed again (`close_slits`), so that end fills exactly
@@ -26,6 +30,7 @@ __all__ = ["open_holes", "close_slits", "OPEN", "ROOM", "SLIT"]
 
 OPEN = 0.5  # a hole with this share of its area in a notch of the other drawing opens into it
 ROOM = 2.0  # ... if the notch is at most this many times as large as the hole
+MOVE = 0.3  # failing that, a notch of the paired region moved by at most this share of the diagonal onto the hole
 SLIT = 1e-3  # the slit's width, in bounding-box diagonals of the drawing
 CANDIDATES = 12  # places tried for the slit: the thinnest bridges from the hole to the outer ring
 SAMPLES = 256  # ring samples compared when choosing among them
@@ -50,6 +55,7 @@ def open_holes(items, frames):
         the outer and hole vertices they replace, ``(outer, hole)``.
     """
     import shapely
+    import shapely.affinity
 
     out, slits = [list(items[0]), list(items[1])], [[], []]
     for k in (0, 1):
@@ -67,12 +73,16 @@ def open_holes(items, frames):
                 continue  # (a stroke would draw the closed slit: a seam of no width, invisible in a fill)
             rings, paint = list(it.rings), list(it.paint)
             region = _polygon(rings[0])
-            partner = outlines[int(np.argmax([region.intersection(p).area for p in shapes]))]
+            best = int(np.argmax([region.intersection(p).area for p in shapes]))
+            partner = outlines[best]
             h = 1
             while h < len(rings):
                 hole = _polygon(rings[h])
-                if hole.area > 0 and _opens(hole, notches):
-                    cut = _slit(rings[0], rings[h], filled, width, partner)
+                shift = 0.0 if hole.area > 0 and _opens(hole, notches) else _moved_notch(hole, shapes[best], every)
+                if shift is not None:  # the other drawing moved by ``shift`` has the notch where the hole is
+                    cut = _slit(rings[0], rings[h], shapely.affinity.translate(filled, shift.real, shift.imag),
+                                width, partner + shift, moved=shift != 0,
+                                others=[r for j, r in enumerate(rings[1:], 1) if j != h])
                     if cut is not None:
                         rings[0], corners = cut
                         slits[k].append(corners)
@@ -90,13 +100,42 @@ def _opens(hole, notches):
                for part in parts)
 
 
+def _moved_notch(hole, partner, every):
+    """The shift that brings a notch of ``partner`` (its region, once aligned) onto ``hole``; None if none does.
+
+    A notch of the partner region alone (inside its hull, outside it) of
+    about the hole's size (within a factor `ROOM`), moved by at most `MOVE`
+    of the drawing's diagonal (``every``: its points) so that its centroid
+    is the hole's, that then covers `OPEN` of the hole: the closed lock's
+    shackle hole where the open lock's hook has its notch, the shackle
+    moved aside.
+    """
+    import shapely
+
+    if hole.area <= 0:
+        return None
+    diagonal = abs(complex(np.ptp(every.real), np.ptp(every.imag)))
+    parts = getattr(notch := partner.convex_hull.difference(partner), "geoms", [notch])
+    best, shift = OPEN * hole.area, None
+    for part in parts:
+        if not hole.area / ROOM <= part.area <= ROOM * hole.area:
+            continue
+        d = complex(hole.centroid.x - part.centroid.x, hole.centroid.y - part.centroid.y)
+        if abs(d) > MOVE * diagonal:
+            continue
+        cover = hole.intersection(shapely.affinity.translate(part, d.real, d.imag)).area
+        if cover >= best:
+            best, shift = cover, d
+    return shift
+
+
 def _polygon(z):
     import shapely
 
     return shapely.Polygon(np.c_[z.real, z.imag]).buffer(0)
 
 
-def _slit(outer, hole, filled, width, partner):
+def _slit(outer, hole, filled, width, partner, moved=False, others=()):
     """The outer ring run into a slit round ``hole`` and out again, and the slit's corners; None if none fits.
 
     Candidate bridges join a hole vertex to its nearest outer vertex, mostly
@@ -104,6 +143,9 @@ def _slit(outer, hole, filled, width, partner):
     not neighbours; of those, the cut ring most similar to
     ``partner`` (the other drawing's outer ring there) wins: the largest
     normalised cross-correlation of ring samples (`matching.correlation`).
+    ``moved`` (the notch is the partner's moved onto the hole): only a cut
+    ring more similar to the partner than the outer ring is. The cut ring
+    must keep clear of the region's ``others`` holes.
     """
     import shapely
 
@@ -122,17 +164,19 @@ def _slit(outer, hole, filled, width, partner):
             break
         if all(abs(hole[i] - hole[t]) > length[i] for t in thin):
             thin.append(i)
-    area = abs(ring_area(outer)) - abs(ring_area(hole))
+    area = abs(ring_area(outer)) - abs(ring_area(hole)) - sum(abs(ring_area(r)) for r in others)
     grid = np.arange(SAMPLES) / SAMPLES
     if np.sign(ring_area(partner)) != np.sign(ring_area(outer)):
         partner = partner[::-1]
     target = points_at(partner, True, grid)
     best, found = -np.inf, None
+    if moved:  # the hole opens only where that makes the ring more like its partner's
+        best = np.abs(correlation(points_at(outer, True, grid), target)).max()
     for i in thin:
         cut = _spliced(outer, hole, int(j_of[i]), int(i), width)
         if cut is None:
             continue
-        poly = shapely.Polygon(np.c_[cut[0].real, cut[0].imag])
+        poly = shapely.Polygon(np.c_[cut[0].real, cut[0].imag], [np.c_[r.real, r.imag] for r in others])
         if not (poly.is_valid and abs(poly.area - area) <= 0.05 * area):
             continue
         score = np.abs(correlation(points_at(cut[0], True, grid), target)).max()
