@@ -675,6 +675,20 @@ def test_two_drawings_are_morphed_as_isotween_morph_does(tmp_path):
     assert np.all(np.isfinite(session.solved.sequence.frames)) and session.solved.sequence.equals(edited, atol=1e-9)
 
 
+def test_strokes_that_would_cross_are_drawn_off_and_on_as_morph_does(tmp_path):
+    head = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 24 24" fill="none" stroke="black">'
+    shorts = '<path d="M16 7h2"/><path d="M6 7h2"/><path d="M6 17h2"/><path d="M16 17h2"/></svg>'
+    a, b = tmp_path / "across.svg", tmp_path / "upright.svg"  # the long bar turns upright through two short ones
+    a.write_text(head + '<path d="M2 12h20"/>' + shorts)
+    b.write_text(head + '<path d="M12 2v20"/>' + shorts)
+    session = Session([a, b])
+    state = client_for(session).post("/api/open", json={"paths": [str(a), str(b)]}, headers=H).json()
+    expected = isotween.morph(a, b, frames=13)
+    assert session.solved.sequence.equals(expected, atol=1e-9)
+    assert f"strokes: {expected.info['strokes']}" in state["notes"]
+    assert not isotween.metrics.outline_crossings(session.solved.sequence, visible=True).any()
+
+
 def test_pairing_regions_by_clicking_in_chromium(browser, tmp_path):
     from isotween.studio import StudioServer
 

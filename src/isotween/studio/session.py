@@ -406,6 +406,8 @@ class Session:
             shown = dataclasses.replace(seq, frames=seq.frames.copy(), info=dict(seq.info))
             collapse_vanishing(shown, report)
             untangle(shown, report)
+            if "strokes" in shown.info:
+                notes.append(f"strokes: {shown.info['strokes']}")
         return Solved(inputs, src, tgt, report, base, shown, moved, notes, keys, preview, raw=seq)
 
     def _solve_saved(self, doc: dict, saved: Any, options: dict, curves: list, notes: list) -> tuple:
