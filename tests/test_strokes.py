@@ -163,3 +163,38 @@ def test_strokes_morph_keeps_every_stroke_morphing(bar_pair, tmp_path):
     assert result.exit_code == 0 and "strokes:" not in result.output
     with pytest.raises(ParameterError, match="strokes"):
         isotween.morph(a, b, strokes="cross")
+
+
+def test_a_stroke_the_source_lacks_is_drawn_on_unseen_until_then():
+    from types import SimpleNamespace
+
+    from isotween import Sequence, Shape
+    from isotween.paint import Paint, paint_keys
+    from isotween.strokes import untangle
+
+    ink = Paint(fill=None, stroke=(0.0, 0.0, 0.0, 1.0), stroke_width=0.5)
+    bar = np.c_[np.linspace(-2.0, 2.0, 4), np.zeros(4)]
+    upright = np.c_[np.zeros(4), np.linspace(-4.0, -6.0, 4)]  # below the bar at the end
+    shape = Shape.from_paths([bar, upright], closed=[False, False], regions=[], paint=[ink, ink])
+    start = np.r_[bar, np.tile([0.0, 5.0], (4, 1))]  # the new stroke: one point above the bar at t = 0
+    end = np.r_[bar, upright]
+    t = np.linspace(0.0, 1.0, 11)
+    frames = (1 - t)[:, None, None] * start + t[:, None, None] * end  # it grows down through the bar
+    seq = Sequence(frames=frames, shape=shape, times=t, info=paint_keys([shape, shape], [0.0, 1.0]))
+    assert metrics.new_crossings(seq).any()
+    report = SimpleNamespace(vanishing=[[shape.paths[1][0]], []])
+    untangle(seq, report)
+    assert seq.info["strokes"].startswith("1 of 2 strokes")
+    assert not metrics.new_crossings(seq).any()
+    np.testing.assert_array_equal(seq.frames[[0, -1]], frames[[0, -1]])
+    _, paints = sequence_paint(seq)
+    idx = shape.paths[1][0]
+    for f, when in enumerate(t):
+        z = seq.z[f, idx]
+        if np.ptp(z.real) + np.ptp(z.imag) == 0:  # nothing drawn yet: not even a dot of its caps
+            assert paints[f][1].opacity == 0.0
+        if when < 0.5:
+            assert paints[f][1].opacity == 0.0
+        else:  # drawn on along the upright stroke itself
+            assert distance_to_polyline(z, upright[:, 0] + 1j * upright[:, 1]).max() < 1e-12
+    assert paints[-1][1].opacity == 1.0

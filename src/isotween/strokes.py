@@ -5,14 +5,16 @@ nothing keeps two of them from passing through each other when they morph
 (a bar turning over into a line across a frame, a grown stroke sweeping
 across another). Where that happens in an in-between frame and the two
 do not cross in either drawing, `untangle` changes the motion of one of
-them at a time, the one in most such crossings: its source stroke is drawn
+them at a time, the one in most such crossings (of two, the one that moves
+farther): its source stroke is drawn
 off (it retracts along itself back to its first point, fading at the last) within
 the first ``share`` of the morph, and its target stroke is drawn on
 (it extends along itself from its first point) within the last, as line
 art is drawn on the web. A stroke drawn off or on only covers where it is
 in its drawing, so it can only meet what moves across it; the changes stop
-when no such crossing is left or no stroke is left to change, and the
-version with the fewest crossings is kept.
+when no such crossing is left or no stroke is left to change, the version
+with the fewest crossings is kept, and a changed stroke whose change the
+others made needless morphs again.
 """
 
 import numpy as np
@@ -122,12 +124,12 @@ class _Swaps:
             closed = self.seq.shape.paths[p][1]
             off = drawn(start, 1.0 - self.t / a, closed)
             on = drawn(end, (self.t - b) / a, closed)
+            if p in self.absent[0]:  # nothing to draw off: it waits, one point, where it is drawn on
+                off = np.broadcast_to(end[0], off.shape)
+            if p in self.absent[1]:  # nothing to draw on: it stays, one point, where it was drawn off
+                on = np.broadcast_to(start[0], on.shape)
             rest = start[0] if p in self.absent[1] else end[0]  # out of sight between the two
             z[:, idx] = np.where((self.t <= a)[:, None], off, np.where((self.t >= b)[:, None], on, rest))
-            if p in self.absent[0]:  # nothing to draw off: it waits where it is drawn on
-                z[np.ix_(self.t < b, idx)] = end[0]
-            if p in self.absent[1]:
-                z[np.ix_(self.t > a, idx)] = start[0]
             z[0, idx], z[-1, idx] = start, end
         return z
 
@@ -156,8 +158,11 @@ class _Swaps:
             for k, t in enumerate(times):
                 was = start if t <= 0.5 else end
                 seen = np.clip(max((a - t) / (a * FADE), (t - b) / (a * FADE)), 0.0, 1.0)
-                new[k][p] = start if t <= 0.0 else end if t >= 1.0 else \
-                    Paint.from_dict({**was.to_dict(), "opacity": was.opacity * float(seen)})
+                if (p in self.absent[0] and t < b) or (p in self.absent[1] and t > a):
+                    seen = 0.0  # a stroke the drawing lacks: one point, out of sight
+                elif t <= 0.0 or t >= 1.0:
+                    continue  # the drawing's own paint
+                new[k][p] = Paint.from_dict({**was.to_dict(), "opacity": was.opacity * float(seen)})
         info = dict((self.seq.info or {}).get("paint") or {})
         info["times"] = [float(t) for t in times]
         info["keys"] = [[p.to_dict() for p in key] for key in new]
@@ -194,9 +199,11 @@ def untangle(seq, report, share=0.5):
     swaps = _Swaps(seq, getattr(report, "vanishing", None) or [], share)
     swapped, count = [], swaps.crossings([])
     best = (int(count.sum()), [])
+    z = swaps.z
+    travel = {k: float(np.abs(z[:, shape.paths[k][0]] - z[0, shape.paths[k][0]]).max()) for k in candidates}
     while best[0] and len(swapped) < len(candidates):
         free = [k for k in candidates if k not in swapped]
-        worst = max(free, key=lambda k: count[k])
+        worst = max(free, key=lambda k: (count[k], travel[k]))  # of two in as many crossings, the one that moves
         if not count[worst]:
             break
         swapped.append(worst)
