@@ -292,7 +292,7 @@ def outline_crossings(seq, scope="all", visible=False):
                      for z, g in zip(seq.z, gone, strict=True)], dtype=np.int64)
 
 
-def path_crossings(shape, z, hidden=None):
+def path_crossings(shape, z, hidden=None, new=False):
     """Every crossing of two outline edges in frames ``z``, as the frame and the two edges' paths.
 
     Parameters
@@ -303,18 +303,27 @@ def path_crossings(shape, z, hidden=None):
         Vertex positions per frame.
     hidden : (F, P) bool, optional
         Paths left out in each frame (`isotween.paint.out_of_sight`).
+    new : bool
+        Leave out the crossings between two paths (or within one) that cross
+        in the first or last frame: those the end drawings have themselves.
 
     Returns
     -------
     frame, p, q : (C,) int arrays
         Crossing ``c`` is in frame ``frame[c]``, between an edge of path ``p[c]``
-        and one of path ``q[c]`` (the same path: it crosses itself).
+        and one of path ``q[c]`` (``p <= q``; the same path: it crosses itself).
     """
     edges, _ = outline_edges(shape, "all")
     drawn = [k for k, (idx, _) in enumerate(shape.paths) if len(idx) > 1]
     path_of = np.repeat(drawn, [len(shape.paths[k][0]) - (0 if shape.paths[k][1] else 1) for k in drawn])
     i, j, frame = crossing_edges(z, edges, seen=None if hidden is None else ~hidden[:, path_of])
-    return frame, path_of[i], path_of[j]
+    p, q = np.minimum(path_of[i], path_of[j]), np.maximum(path_of[i], path_of[j])
+    if new:
+        end = (frame == 0) | (frame == len(z) - 1)
+        own = set(zip(p[end].tolist(), q[end].tolist(), strict=True))
+        keep = np.array([pair not in own for pair in zip(p.tolist(), q.tolist(), strict=True)], dtype=bool)
+        frame, p, q = frame[keep], p[keep], q[keep]
+    return frame, p, q
 
 
 def new_crossings(seq, visible=True):
@@ -326,12 +335,8 @@ def new_crossings(seq, visible=True):
     """
     if not seq.shape.paths:
         return outline_crossings(seq, visible=visible)
-    frame, p, q = path_crossings(seq.shape, seq.z, out_of_sight(seq) if visible else None)
-    end = (frame == 0) | (frame == len(seq) - 1)
-    own = {(int(a), int(b)) for a, b in zip(np.minimum(p, q)[end], np.maximum(p, q)[end], strict=True)}
-    new = np.array([(int(a), int(b)) not in own for a, b in zip(np.minimum(p, q), np.maximum(p, q), strict=True)],
-                   dtype=bool)
-    return np.bincount(frame[new], minlength=len(seq)).astype(np.int64)
+    frame, _, _ = path_crossings(seq.shape, seq.z, out_of_sight(seq) if visible else None, new=True)
+    return np.bincount(frame, minlength=len(seq)).astype(np.int64)
 
 
 def outline_edges(shape, scope="all"):

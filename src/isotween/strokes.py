@@ -135,12 +135,8 @@ class _Swaps:
 
     def crossings(self, swapped):
         """(P,) crossings per path, in the in-betweens, between paths that do not cross in either drawing."""
-        frame, p, q = path_crossings(self.seq.shape, self.frames(swapped), self.hidden(swapped))
-        p, q = np.minimum(p, q), np.maximum(p, q)
-        end = (frame == 0) | (frame == len(self.t) - 1)
-        own = set(zip(p[end].tolist(), q[end].tolist(), strict=True))
-        new = np.array([pair not in own for pair in zip(p.tolist(), q.tolist(), strict=True)], dtype=bool)
-        return np.bincount(np.r_[p[new], q[new]], minlength=len(self.seq.shape.paths))
+        _, p, q = path_crossings(self.seq.shape, self.frames(swapped), self.hidden(swapped), new=True)
+        return np.bincount(np.r_[p, q], minlength=len(self.seq.shape.paths))
 
     def paint(self, swapped):
         """``seq.info['paint']`` with the ``swapped`` paths out of sight while neither drawn off nor on.
@@ -190,10 +186,8 @@ def untangle(seq, report, share=0.5):
         ``seq``.
     """
     shape = seq.shape
-    if len(seq) < 3 or shape.faces is not None and len(shape.faces) and not shape.paths:
-        return seq
     candidates = stroke_paths(shape)
-    if not candidates:
+    if len(seq) < 3 or not candidates:
         return seq
     share = min(float(share), 0.5)
     swaps = _Swaps(seq, getattr(report, "vanishing", None) or [], share)

@@ -2,6 +2,7 @@
 
 import click
 
+from ..pipeline import STROKES
 from .options import (
     check_outputs,
     emit,
@@ -26,7 +27,7 @@ from .prepare import correspondence_kwargs, correspondence_options, make_compati
                    "and one that appears comes in within the last (where the pieces cannot be kept apart so, 0.2 "
                    "then 0.1 are tried); 1: both over the whole morph. A stroke that would pass through another "
                    "path is drawn off within this share (at most half) and on within the last [default: 0.5].")
-@click.option("--strokes", "strokes", type=click.Choice(["untangle", "morph"]), default="untangle",
+@click.option("--strokes", "strokes", type=click.Choice(STROKES), default=STROKES[0],
               show_default=True,
               help="untangle: a stroke that would pass through another path is drawn off and on instead; "
                    "morph: every stroke morphs.")
