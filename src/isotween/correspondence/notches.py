@@ -26,7 +26,7 @@ import numpy as np
 from ..geometry import ring_area
 from .regions import Item
 
-__all__ = ["open_holes", "close_slits", "OPEN", "ROOM", "SLIT"]
+__all__ = ["open_holes", "close_slits", "OPEN", "ROOM", "MOVE", "SLIT"]
 
 OPEN = 0.5  # a hole with this share of its area in a notch of the other drawing opens into it
 ROOM = 2.0  # ... if the notch is at most this many times as large as the hole
