@@ -198,3 +198,17 @@ def test_a_stroke_the_source_lacks_is_drawn_on_unseen_until_then():
         else:  # drawn on along the upright stroke itself
             assert distance_to_polyline(z, upright[:, 0] + 1j * upright[:, 1]).max() < 1e-12
     assert paints[-1][1].opacity == 1.0
+
+
+def test_a_stroke_prefers_a_partner_of_its_direction():
+    from isotween.correspondence import regions
+
+    s = np.linspace(-1.0, 1.0, 9)
+    across, upright = s + 0j, 1j * s
+    circle = np.exp(2j * np.pi * np.arange(16) / 16)
+    assert regions._direction(across) == pytest.approx(1.0) and regions._direction(upright) == pytest.approx(-1.0)
+    assert abs(regions._direction(circle)) < 1e-12  # round: no direction
+    feats = [regions._features([z], False, regions.Frame(0j, 1.0)) for z in (across, upright)]
+    cost = regions._cost(feats, feats, closed=False)  # same place and length: only the directions differ
+    assert cost[0, 0] == cost[1, 1] == pytest.approx(0.0)
+    assert cost[0, 1] == cost[1, 0] == pytest.approx(4 * regions.TURN_COST)

@@ -71,6 +71,10 @@ class Slot(NamedTuple):
     holes: list
 
 
+#: weight of the difference of two strokes' directions in their matching cost (a bar and one across: 4 x this)
+TURN_COST = 0.05
+
+
 # ---------------------------------------------------------------- geometry
 def centroid(z, closed):
     """Area centroid of a closed ring (vertex mean if flat), length-weighted mean of a polyline."""
@@ -186,7 +190,7 @@ def _features(item_rings, closed, frame):
 
 
 def _cost(a_feats, b_feats, closed):
-    """(m, n) matching cost: squared distance of centroids and sizes, plus 1 - overlap."""
+    """(m, n) matching cost: squared distance of centroids and sizes, plus 1 - overlap (regions) or turn (strokes)."""
     ca = np.array([f[0] for f in a_feats])
     cb = np.array([f[0] for f in b_feats])
     sa = np.array([f[1] for f in a_feats])
@@ -194,7 +198,16 @@ def _cost(a_feats, b_feats, closed):
     cost = np.abs(ca[:, None] - cb[None, :]) ** 2 + (sa[:, None] - sb[None, :]) ** 2
     if closed:
         cost = cost + (1.0 - _overlap([f[2] for f in a_feats], [f[2] for f in b_feats]))
+    else:
+        da, db = np.array([_direction(f[2]) for f in a_feats]), np.array([_direction(f[2]) for f in b_feats])
+        cost = cost + TURN_COST * np.abs(da[:, None] - db[None, :]) ** 2
     return cost
+
+
+def _direction(z):
+    """A stroke's direction as ``exp(2i theta)`` scaled by how elongated it is (1: a straight line, 0: round)."""
+    d = z - z.mean()
+    return complex(np.mean(d * d) / max(np.mean(np.abs(d) ** 2), 1e-300))
 
 
 def _polygon(z):
