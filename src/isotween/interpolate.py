@@ -277,8 +277,8 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), apart_onl
     z = _complex_frames(seq.frames)
     hidden = _hidden(seq)
     within, across = _crossed(seq.shape, z[[0, -1]], hidden)
-    crossings = np.array([within(k, frame) for k, frame in enumerate(z[1:-1], 1)], dtype=np.int64)
-    collisions = np.array([across(k, frame) for k, frame in enumerate(z[1:-1], 1)], dtype=np.int64)
+    inner = np.arange(1, len(t) - 1)
+    crossings, collisions = within(inner, z[1:-1]), across(inner, z[1:-1])
     if not (flips.any() or crossings.any() or collisions.any()):
         return seq
     bad = flips | crossings | collisions
@@ -368,33 +368,47 @@ def _crossed(shape, ends, hidden=None):
     a piece that splits off from another may overlap it), always 0 where
     an end already has such a crossing (layered pieces, as in an emoji).
     Both leave out the regions ``hidden(k)`` (out of sight in frame k: a
-    piece faded out, or not yet in).
+    piece faded out, or not yet in). Given frames ``k`` (F,) int and ``z``
+    (F, N) complex, both count every frame in one sweep ((F,) int).
     """
     from . import metrics
     from .foldfree.scaffold import separate_regions
 
     edges, group = metrics.outline_edges(shape, scope="region")
+    regions = group is not None
+    group = group if regions else np.zeros(len(edges), dtype=np.int64)  # a mesh's boundary: one group
 
-    def seen(k, e, g):  # the edges e (of groups g) in sight in frame k
-        if hidden is None or not hidden(k):
-            return e, g
-        keep = ~np.isin(g, len(shape.paths) + np.array(sorted(hidden(k)), dtype=np.int64))
-        return e[keep], g[keep]
+    def seen(k, g):  # (F, B) or (B,) bool: the edges (of groups g) in sight in frames k
+        out = np.ones((np.size(k), len(g)), dtype=bool)
+        for row, kk in enumerate(np.atleast_1d(k)):
+            if hidden is not None and hidden(kk):
+                out[row] = ~np.isin(g, len(shape.paths) + np.array(sorted(hidden(kk)), dtype=np.int64))
+        return out if np.ndim(k) else out[0]
+
+    def counted(k, z, e, g, apart):  # crossings of edges e in sight, within one group g or (apart) across two
+        keep = seen(k, g)
+        if np.ndim(k):
+            i, j, frame = metrics.crossing_edges(z, e, None if apart else g, seen=keep)
+            return np.bincount(frame[g[i] != g[j]] if apart else frame, minlength=len(k)).astype(np.int64)
+        i, j = metrics.crossing_edges(z, e[keep], None if apart else g[keep])
+        return int(np.count_nonzero(g[keep][i] != g[keep][j])) if apart else len(i)
 
     def within(k, z):
-        return metrics.crossing_pairs(z, *seen(k, edges, group))
+        return counted(k, z, edges, group, False)
 
-    if group is None:
-        return within, (lambda k, z: 0)
+    def nothing(k, z):
+        return np.zeros(len(k), dtype=np.int64) if np.ndim(k) else 0
+
+    if not regions:
+        return within, nothing
     solid = np.isin(group, len(shape.paths) + np.array(separate_regions(shape, ends), dtype=np.int64))
     pieces, owner = edges[solid], group[solid]
 
     def across(k, z):
-        e, g = seen(k, pieces, owner)
-        return metrics.crossing_pairs(z, e) - metrics.crossing_pairs(z, e, g)
+        return counted(k, z, pieces, owner, True)
 
     if not len(pieces) or any(across(k, z) for k, z in ((0, ends[0]), (-1, ends[1]))):
-        return within, (lambda k, z: 0)
+        return within, nothing
     return within, across
 
 
