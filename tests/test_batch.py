@@ -235,3 +235,24 @@ def test_batch_morphs_any_two_drawings_as_interpolate_does(tmp_path):
     assert result.exit_code == 0, result.output
     np.testing.assert_array_equal(io.load_sequence(tmp_path / "out2" / "one.npz").frames, expected.frames)
 
+
+
+def test_a_job_sets_the_stagger_and_the_strokes_as_morph_does(tmp_path):
+    pytest.importorskip("svgelements")
+    head = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 24 24" fill="none" stroke="black">'
+    shorts = '<path d="M16 7h2"/><path d="M6 7h2"/><path d="M6 17h2"/><path d="M16 17h2"/></svg>'
+    a, b = tmp_path / "across.svg", tmp_path / "upright.svg"  # the long bar turns upright through short strokes
+    a.write_text(head + '<path d="M2 12h20"/>' + shorts)
+    b.write_text(head + '<path d="M12 2v20"/>' + shorts)
+    manifest = tmp_path / "jobs.jsonl"
+    manifest.write_text(
+        json.dumps({"source": str(a), "target": str(b), "output": "off.npz", "frames": 9, "stagger": 0.3}) + "\n"
+        + json.dumps({"source": str(a), "target": str(b), "output": "through.npz", "frames": 9, "strokes": "morph"})
+        + "\n" + json.dumps({"source": str(a), "target": str(b), "output": "bad.npz", "strokes": "cross"}) + "\n")
+    res = isotween.batch(manifest, outdir=tmp_path / "out", workers=1)
+    assert (res["done"], res["failed"]) == (2, 1)
+    for name, options in (("off", {"stagger": 0.3}), ("through", {"strokes": "morph"})):
+        expected = isotween.morph(a, b, frames=9, **options)
+        np.testing.assert_array_equal(io.load_sequence(tmp_path / "out" / f"{name}.npz").frames, expected.frames)
+    failed = [r for r in records(tmp_path / "out" / "batch-report.jsonl") if r["status"] == "failed"]
+    assert "strokes" in failed[0]["error"] and not (tmp_path / "out" / "bad.npz").exists()

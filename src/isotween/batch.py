@@ -41,6 +41,8 @@ JOB_OPTIONS = {
     "mesh": lambda v: v if v == "auto" else float(v),
     "format": str,
     "correspondence": str,
+    "stagger": float,
+    "strokes": str,
 }
 _FIELDS = ("source", "target", "output")
 _SHAPE_EXTS = (".obj", ".off", ".svg", ".json", ".npz")
@@ -267,8 +269,9 @@ def run_job(job):
         if points is None and area is None:  # the library's pipeline: any two inputs, as `isotween interpolate`
             correspondence = opts.pop("correspondence", "auto")
             seq = morph(job["source"], job["target"], correspondence=correspondence, **opts)
-        else:  # the older explicit steps
-            opts.pop("correspondence", None)
+        else:  # the older explicit steps (no correspondence: nothing to stagger or untangle)
+            for key in ("correspondence", "stagger", "strokes"):
+                opts.pop(key, None)
             src, tgt = load(job["source"]), load(job["target"])
             if points is not None:
                 src, tgt = resample(src, tgt, points=points)

@@ -22,8 +22,8 @@ def batch_command(manifest, outdir, workers, scheduler, report, force, frames, r
     """Run every job of MANIFEST.
 
     A .csv or .jsonl file with the columns source, target, output and per-job options (frames, solver, init, scheme,
-    tol, max_iter, method, resample, mesh, format), or a folder of pairs (sub-folders with source.EXT and target.EXT, or
-    NAME.source.EXT beside NAME.target.EXT).
+    tol, max_iter, method, resample, mesh, format, correspondence, stagger, strokes), or a folder of pairs
+    (sub-folders with source.EXT and target.EXT, or NAME.source.EXT beside NAME.target.EXT).
 
     Outputs are written atomically; a re-run skips jobs whose output exists
     with the same inputs and options. Failed jobs are listed in the report
