@@ -682,11 +682,18 @@ def test_strokes_that_would_cross_are_drawn_off_and_on_as_morph_does(tmp_path):
     a.write_text(head + '<path d="M2 12h20"/>' + shorts)
     b.write_text(head + '<path d="M12 2v20"/>' + shorts)
     session = Session([a, b])
-    state = client_for(session).post("/api/open", json={"paths": [str(a), str(b)]}, headers=H).json()
+    client = client_for(session)
+    state = client.post("/api/open", json={"paths": [str(a), str(b)]}, headers=H).json()
     expected = isotween.morph(a, b, frames=13)
     assert session.solved.sequence.equals(expected, atol=1e-9)
     assert f"strokes: {expected.info['strokes']}" in state["notes"]
     assert not isotween.metrics.outline_crossings(session.solved.sequence, visible=True).any()
+    # the option that keeps every stroke morphing, as `morph(strokes="morph")`
+    state = client.post("/api/options", json={"strokes": "morph"}, headers=H).json()
+    assert session.solved.sequence.equals(isotween.morph(a, b, frames=13, strokes="morph"), atol=1e-9)
+    assert not any(note.startswith("strokes:") for note in state["notes"])
+    answer = client.post("/api/options", json={"strokes": "cross"}, headers=H)
+    assert answer.status_code == 400 and "strokes" in answer.json()["error"]
 
 
 def test_pairing_regions_by_clicking_in_chromium(browser, tmp_path):
@@ -711,6 +718,31 @@ def test_pairing_regions_by_clicking_in_chromium(browser, tmp_path):
         src, tgt, _ = isotween.correspond(isotween.load(a), isotween.load(b), pairs=[(0, 1)])
         assert server.session.solved.sequence.equals(isotween.interpolate(src, tgt, 13, fold="fallback"), atol=1e-9)
         assert page.evaluate("window.__studio.seq.faces") == src.n_faces > 0
+        assert errors == []
+    finally:
+        server.stop()
+
+
+def test_the_strokes_option_in_chromium(browser, tmp_path):
+    from isotween.studio import StudioServer
+
+    head = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 24 24" fill="none" stroke="black">'
+    shorts = '<path d="M16 7h2"/><path d="M6 7h2"/><path d="M6 17h2"/><path d="M16 17h2"/></svg>'
+    a, b = tmp_path / "across.svg", tmp_path / "upright.svg"
+    a.write_text(head + '<path d="M2 12h20"/>' + shorts)
+    b.write_text(head + '<path d="M12 2v20"/>' + shorts)
+    server = StudioServer([a, b]).start()
+    errors = []
+    try:
+        page = browser.new_page(viewport={"width": 1280, "height": 800})
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(server.url)
+        page.wait_for_function("window.__studio && window.__studio.ready && window.__studio.seq")
+        assert page.input_value("#strokes") == "untangle"
+        page.select_option("#strokes", "morph")
+        page.wait_for_function("window.__studio.state.document.options.strokes === 'morph'")
+        page.wait_for_function("!window.__studio.state.notes.some(n => n.startsWith('strokes:'))")
+        assert server.session.solved.sequence.equals(isotween.morph(a, b, frames=13, strokes="morph"), atol=1e-9)
         assert errors == []
     finally:
         server.stop()

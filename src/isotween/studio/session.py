@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, IsotweenError, ParameterError
+from ..pipeline import STROKES
 from ..shape import Shape
 
 __all__ = ["Session", "Superseded", "PROJECT_FORMAT", "DEFAULT_OPTIONS", "METHODS"]
@@ -40,7 +41,7 @@ METHODS = ("aiap", "linear", "intrinsic", "arap", "arap-baxter", "shapespace", "
 #: options of a new session
 DEFAULT_OPTIONS: dict[str, Any] = {
     "frames": 13, "method": "aiap", "easing": [0.0, 0.0, 1.0, 1.0], "points": None, "rotation": False,
-    "outline": False, "unmatched": "grow", "roi": 0.35,
+    "outline": False, "unmatched": "grow", "roi": 0.35, "strokes": "untangle",
 }
 #: input file endings the studio opens
 SUFFIXES = (".svg", ".obj", ".off", ".json", ".npz")
@@ -346,6 +347,8 @@ class Session:
             raise ParameterError(f"frames must be a whole number from 2 to 1000, got {frames!r}")
         if options["method"] not in METHODS:
             raise ParameterError(f"unknown method {options['method']!r}; choose one of {', '.join(METHODS)}")
+        if options["strokes"] not in STROKES:
+            raise ParameterError(f"unknown strokes {options['strokes']!r}; choose one of {', '.join(STROKES)}")
         inputs = [self._shape(k) for k in doc["inputs"]]
         notes: list[str] = []
         corr_kw: dict[str, Any] = {"points": options["points"], "rotation": bool(options["rotation"]),
@@ -405,7 +408,8 @@ class Session:
 
             shown = dataclasses.replace(seq, frames=seq.frames.copy(), info=dict(seq.info))
             collapse_vanishing(shown, report)
-            untangle(shown, report)
+            if options["strokes"] == "untangle":
+                untangle(shown, report)
             if "strokes" in shown.info:
                 notes.append(f"strokes: {shown.info['strokes']}")
         return Solved(inputs, src, tgt, report, base, shown, moved, notes, keys, preview, raw=seq)

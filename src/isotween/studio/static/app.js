@@ -85,6 +85,7 @@ function syncControls() {
   if (!doc) return;
   $("frames").value = doc.options.frames;
   $("method").value = doc.options.method;
+  $("strokes").value = doc.options.strokes;
   $("points").value = doc.options.points ?? "";
   $("roi").value = doc.options.roi;
   const curves = segmentCurves();
@@ -476,6 +477,7 @@ $("easing-preset").onchange = (e) => setEasing(e.target.value.split(",").map(Num
 $("easing-segment").onchange = () => { if (S.state?.document) setState(S.state); };
 $("frames").onchange = (e) => setOptions({ frames: Math.round(Number(e.target.value)) });
 $("method").onchange = (e) => setOptions({ method: e.target.value });
+$("strokes").onchange = (e) => setOptions({ strokes: e.target.value });
 $("points").onchange = (e) => setOptions({ points: e.target.value === "" ? null : Math.round(Number(e.target.value)) });
 $("roi").onchange = (e) => setOptions({ roi: Number(e.target.value) });
 $("undo").onclick = () => act("api/undo");
