@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 
 __all__ = ["isometric_energy", "edge_length_deviation", "area_deviation", "flipped", "flipped_faces",
            "symmetry_error", "report", "loop_areas", "outline_crossings",
-           "outline_edges", "crossing_pairs", "crossing_edges", "path_crossings", "new_crossings"]
+           "outline_edges", "crossing_pairs", "crossing_edges", "path_crossings", "new_crossings", "edge_paths"]
 
 
 def isometric_energy(seq: Sequence, scheme: str | None = None) -> float:
@@ -284,12 +284,9 @@ def outline_crossings(seq, scope="all", visible=False):
     if not len(edges):
         return np.zeros(len(seq), dtype=np.int64)
     gone = out_of_sight(seq) if visible and seq.shape.paths else None
-    if gone is None or not gone.any():
-        return np.array([crossing_pairs(z, edges, group) for z in seq.z], dtype=np.int64)
-    drawn = [k for k, (p, _) in enumerate(seq.shape.paths) if len(p) > 1]
-    path = np.repeat(drawn, [len(seq.shape.paths[k][0]) - (0 if seq.shape.paths[k][1] else 1) for k in drawn])
-    return np.array([crossing_pairs(z, edges[~g[path]], None if group is None else group[~g[path]])
-                     for z, g in zip(seq.z, gone, strict=True)], dtype=np.int64)
+    seen = None if gone is None or not gone.any() else ~gone[:, edge_paths(seq.shape)]
+    _, _, frame = crossing_edges(seq.z, edges, group, seen=seen)
+    return np.bincount(frame, minlength=len(seq)).astype(np.int64)
 
 
 def path_crossings(shape, z, hidden=None, new=False):
@@ -314,8 +311,7 @@ def path_crossings(shape, z, hidden=None, new=False):
         and one of path ``q[c]`` (``p <= q``; the same path: it crosses itself).
     """
     edges, _ = outline_edges(shape, "all")
-    drawn = [k for k, (idx, _) in enumerate(shape.paths) if len(idx) > 1]
-    path_of = np.repeat(drawn, [len(shape.paths[k][0]) - (0 if shape.paths[k][1] else 1) for k in drawn])
+    path_of = edge_paths(shape)
     i, j, frame = crossing_edges(z, edges, seen=None if hidden is None else ~hidden[:, path_of])
     p, q = np.minimum(path_of[i], path_of[j]), np.maximum(path_of[i], path_of[j])
     if new:
@@ -349,9 +345,15 @@ def outline_edges(shape, scope="all"):
         owner = np.arange(len(shape.paths))
         for r, ring_ids in enumerate(shape.regions or []):
             owner[ring_ids] = len(shape.paths) + r
-        drawn = [k for k, (p, _) in enumerate(shape.paths) if len(p) > 1]
-        group = np.repeat(owner[drawn], [len(shape.paths[k][0]) - (0 if shape.paths[k][1] else 1) for k in drawn])
+        group = owner[edge_paths(shape)]
     return edges, group
+
+
+def edge_paths(shape):
+    """(B,) int: the path of every outline edge of a shape with paths, in the order of `outline_edges`."""
+    drawn = [k for k, (p, _) in enumerate(shape.paths) if len(p) > 1]
+    return np.repeat(np.array(drawn, dtype=np.int64),
+                     [len(shape.paths[k][0]) - (0 if shape.paths[k][1] else 1) for k in drawn])
 
 
 def symmetry_error(seq: Sequence, backward: Sequence | None = None) -> float:

@@ -13,7 +13,7 @@ import numpy as np
 from .errors import ParameterError
 
 __all__ = ["Paint", "DEFAULT_FILL", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb", "paint_keys", "sequence_paint",
-           "paint_at", "out_of_sight", "paint_groups", "svg_paint_attributes"]
+           "key_paint", "paint_at", "out_of_sight", "paint_groups", "svg_paint_attributes"]
 
 #: SVG's initial fill: opaque black
 DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
@@ -209,12 +209,25 @@ def sequence_paint(seq):
         ``paints[k][p]`` is the paint of path ``p`` in frame ``k``; None when
         the sequence has no paint.
     """
+    keyed = key_paint(seq)
+    if keyed is None:
+        return seq.shape.regions, None
+    regions, key_times, keys = keyed
+    return regions, paint_at(key_times, keys, seq.times)
+
+
+def key_paint(seq):
+    """A sequence's paint as keys, checked: ``(regions, key times (K,), keys)``, or None where it has no paint.
+
+    ``keys[k][p]`` is the `Paint` of path ``p`` at ``key_times[k]``: those of
+    ``seq.info['paint']`` (`paint_keys`), else the shape's own paint (one key).
+    """
     info = (getattr(seq, "info", None) or {}).get("paint")
     shape = seq.shape
     if not info:
         if shape.paint is None:
-            return shape.regions, None
-        return shape.regions, [list(shape.paint)] * len(seq)
+            return None
+        return shape.regions, np.array([0.0]), [list(shape.paint)]  # one key: the same paint throughout
     try:
         key_times = np.asarray(info["times"], dtype=np.float64)
         keys = [[Paint.from_dict(p) for p in key] for key in info["keys"]]
@@ -224,7 +237,7 @@ def sequence_paint(seq):
     n_paths = len(shape.paths or [])
     if len(keys) != len(key_times) or not keys or any(len(k) != n_paths for k in keys):
         raise ParameterError(f"the sequence's paint must give one paint per path ({n_paths}) for each key time")
-    return regions, paint_at(key_times, keys, seq.times)
+    return regions, key_times, keys
 
 
 def paint_at(key_times, keys, times):

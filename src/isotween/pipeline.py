@@ -17,7 +17,7 @@ from typing import TypeGuard
 from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
 __all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_steps", "mesh_prepared", "prepare_keys", "morph",
-           "collapse_vanishing", "unmatched_spans", "stagger_shares", "check_stagger", "needs_correspondence",
+           "collapse_vanishing", "finish", "unmatched_spans", "stagger_shares", "check_stagger", "needs_correspondence",
            "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER", "QUICK_STAGGERS", "STROKES"]
 
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
@@ -450,6 +450,21 @@ def collapse_vanishing(seq, report):
             seq.frames[frame] = np.c_[z.real, z.imag]
 
 
+def finish(seq, report, stagger=STAGGER, strokes="untangle"):
+    """The steps after `isotween.interpolate` of a corresponded pair, in place (`morph`, the command line, the studio).
+
+    An item one drawing lacks becomes one point in its end frame
+    (`collapse_vanishing`); with ``strokes='untangle'``, a stroke that would
+    pass through another path is drawn off and on instead
+    (`isotween.strokes.untangle`, within ``stagger``, at most half).
+    """
+    collapse_vanishing(seq, report)
+    if strokes == "untangle":
+        from .strokes import untangle
+
+        untangle(seq, report, stagger)
+
+
 def check_stagger(stagger):
     """``stagger`` as a float in (0, 1], or `ParameterError` naming it."""
     from ._validate import check_number
@@ -575,7 +590,6 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
     """
     from ._validate import check_choice
     from .interpolate import interpolate
-    from .strokes import untangle
 
     stagger = check_stagger(stagger)  # before any work
     check_choice("strokes", strokes, STROKES)
@@ -586,9 +600,7 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
     seq = interpolate(prepared.source, prepared.target, frames=frames, fold=fold, correspondence="never",
                       spans=spans, **options)
     seq.info["correspondence"] = prepared.summary()
-    collapse_vanishing(seq, prepared.report)
-    if strokes == "untangle":
-        untangle(seq, prepared.report, stagger)
+    finish(seq, prepared.report, stagger, strokes)
     if output is not None:
         from .outputs import write_output
 

@@ -20,7 +20,7 @@ others made needless morphs again.
 import numpy as np
 
 from .metrics import path_crossings
-from .paint import Paint, out_of_sight, paint_at
+from .paint import Paint, key_paint, out_of_sight, paint_at
 
 __all__ = ["drawn", "untangle", "stroke_paths", "FADE"]
 
@@ -78,16 +78,6 @@ def stroke_paths(shape):
     return out
 
 
-def _keys(seq):
-    """(key times, keys: list of list of Paint) of the sequence's paint, or None."""
-    info = (seq.info or {}).get("paint")
-    if not info:
-        if seq.shape.paint is None:
-            return None
-        return np.array([0.0, 1.0]), [list(seq.shape.paint)] * 2
-    return np.asarray(info["times"], dtype=np.float64), [[Paint.from_dict(p) for p in key] for key in info["keys"]]
-
-
 class _Swaps:
     """The sequence's frames and paint with a set of strokes drawn off and on; their crossings."""
 
@@ -100,7 +90,8 @@ class _Swaps:
         first = {int(p[0]): k for k, (p, _) in enumerate(shape.paths) if len(p)}
         for end, rings in enumerate(vanishing[:2]):
             self.absent[end] = {first[int(idx[0])] for idx in rings if int(idx[0]) in first}
-        self.keys = _keys(seq)
+        keyed = key_paint(seq)
+        self.keys = None if keyed is None else keyed[1:]  # (key times, keys)
         self.out_of_sight = out_of_sight(seq)
 
     def hidden(self, swapped):

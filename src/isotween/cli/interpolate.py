@@ -53,8 +53,7 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
     options = correspondence_kwargs(params)
-    from ..pipeline import STAGGER, check_stagger, collapse_vanishing, stagger_shares, unmatched_spans
-    from ..strokes import untangle
+    from ..pipeline import STAGGER, check_stagger, finish, stagger_shares, unmatched_spans
 
     stagger = check_stagger(STAGGER if stagger is None else stagger)  # before any work
     prepared = make_compatible(load(source), load(target), source, target, quiet=quiet, prepared=True, **options)
@@ -65,9 +64,7 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
     with progress(quiet) as callback:
         seq = interpolate(prepared.source, prepared.target, callback=callback, correspondence="never", spans=spans,
                           **kwargs)
-    collapse_vanishing(seq, prepared.report)  # items that vanish are points at their ends, not specks
-    if strokes == "untangle":  # strokes that would pass through others drawn off and on
-        untangle(seq, prepared.report, stagger)
+    finish(seq, prepared.report, stagger, strokes)  # no specks at the ends; strokes kept from crossing
     if "fallback" in seq.info and not quiet:
         click.echo(f"fold check: {seq.info['fallback']}")
     if "spans" in seq.info and not quiet:  # the staggering was shortened or dropped to keep the pieces apart

@@ -67,7 +67,8 @@ def open_holes(items, frames):
         filled = shapely.unary_union(shapes)  # inside the other drawing's outer rings
         notches = filled.convex_hull.difference(filled)  # its gaps: inside its hull, outside its outlines
         every = np.concatenate([r for it in items[k] for r in it.rings])
-        width = SLIT * abs(complex(np.ptp(every.real), np.ptp(every.imag)))
+        diagonal = abs(complex(np.ptp(every.real), np.ptp(every.imag)))
+        width = SLIT * diagonal
         for i, it in enumerate(out[k]):
             if it.kind != "region" or len(it.rings) < 2 or any(getattr(p, "stroke", None) for p in it.paint):
                 continue  # (a stroke would draw the closed slit: a seam of no width, invisible in a fill)
@@ -78,7 +79,7 @@ def open_holes(items, frames):
             h = 1
             while h < len(rings):
                 hole = _polygon(rings[h])
-                shift = 0.0 if hole.area > 0 and _opens(hole, notches) else _moved_notch(hole, shapes[best], every)
+                shift = 0.0 if hole.area > 0 and _opens(hole, notches) else _moved_notch(hole, shapes[best], diagonal)
                 if shift is not None:  # the other drawing moved by ``shift`` has the notch where the hole is
                     cut = _slit(rings[0], rings[h], shapely.affinity.translate(filled, shift.real, shift.imag),
                                 width, partner + shift, moved=shift != 0,
@@ -100,12 +101,12 @@ def _opens(hole, notches):
                for part in parts)
 
 
-def _moved_notch(hole, partner, every):
+def _moved_notch(hole, partner, diagonal):
     """The shift that brings a notch of ``partner`` (its region, once aligned) onto ``hole``; None if none does.
 
     A notch of the partner region alone (inside its hull, outside it) of
     about the hole's size (within a factor `ROOM`), moved by at most `MOVE`
-    of the drawing's diagonal (``every``: its points) so that its centroid
+    of the drawing's ``diagonal`` so that its centroid
     is the hole's, that then covers `OPEN` of the hole: the closed lock's
     shackle hole where the open lock's hook has its notch, the shackle
     moved aside.
@@ -114,7 +115,6 @@ def _moved_notch(hole, partner, every):
 
     if hole.area <= 0:
         return None
-    diagonal = abs(complex(np.ptp(every.real), np.ptp(every.imag)))
     parts = getattr(notch := partner.convex_hull.difference(partner), "geoms", [notch])
     best, shift = OPEN * hole.area, None
     for part in parts:

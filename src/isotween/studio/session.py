@@ -3,7 +3,7 @@
 A *document* (a plain dict, JSON-able) says what the user asked for; the
 session solves it through the library (two drawings as `isotween.morph` does:
 `pipeline.prepare_pair`, `interpolate` with ``fold='fallback'``,
-`pipeline.collapse_vanishing`; keyframes by `correspond_keys` and
+`pipeline.finish`; keyframes by `correspond_keys` and
 `interpolate_keyframes`; then `edit` and `transfer`) and keeps the last good one.
 What a change leaves alone is reused: loaded inputs, correspondences, morphs
 and the meshes of region pairs a hint does not touch (`reuse.py`). A new
@@ -403,13 +403,10 @@ class Session:
         if len(doc["inputs"]) == 2 and report is not None and not report.unchanged:
             # as `isotween.morph`: an item one drawing lacks is one point in its end frame, no speck left, and
             # strokes that would pass through others are drawn off and on
-            from ..pipeline import collapse_vanishing
-            from ..strokes import untangle
+            from ..pipeline import finish
 
             shown = dataclasses.replace(seq, frames=seq.frames.copy(), info=dict(seq.info))
-            collapse_vanishing(shown, report)
-            if options["strokes"] == "untangle":
-                untangle(shown, report)
+            finish(shown, report, strokes=options["strokes"])
             if "strokes" in shown.info:
                 notes.append(f"strokes: {shown.info['strokes']}")
         return Solved(inputs, src, tgt, report, base, shown, moved, notes, keys, preview, raw=seq)
@@ -439,8 +436,9 @@ class Session:
         policy: drawings and inputs given correspondence options or hints are
         corresponded, compatible inputs kept), `isotween.interpolate` solves
         (``fold='fallback'`` where meshes were built here, pieces with no
-        partner staggered: `pipeline.unmatched_spans`) and vanishing items
-        collapse at their ends (`pipeline.collapse_vanishing`). The outline
+        partner staggered: `pipeline.unmatched_spans`), vanishing items
+        collapse at their ends and crossing strokes are drawn off and on
+        (`pipeline.finish`). The outline
         correspondence is kept and meshed separately (`pipeline.mesh_prepared`), so that
         the outline preview and the meshes share it and region pairs that a
         hint does not change keep their meshes.
