@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from isotween.foldfree.repair import repair_folds
+from isotween.foldfree.repair import RINGS, repair_folds
 from isotween.geometry import triangle_areas
 
 
@@ -30,6 +30,21 @@ def test_a_folded_frame_is_unfolded_and_the_others_kept():
         assert np.array_equal(out[k], frames[k])
     far = np.abs(z - z[v]) > 2.5  # away from the fold, the frame is the given one to within a tenth of an edge
     assert np.abs(out[2] - folded)[far].max() < 0.1
+
+
+def test_a_small_fold_is_repaired_around_it_and_the_rest_kept_bit_for_bit():
+    z, f = grid(41)
+    folded = z * np.exp(0.2j) + 0.5
+    v = 20 * 41 + 20  # the middle vertex pushed across its neighbours
+    folded[v] += 1.4 + 1.1j
+    frames = np.stack([z, folded, z * np.exp(0.4j) + 1.0])
+    out, info = repair_folds(frames, f)
+    assert info["frames"] == [1] and np.all(triangle_areas(out[1], f) > 0)
+    # the vertices more than the widest local ring count away from the fold do not move at all
+    hops = np.maximum(np.abs((z - z[v]).real), np.abs((z - z[v]).imag))
+    far = hops > 2 * max(RINGS) + 1
+    assert far.sum() > 100 and np.array_equal(out[1][far], folded[far])
+    assert not np.array_equal(out[1][hops <= 1], folded[hops <= 1])
 
 
 def test_nothing_to_repair_is_returned_unchanged():

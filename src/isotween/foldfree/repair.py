@@ -13,8 +13,14 @@ vertex to its place in ``a`` (`PULL`, in units of the least energy per
 vertex and squared edge). The symmetric Dirichlet term is infinite on a
 degenerate triangle, and the projected Newton of
 `isotween.optimisation.barrier` keeps every iterate flip-free, so the start
-must be: it is the repaired frame before, moved towards ``a`` as far as no
-triangle degenerates. With a scaffold (`isotween.foldfree.scaffold`) the
+must be. First only the vertices within a few face rings of the folding
+faces move (`RINGS`, widened where the start turns a face over), the
+others stay exactly where ``a`` has them: the start is the repaired frame
+before, carried by the similarity that best takes its vertices around the
+folds to ``a``, at the folds, blended to ``a`` over the rings. Where that
+fails (an outline that crosses with no face folded, or a result that
+``accept`` refuses), every vertex moves, from the repaired frame before
+moved towards ``a`` as far as no triangle degenerates. With a scaffold (`isotween.foldfree.scaffold`) the
 empty space around the pieces joins the energy, so pieces cannot pass
 through each other either: triangulated where they are before the first
 repaired frame, then carried from frame to frame with its edges flipped to
@@ -44,6 +50,9 @@ GAP = 0.25  # the scaffold's triangles rest no smaller than an equilateral one w
 JUMP = 2.0  # the last repaired frame ends at most this many of the sequence's largest steps from the next
 CATCH_UP = 0.15  # past the last folding frame, at most this share of the frames is repaired to catch up with the motion
 WORN = 0.5  # the scaffold is triangulated afresh once its smallest angle falls below this share of its first
+# a frame is first repaired around its folds alone: the vertices within so many face rings move (one try each,
+# the vertices of the faces a start turns over held back with the folds in the next)
+RINGS = (2, 2, 2, 4, 4, 4, 8, 8)
 WORK = 2_000_000  # Newton iterations x vertices for the whole repair; beyond it the repair gives up
 
 
@@ -107,7 +116,7 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
     if not folded:
         return out, info
     share = np.abs(area0).sum()
-    energy = None if scaffold is not None else SymmetricDirichlet(frames[0], frames[0], f, np.zeros(n, bool))
+    energy = None  # the energy over every face, made when a frame is not repaired around its folds alone
     prev = frames[folded[0] - 1]  # the last repaired frame (and the scaffold's vertices, once there is one)
     sc, worst, held = None, 0.0, ()  # the scaffold in use, its smallest angle when built, the regions it holds
     stride = np.abs(np.diff(frames, axis=0)).max()
@@ -115,7 +124,8 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
     latest = min(len(frames) - 2, last + int(CATCH_UP * (len(frames) - 1)))
     while k <= last:
         for retry in (False, True):
-            a, joint = frames[k], f
+            a, joint, fixed, weight = frames[k], f, np.zeros(n, dtype=bool), None
+            state, area = prev, np.zeros(0)
             carried = False
             if scaffold is not None:  # the space around the pieces: the last frame's while it keeps its shape
                 carried = (not retry and sc is not None and held == scaffold.held(k)
@@ -134,14 +144,9 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
                 g = np.asarray(sc.faces, dtype=np.int64)
                 state = np.r_[prev[:n], sc.source]
                 a = np.r_[a, sc.follow(np.stack([state[:n], a]))[1]]
-                joint = np.r_[f, g]
+                joint, fixed = np.r_[f, g], np.r_[fixed, sc.fixed]
                 area = triangle_areas(state, g)
                 weight = np.r_[np.ones(len(f)), np.full(len(g), SCAFFOLD_WEIGHT * share / area.sum())]
-                if energy is None:
-                    energy = SymmetricDirichlet(state, state, joint, np.r_[np.zeros(n, bool), sc.fixed], weight)
-                energy.weight = weight
-            else:
-                state, area = prev, np.zeros(0)
             sides = np.abs(a[np.roll(joint, -1, axis=1)] - a[joint])
             h2 = float(np.mean(sides[:len(f)] ** 2))
             # the scaffold rests as it is now, grown to at least the area of an equilateral triangle with a
@@ -149,6 +154,18 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
             g = joint[len(f):]
             grow = np.sqrt(np.maximum(1.0, np.sqrt(3) / 4 * GAP ** 2 * h2 / area))
             sides[len(f):] = np.abs(state[np.roll(g, -1, axis=1)] - state[g]) * grow[:, None]
+            local = _local(state, a, joint, sides, weight, fixed, n, h2)  # first around the folds alone
+            if local is not None:
+                x, used = local
+                info["iterations"] += used
+                if info["iterations"] * len(x) > WORK:
+                    raise MethodError(f"repairing the folds needs more than {WORK} Newton iterations x vertices")
+                if accept is None or accept(k, x[:n]):
+                    break
+            if energy is None:
+                energy = SymmetricDirichlet(state, state, joint, fixed, weight)
+            if weight is not None:
+                energy.weight = weight
             energy.rest_lengths(sides)
             energy.pull_towards(np.arange(n), a[:n], PULL * energy.least / (n * h2))
             step = a - state
@@ -172,3 +189,56 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
         raise MethodError(f"the repaired frames end {jump / stride:.2g} times the sequence's largest step "
                           f"away from the next frame")
     return out, info
+
+
+def _local(state, a, faces, sides, weight, fixed, n, h2):
+    """Frame ``a`` (M,) complex repaired around its folds alone, or None where that does not do.
+
+    The vertices within `RINGS` face rings of a folding face (signed area
+    at most 0 in ``a``) move, unless ``fixed``; the others stay where ``a``
+    has them. Start: ``state`` (the repaired frame before) carried by the
+    similarity that best takes the vertices of the rings from ``state`` to
+    ``a``, at the folds, blended to ``a`` over the rings (the vertices of a
+    face that the blend turns over are held back with the folds in the next
+    try); then
+    `repair_folds`'s energy (rest ``sides`` (K, 3), face ``weight``, the
+    pull of the first ``n`` vertices, regions against scaffold, to ``a``
+    with squared mean edge ``h2``) over the faces around the moving
+    vertices. None when ``a`` has no folding face (a crossing outline
+    alone) or no blend is flip-free.
+
+    Returns
+    -------
+    x : (M,) complex, iterations : int
+    """
+    held = np.zeros(len(a), dtype=bool)
+    held[faces[triangle_areas(a, faces) <= 0].ravel()] = True
+    if not held.any():
+        return None
+    for rings in RINGS:
+        depth = np.where(held, 0, rings + 1)
+        near = held.copy()
+        for ring in range(1, rings + 1):  # the vertices of the faces that touch the rings before
+            near[faces[near[faces].any(axis=1)].ravel()] = True
+            depth[near & (depth > ring)] = ring
+        band = (depth > 0) & (depth <= rings)
+        s, t = state[band] - state[band].mean(), a[band] - a[band].mean()
+        turn = np.vdot(s, t) / max(np.vdot(s, s).real, 1e-300)  # the similarity of the band from state to a
+        moved = a[band].mean() + turn * (state - state[band].mean())
+        x = np.where(depth < rings, moved + depth / rings * (a - moved), a)
+        turned = triangle_areas(x, faces) <= 0
+        if not turned.any():
+            break
+        held[faces[turned].ravel()] = True
+    else:
+        return None
+    free = (depth <= rings) & ~fixed
+    around = np.flatnonzero(free[faces].any(axis=1))
+    try:
+        energy = SymmetricDirichlet(x, x, faces[around], ~free, None if weight is None else weight[around])
+    except MethodError:
+        return None
+    energy.rest_lengths(sides[around])
+    pulled = np.flatnonzero(free[:n])
+    energy.pull_towards(pulled, a[pulled], PULL * energy.least / (max(len(pulled), 1) * h2))
+    return minimise(energy, x, MAX_ITER, tol=TOL)
