@@ -249,3 +249,28 @@ def test_slid_points_stay_on_the_source_outline_and_corners_stay():
         corner = np.abs(isotween.geometry.orient(np.roll(a, 1), a, np.roll(a, -1))) > 1e-9
         assert np.abs(a[corner][:, None] - z[None, :]).min(axis=1).max() == 0.0
     assert slid >= 3  # the slide was exercised
+
+
+def rounded_rectangle(width, height, radius, arc_points, side_points):
+    """Closed ring (k,) complex of a rounded rectangle centred at 0, and its corners' midpoints (4,) complex."""
+    cx, cy = width / 2 - radius, height / 2 - radius
+    centres = np.array([complex(cx, -cy), complex(cx, cy), complex(-cx, cy), complex(-cx, -cy)])
+    ring, middles = [], []
+    for i, c in enumerate(centres):
+        arc = c + radius * np.exp(1j * (np.deg2rad(90 * i - 90) + np.linspace(0, np.pi / 2, arc_points)))
+        following = centres[(i + 1) % 4] + radius * np.exp(1j * np.deg2rad(90 * i))
+        ring += [arc, arc[-1] + (following - arc[-1]) * np.arange(1, side_points + 1) / (side_points + 1)]
+        middles.append(c + radius * np.exp(1j * np.deg2rad(90 * i - 45)))
+    return np.concatenate(ring), np.array(middles)
+
+
+def test_rounded_corners_pair_with_rounded_corners():
+    # no vertex turns by much on an arc; the corners are still corners, each to its partner where it lies
+    from isotween.correspondence.matching import match_rings
+
+    z, corners_z = rounded_rectangle(12, 8, 2, 9, 3)
+    w, corners_w = rounded_rectangle(16, 5, 1.5, 7, 5)
+    pair = match_rings(z, w, True, turn=1 + 0j, place=lambda p: p)
+    for a, b in zip(corners_z, corners_w, strict=True):
+        k = np.argmin(np.abs(pair.source - a))
+        assert abs(pair.source[k] - a) < 1e-9 and abs(pair.target[k] - b) < 1e-6

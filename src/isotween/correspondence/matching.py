@@ -12,7 +12,9 @@ A ring (closed) or polyline (open) is parameterised by normalised arc length
    cross-correlation (FFT). The chosen shift maximises a score that prefers the
    drawing's rotation ``turn`` (`shift_score`), so that a ring turns with the
    rest of the drawing, and a ring of a symmetric shape does not spin.
-2. **Anchors.** Corners (turning angle above `CORNER`) of the two rings that
+2. **Anchors.** Corners (a vertex turning by more than `CORNER`; where the
+   rings are not similar copies, also rounded corners, arcs that turn by
+   `ROUND_CORNER` within a short stretch, `_corners`) of the two rings that
    land near each other under the shift are paired (mutual nearest, same turn,
    monotone order), then every target vertex that lands near a source vertex
    is paired with it. The parameter map ``phi`` from source to target is
@@ -34,6 +36,11 @@ __all__ = ["RingPair", "arc_params", "points_at", "project", "correlation", "shi
 CORNER = np.deg2rad(28.0)
 #: samples per ring for the alignment's correlation
 SAMPLES = 512
+#: a rounded corner turns by at least this angle (radians) within this fraction of the ring on either side
+ROUND_CORNER = np.deg2rad(60.0)
+ROUND_WINDOW = 0.05
+#: cost of a corner pair lying one target ring radius apart in the aligned drawings (an unpaired right angle: 0.5)
+PLACE_WEIGHT = 1.0
 #: how far (fraction of the ring) a corner may land from its partner and still anchor
 CORNER_WINDOW = 0.15
 #: rings whose best similarity fit (normalised correlation) is below this are matched by warping
@@ -174,6 +181,51 @@ def _turning(z, closed):
     if closed:
         return np.angle(d / np.roll(d, 1))
     return np.r_[0.0, np.angle(d[1:] / d[:-1]), 0.0]
+
+
+def _corners(z, s, closed, rounded=True):
+    """Corners of a ring: (c,) arc parameters, increasing, (c,) turning angles, (c,) bool rounded.
+
+    A vertex that turns by at least `CORNER` is a sharp corner. With
+    ``rounded``, a rounded corner (an arc sampled by many vertices, none
+    turning by much) is found where the turning within `ROUND_WINDOW` of the
+    ring on either side of a vertex reaches at least `ROUND_CORNER` and is
+    largest, with no sharp corner that near: its angle is that turning, its
+    place the turning's centroid in arc length (which does not depend on
+    how the arc is sampled).
+
+    Parameters
+    ----------
+    z : (k,) complex
+    s : (k,) float
+        Normalised arc parameters (`arc_params`).
+    closed : bool
+    rounded : bool
+    """
+    t = _turning(z, closed)
+    sharp = np.flatnonzero(np.abs(t) >= CORNER)
+    at, turn, soft = s[sharp], t[sharp], np.zeros(len(sharp), dtype=bool)
+    if rounded:
+        reach = np.r_[s - 1.0, s, s + 1.0] if closed else s  # a ring's window may wrap round
+        tt = np.tile(t, 3) if closed else t
+        cum, moment = np.r_[0.0, np.cumsum(tt)], np.r_[0.0, np.cumsum(tt * reach)]
+        lo = np.searchsorted(reach, s - ROUND_WINDOW, side="left")
+        hi = np.searchsorted(reach, s + ROUND_WINDOW, side="right")
+        window = cum[hi] - cum[lo]
+        cand = np.flatnonzero(np.abs(window) >= ROUND_CORNER)
+        gap = lambda a, b: np.abs(_wrap(a[:, None] - b[None, :]) if closed else a[:, None] - b[None, :])  # noqa: E731
+        if len(cand):
+            w = np.abs(window[cand])
+            beaten = (gap(s[cand], s[cand]) <= ROUND_WINDOW) & (
+                (w[None, :] > w[:, None]) | ((w[None, :] == w[:, None]) & (cand[None, :] < cand[:, None])))
+            cand = cand[~beaten.any(axis=1)]
+            if len(sharp) and len(cand):
+                cand = cand[~(gap(s[cand], s[sharp]) <= ROUND_WINDOW).any(axis=1)]
+            centre = (moment[hi[cand]] - moment[lo[cand]]) / window[cand]
+            at, turn = np.r_[at, np.mod(centre, 1.0) if closed else centre], np.r_[turn, window[cand]]
+            soft = np.r_[soft, np.ones(len(cand), dtype=bool)]
+    order = np.argsort(at, kind="stable")
+    return at[order], turn[order], soft[order]
 
 
 def _wrap(d):
@@ -318,7 +370,8 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None,
             a0, b0 = np.r_[a0, np.array(anchors)[:, 0]], np.r_[b0, np.array(anchors)[:, 1]]
     phi = _Map(a0, b0, closed)
     if not anchors:  # corners to corners
-        found = _corner_anchors(z, w, s_z, s_w, closed, phi, turn)
+        # rounded corners too where the rings are not similar copies (for those the alignment is exact)
+        found = _corner_anchors(z, w, s_z, s_w, closed, phi, turn, closed and abs(rho[k]) < WARP_FIT, place)
         if closed and (found is None or len(found[0]) < 2) and place is not None and abs(rho[k]) < WARP_FIT:
             # not a similar copy, too few corners: the match warped along the ring by position and turning
             found = _with_near_corners(z, w, s_z, s_w, *_warp(z, w, phi, place))
@@ -404,17 +457,17 @@ def _warp(z, w, phi, place, n=WARP_SAMPLES):
 def _with_near_corners(z, w, s_z, s_w, a0, b0):
     """The anchors with every corner pair that lands within `CORNER_SNAP` of its partner under them."""
     phi = _Map(a0, b0, True)
-    tz, tw = _turning(z, True), _turning(w, True)
-    cz, cw = np.flatnonzero(np.abs(tz) >= CORNER), np.flatnonzero(np.abs(tw) >= CORNER)
+    cz, tz, _ = _corners(z, s_z, True)
+    cw, tw, _ = _corners(w, s_w, True)
     if not len(cz) or not len(cw):
         return a0, b0
-    d = np.abs(_wrap(phi(s_z[cz])[:, None] - s_w[cw][None, :]))
-    d = np.where(np.abs(tz[cz][:, None] - tw[cw][None, :]) <= CORNER_TURN, d, np.inf)
+    d = np.abs(_wrap(phi(cz)[:, None] - cw[None, :]))
+    d = np.where(np.abs(tz[:, None] - tw[None, :]) <= CORNER_TURN, d, np.inf)
     j, i = np.argmin(d, axis=1), np.argmin(d, axis=0)
     mutual = np.flatnonzero((i[j] == np.arange(len(cz))) & (d[np.arange(len(cz)), j] < CORNER_SNAP))
     if not len(mutual):
         return a0, b0
-    a1, b1 = s_z[cz[mutual]], s_w[cw[j[mutual]]]
+    a1, b1 = cz[mutual], cw[j[mutual]]
     # corners replace the warp's anchors near them
     far = np.min(np.abs(_wrap(a0[:, None] - a1[None, :])), axis=1) > CORNER_SNAP
     a_all, b_all = np.r_[a0[far], a1], np.r_[b0[far], b1]
@@ -423,7 +476,7 @@ def _with_near_corners(z, w, s_z, s_w, a0, b0):
     return a_all[keep], b_all[keep]
 
 
-def _align_sequences(da, ta, db, tb, window):
+def _align_sequences(da, ta, db, tb, window, apart=None):
     """Monotone pairs of two corner sequences by dynamic programming.
 
     Parameters
@@ -434,6 +487,8 @@ def _align_sequences(da, ta, db, tb, window):
         Their turning angles.
     window : float
         Pairs further apart than this (in parameter) are not made.
+    apart : (m, n) float, optional
+        A cost added to each pair (how far apart the two corners lie).
 
     Returns
     -------
@@ -447,6 +502,8 @@ def _align_sequences(da, ta, db, tb, window):
     gap = np.abs(da[:, None] - db[None, :])
     c = np.where(gap <= window, gap / window * 0.5 * (ga[:, None] + gb[None, :]) + np.abs(ta[:, None] - tb[None, :])
                  / np.pi, np.inf)
+    if apart is not None:
+        c = c + apart
     G = np.r_[0.0, np.cumsum(gb)]
     D = np.empty((m + 1, n + 1))
     D[0] = G
@@ -467,22 +524,31 @@ def _align_sequences(da, ta, db, tb, window):
     return float(D[m, n]), pairs[::-1]
 
 
-def _corner_anchors(z, w, s_z, s_w, closed, phi, turn):
+def _corner_anchors(z, w, s_z, s_w, closed, phi, turn, rounded, place=None):
     """Anchor pairs (source params, target params) pairing corners with corners, or None.
 
     The corners of both rings (turning angle at least `CORNER`) are paired by
     `_align_sequences` in arc-length order. On a ring every start is tried
     (the strongest source corner against each target corner of a similar
     turn, and the alignment's own shift); the cost adds how much worse the
-    start's shift fits the drawing's rotation (`shift_score`).
+    start's shift fits the drawing's rotation (`shift_score`). With
+    ``place`` (the drawings' alignment), a pair with a rounded corner also
+    costs the distance between its two corners, over the target ring's
+    radius (`PLACE_WEIGHT`): a rounded rectangle's corners pair with the
+    corners where they lie, not with the next ones round.
     """
-    tz, tw = _turning(z, closed), _turning(w, closed)
-    cz, cw = np.flatnonzero(np.abs(tz) >= CORNER), np.flatnonzero(np.abs(tw) >= CORNER)
-    if not len(cz) or not len(cw) or len(cz) * len(cw) > MAX_CORNER_PAIRS:
+    az, qz, rz = _corners(z, s_z, closed, rounded)
+    aw, qw, rw = _corners(w, s_w, closed, rounded)
+    if not len(az) or not len(aw) or len(az) * len(aw) > MAX_CORNER_PAIRS:
         return None
-    az, aw, qz, qw = s_z[cz], s_w[cw], tz[cz], tw[cw]
+    apart = None
+    if place is not None and (rz.any() or rw.any()):
+        pw = points_at(w, closed, aw)
+        radius = max(float(np.sqrt(np.mean(np.abs(w - w.mean()) ** 2))), 1e-300)
+        apart = np.abs(place(points_at(z, closed, az))[:, None] - pw[None, :]) / radius
+        apart = PLACE_WEIGHT * np.where(rz[:, None] | rw[None, :], apart, 0.0)
     if not closed:
-        _, pairs = _align_sequences(az, qz, aw, qw, CORNER_WINDOW)
+        _, pairs = _align_sequences(az, qz, aw, qw, CORNER_WINDOW, apart)
         if not pairs:
             return None
         i, j = np.array(pairs).T
@@ -499,7 +565,8 @@ def _corner_anchors(z, w, s_z, s_w, closed, phi, turn):
         da = np.mod(az - cut, 1.0)
         db = np.mod(aw - cut - off, 1.0)
         oa, ob = np.argsort(da), np.argsort(db)
-        cost, pairs = _align_sequences(da[oa], qz[oa], db[ob], qw[ob], CORNER_WINDOW)
+        cost, pairs = _align_sequences(da[oa], qz[oa], db[ob], qw[ob], CORNER_WINDOW,
+                                       None if apart is None else apart[np.ix_(oa, ob)])
         cost += SHIFT_WEIGHT * (score.max() - score[int(round(off * SAMPLES)) % SAMPLES])
         if cost < best[0] and pairs:
             i, j = np.array(pairs).T
