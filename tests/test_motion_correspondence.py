@@ -274,3 +274,16 @@ def test_rounded_corners_pair_with_rounded_corners():
     for a, b in zip(corners_z, corners_w, strict=True):
         k = np.argmin(np.abs(pair.source - a))
         assert abs(pair.source[k] - a) < 1e-9 and abs(pair.target[k] - b) < 1e-6
+
+
+def test_nearest_samples_are_the_nearest():
+    from isotween.correspondence.alignment import _Nearest
+
+    rng = np.random.default_rng(3)
+    q = rng.normal(size=300) + 1j * rng.normal(size=300)
+    near = _Nearest(q)
+    for n in (200, 50, 200):  # the buffer follows the query's size
+        x = 3 * (rng.normal(size=n) + 1j * rng.normal(size=n))
+        d, j = near.query(x)
+        every = np.abs(x[:, None] - q[None, :])
+        assert np.array_equal(j, every.argmin(axis=1)) and np.allclose(d, every.min(axis=1), rtol=0, atol=1e-9)

@@ -60,14 +60,34 @@ def _samples(items, n=DRAWING_SAMPLES):
                            for (r, c), k in zip(rings, counts, strict=True)])
 
 
-def _fit_distance(p, q, tree_q, transform):
-    """Mean nearest distance of transformed ``p`` to ``q`` and of ``q`` to transformed ``p``."""
-    from scipy.spatial import cKDTree
+class _Nearest:
+    """Nearest of a few hundred points ``q`` (m,) complex to each of other points, by one matrix product.
 
+    The drawings' samples are `DRAWING_SAMPLES` at most, so all distances at
+    once cost about what a k-d tree's queries do, without loading
+    ``scipy.spatial`` into a short command.
+    """
+
+    def __init__(self, q):
+        self.q = -2.0 * np.c_[q.real, q.imag].T  # (2, m)
+        self.q2 = 0.25 * np.einsum("ij,ij->j", self.q, self.q)
+        self._out = np.empty((0, len(q)))  # reused: a fresh (n, m) array each query costs more than the product
+
+    def query(self, x):
+        """(n,) distances and (n,) indices of the nearest of ``q`` to each point of ``x`` (n,) complex."""
+        xy = np.c_[x.real, x.imag]
+        if len(self._out) != len(x):
+            self._out = np.empty((len(x), self.q.shape[1]))
+        d2 = np.matmul(xy, self.q, out=self._out)
+        d2 += self.q2  # |x - q|^2 less |x|^2
+        j = np.argmin(d2, axis=1)
+        return np.sqrt(np.maximum(d2[np.arange(len(x)), j] + np.einsum("ij,ij->i", xy, xy), 0.0)), j
+
+
+def _fit_distance(p, q, near_q, transform):
+    """Mean nearest distance of transformed ``p`` to ``q`` and of ``q`` to transformed ``p``."""
     tp = transform(p)
-    d1, _ = tree_q.query(np.c_[tp.real, tp.imag])
-    d2, _ = cKDTree(np.c_[tp.real, tp.imag]).query(np.c_[q.real, q.imag])
-    return 0.5 * (d1.mean() + d2.mean())
+    return 0.5 * (near_q.query(tp)[0].mean() + _Nearest(tp).query(q)[0].mean())
 
 
 def align(items, frames):
@@ -88,8 +108,6 @@ def align(items, frames):
     turn : complex
         The rotation (unit complex) from source to target; 1 when none.
     """
-    from scipy.spatial import cKDTree
-
     cands = []
     (z, closed), (w, closed_w) = _dominant(items[0]), _dominant(items[1])
     if closed and closed_w:
@@ -105,21 +123,21 @@ def align(items, frames):
         ratio = np.linalg.norm(y - yc) / max(np.linalg.norm(x - xc), 1e-300)
         cands = [(rho[k] * ratio, xc, yc) for k in peaks]
     p, q = _samples(items[0]), _samples(items[1])
-    tree = cKDTree(np.c_[q.real, q.imag])
-    plain = _fit_distance(p, q, tree, lambda v: frames[0].to(frames[1], v))
+    near = _Nearest(q)
+    plain = _fit_distance(p, q, near, lambda v: frames[0].to(frames[1], v))
     # candidates: the dominant rings' correlation peaks, and a coarse circle of turns about the samples' centroids
     pc, qc = p.mean(), q.mean()
     spread = np.sqrt(np.mean(np.abs(q - qc) ** 2) / max(np.mean(np.abs(p - pc) ** 2), 1e-300))
     cands += [(spread * np.exp(1j * th), pc, qc) for th in np.linspace(0, 2 * np.pi, GRID_TURNS, endpoint=False)]
     # screened one way (samples of the source to the target's), the best refined and scored both ways
-    scored = sorted((float(tree.query(np.c_[tp.real, tp.imag])[0].mean()), i)
+    scored = sorted((float(near.query(tp)[0].mean()), i)
                     for i, tp in enumerate(d + a * (p - c) for a, c, d in cands))
     fits = []  # (distance, a, b) of the refined turns
     for _, i in scored[:REFINED]:
         a, c, d = cands[i]
-        a, b = _icp(p, q, tree, a, d - a * c)
+        a, b = _icp(p, q, near, a, d - a * c)
         if abs(np.angle(a)) >= MIN_TURN:
-            fits.append((_fit_distance(p, q, tree, lambda v, a=a, b=b: a * v + b), a, b))
+            fits.append((_fit_distance(p, q, near, lambda v, a=a, b=b: a * v + b), a, b))
     best, best_a, best_b = np.inf, None, None
     if fits:  # of the turns that fit about as well as the best (a symmetric drawing's), the smallest
         least = min(f[0] for f in fits)
@@ -133,11 +151,11 @@ def align(items, frames):
     return [Frame(0j, scale, 1.0 + 0j), Frame(best_b, scale * abs(best_a), turn)], turn
 
 
-def _icp(p, q, tree, a, b, rounds=ICP_ROUNDS):
+def _icp(p, q, near, a, b, rounds=ICP_ROUNDS):
     """A similarity ``v -> a v + b`` refined by iterative closest points (closed-form complex least squares)."""
     for _ in range(rounds):
         tp = a * p + b
-        _, j = tree.query(np.c_[tp.real, tp.imag])
+        _, j = near.query(tp)
         qq = q[j]
         pm, qm = p.mean(), qq.mean()
         pd = p - pm
