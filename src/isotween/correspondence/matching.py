@@ -213,7 +213,11 @@ def _corners(z, s, closed, rounded=True):
         hi = np.searchsorted(reach, s + ROUND_WINDOW, side="right")
         window = cum[hi] - cum[lo]
         cand = np.flatnonzero(np.abs(window) >= ROUND_CORNER)
-        gap = lambda a, b: np.abs(_wrap(a[:, None] - b[None, :]) if closed else a[:, None] - b[None, :])  # noqa: E731
+
+        def gap(a, b):  # (len(a), len(b)) parameter distances, round the ring
+            d = a[:, None] - b[None, :]
+            return np.abs(_wrap(d) if closed else d)
+
         if len(cand):
             w = np.abs(window[cand])
             beaten = (gap(s[cand], s[cand]) <= ROUND_WINDOW) & (

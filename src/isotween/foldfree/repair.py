@@ -20,8 +20,9 @@ before, carried by the similarity that best takes its vertices around the
 folds to ``a``, at the folds, blended to ``a`` over the rings. Where that
 fails (an outline that crosses with no face folded, or a result that
 ``accept`` refuses), every vertex moves, from the repaired frame before
-moved towards ``a`` as far as no triangle degenerates. With a scaffold (`isotween.foldfree.scaffold`) the
-empty space around the pieces joins the energy, so pieces cannot pass
+moved towards ``a`` as far as no triangle degenerates. With a scaffold
+(`isotween.foldfree.scaffold`) the empty space around the pieces joins
+the energy, so pieces cannot pass
 through each other either: triangulated where they are before the first
 repaired frame, then carried from frame to frame with its edges flipped to
 Delaunay, and triangulated afresh where its smallest angle falls below
@@ -157,9 +158,7 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
             local = _local(state, a, joint, sides, weight, fixed, n, h2)  # first around the folds alone
             if local is not None:
                 x, used = local
-                info["iterations"] += used
-                if info["iterations"] * len(x) > WORK:
-                    raise MethodError(f"repairing the folds needs more than {WORK} Newton iterations x vertices")
+                _spend(info, used, len(x))
                 if accept is None or accept(k, x[:n]):
                     break
             if energy is None:
@@ -171,9 +170,7 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
             step = a - state
             x = state + min(1.0, 0.9 * max_step(state, step, joint)) * step
             x, used = minimise(energy, x, MAX_ITER, tol=TOL)
-            info["iterations"] += used
-            if info["iterations"] * len(x) > WORK:
-                raise MethodError(f"repairing the folds needs more than {WORK} Newton iterations x vertices")
+            _spend(info, used, len(x))
             if accept is None or accept(k, x[:n]):
                 break
             if not carried:  # a carried scaffold may have let pieces meet where a fresh one holds them apart
@@ -191,6 +188,13 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
     return out, info
 
 
+def _spend(info, iterations, size):
+    """Count Newton ``iterations`` on ``size`` vertices in ``info``; `MethodError` once past `WORK`."""
+    info["iterations"] += iterations
+    if info["iterations"] * size > WORK:
+        raise MethodError(f"repairing the folds needs more than {WORK} Newton iterations x vertices")
+
+
 def _local(state, a, faces, sides, weight, fixed, n, h2):
     """Frame ``a`` (M,) complex repaired around its folds alone, or None where that does not do.
 
@@ -200,11 +204,10 @@ def _local(state, a, faces, sides, weight, fixed, n, h2):
     similarity that best takes the vertices of the rings from ``state`` to
     ``a``, at the folds, blended to ``a`` over the rings (the vertices of a
     face that the blend turns over are held back with the folds in the next
-    try); then
-    `repair_folds`'s energy (rest ``sides`` (K, 3), face ``weight``, the
-    pull of the first ``n`` vertices, regions against scaffold, to ``a``
-    with squared mean edge ``h2``) over the faces around the moving
-    vertices. None when ``a`` has no folding face (a crossing outline
+    try); then `repair_folds`'s energy (rest ``sides`` (K, 3), face
+    ``weight``, the pull of the first ``n`` vertices, regions against
+    scaffold, to ``a`` with squared mean edge ``h2``) over the faces around
+    the moving vertices. None when ``a`` has no folding face (a crossing outline
     alone) or no blend is flip-free.
 
     Returns
