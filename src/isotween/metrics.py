@@ -316,8 +316,8 @@ def path_crossings(shape, z, hidden=None, new=False):
     p, q = np.minimum(path_of[i], path_of[j]), np.maximum(path_of[i], path_of[j])
     if new:
         end = (frame == 0) | (frame == len(z) - 1)
-        own = set(zip(p[end].tolist(), q[end].tolist(), strict=True))
-        keep = np.array([pair not in own for pair in zip(p.tolist(), q.tolist(), strict=True)], dtype=bool)
+        pair = p * len(shape.paths) + q
+        keep = ~np.isin(pair, pair[end])
         frame, p, q = frame[keep], p[keep], q[keep]
     return frame, p, q
 
