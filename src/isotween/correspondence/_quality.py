@@ -195,7 +195,7 @@ def _collapse(z, w, f, K, eps, limit):
     An interior vertex x merges into its neighbour y when the link condition
     holds (x and y share exactly the two neighbours across their edge), every
     new face keeps a positive area in both meshes and the smallest angle
-    around x grows. Collapses in one call touch disjoint faces.
+    around x grows. Collapses in one call do not interfere (see `_merge`).
 
     Returns
     -------
@@ -215,7 +215,7 @@ def _collapse(z, w, f, K, eps, limit):
     x = np.r_[a[a >= K], b[b >= K]]
     y = np.r_[b[a >= K], a[b >= K]]
     score = np.r_[q[bad][a >= K], q[bad][b >= K]]
-    return _merge(z, w, f, x, y, score, eps, q, 1.0)
+    return _merge(z, w, f, x, y, score, eps, 1.0)[:2]
 
 
 def _coarsen(z, w, f, K, sizes, eps, floor, rounds=40):
@@ -233,23 +233,24 @@ def _coarsen(z, w, f, K, sizes, eps, floor, rounds=40):
     -------
     (F', 3) faces (removed vertices are no longer referenced)
     """
+    fresh = np.ones(len(z), dtype=bool)  # vertices whose faces changed in the last round
     for _ in range(rounds):
         e = np.stack([f, np.roll(f, -1, axis=1)], axis=-1).reshape(-1, 2)
-        e = np.r_[e, e[:, ::-1]]
-        e = e[e[:, 0] >= K]
+        e = e[e[:, 0] >= K]  # an interior vertex's fan is closed: each edge out of it once
         L = np.maximum(np.abs(z[e[:, 0]] - z[e[:, 1]]) / sizes[0], np.abs(w[e[:, 0]] - w[e[:, 1]]) / sizes[1])
         short = L < 1.0
         e, L = e[short], L[short]
         if not len(e):
             break
-        _, keep = np.unique(e[:, 0] * len(z) + e[:, 1], return_index=True)  # each directed edge once
-        f, done = _merge(z, w, f, e[keep, 0], e[keep, 1], L[keep], eps, _quality(z, w, f), floor)
-        if done < 0.01 * len(np.unique(e[keep, 0])):
+        # a merge found unsafe (or beaten) stays so until the faces around x or y change
+        new = fresh[e[:, 0]] | fresh[e[:, 1]]
+        f, done, fresh = _merge(z, w, f, e[new, 0], e[new, 1], L[new], eps, floor)
+        if done < 0.01 * np.count_nonzero(np.bincount(e[:, 0])):
             break
     return f
 
 
-def _merge(z, w, f, x, y, score, eps, q, floor):
+def _merge(z, w, f, x, y, score, eps, floor):
     """Merge vertices x into y (lowest ``score`` first, faces claimed once), where that is safe.
 
     Safe: the link condition holds, every new face keeps a positive area in
@@ -258,12 +259,13 @@ def _merge(z, w, f, x, y, score, eps, q, floor):
     of lowest score; its other candidates are checked only when its first
     (lowest score) is not safe.
     """
-    if not len(x):
-        return f, 0
     N, nF = len(z), len(f)
+    if not len(x):
+        return f, 0, np.zeros(N, dtype=bool)
     vf = coo_matrix((np.ones(3 * nF), (f.ravel(), np.repeat(np.arange(nF), 3))), shape=(N, nF)).tocsr()
     A = coo_matrix((np.ones(3 * nF), (f.ravel(), np.roll(f, -1, axis=1).ravel())), shape=(N, N)).tocsr()
     A = ((A + A.T) > 0).astype(np.int64).tocsr()
+    q = _quality(z, w, f)
     rank = np.empty(len(x), dtype=np.int64)
     rank[np.argsort(score, kind="stable")] = np.arange(len(x))
     o = np.lexsort((score, x))  # per x, its candidates by score
@@ -271,29 +273,34 @@ def _merge(z, w, f, x, y, score, eps, q, floor):
     last = np.r_[first[1:], len(x)]
     # pass 1: the first candidate of every x; pass 2: all the others of the x still open
     c = o[first]
-    safe = _safe(z, w, f, vf, A, x[c], y[c], eps, q, floor)
+    safe = _safe(z, w, f, vf, A, q, x[c], y[c], eps, floor)
     rest = np.repeat(~safe, last - first - 1)  # the later candidates of an x whose first is not safe
     later = o[np.delete(np.arange(len(x)), first)][rest]
-    later = later[_safe(z, w, f, vf, A, x[later], y[later], eps, q, floor)]
+    later = later[_safe(z, w, f, vf, A, q, x[later], y[later], eps, floor)]
     if len(later):  # each x's first safe one
         later = later[np.r_[True, x[later][1:] != x[later][:-1]]]
     c = np.r_[c[safe], later]
     if not len(c):
-        return f, 0
+        return f, 0, np.zeros(N, dtype=bool)
     x, y, rank = x[c], y[c], rank[c]
-    # a maximal set of merges whose faces (those of x and of y) are disjoint, lowest score first (Luby):
-    # a merge wins when it has the lowest rank on all its faces; its faces are taken, its rivals drop out
+    # a maximal set of merges that do not interfere, lowest score first (Luby): a merge claims the faces
+    # around x (the only faces it changes; merges whose x are adjacent share two) and the edges it makes,
+    # y to the neighbours of x that are not y's (two merges making the same edge would double it); it wins
+    # when it has the lowest rank on all its claims, its claims are then taken and its rivals drop out
     cx, fx = vf[x].nonzero()
-    cy, fy = vf[y].nonzero()
-    cc, ff = np.r_[cx, cy], np.r_[fx, fy]
-    n = len(x)
+    cu, u = A[x].nonzero()
+    made = (u != y[cu]) & (np.asarray(A[y[cu], u]).ravel() == 0)
+    cu, u = cu[made], u[made]
+    _, edge = np.unique(np.minimum(y[cu], u) * N + np.maximum(y[cu], u), return_inverse=True)
+    cc, ff = np.r_[cx, cu], np.r_[fx, nF + edge]
+    n, nR = len(x), nF + len(cu)
     left = np.ones(n, dtype=bool)
     take = np.zeros(n, dtype=bool)
-    taken = np.zeros(nF, dtype=bool)
+    taken = np.zeros(nR, dtype=bool)
     while left.any():
         live = left[cc]
         cl, fl = cc[live], ff[live]
-        claim = np.full(nF, np.iinfo(np.int64).max)
+        claim = np.full(nR, np.iinfo(np.int64).max)
         np.minimum.at(claim, fl, rank[cl])
         win = left & (np.bincount(cl[claim[fl] != rank[cl]], minlength=n) == 0)
         take |= win
@@ -301,12 +308,14 @@ def _merge(z, w, f, x, y, score, eps, q, floor):
         left &= np.bincount(cl[taken[fl]], minlength=n) == 0
     vmap = np.arange(N)
     vmap[x[take]] = y[take]
+    touched = np.zeros(N, dtype=bool)
+    touched[f[fx[take[cx]]]] = True
     g = vmap[f]
     g = g[(g[:, 0] != g[:, 1]) & (g[:, 1] != g[:, 2]) & (g[:, 2] != g[:, 0])]
-    return g, int(take.sum())
+    return g, int(take.sum()), touched
 
 
-def _safe(z, w, f, vf, A, x, y, eps, q, floor):
+def _safe(z, w, f, vf, A, q, x, y, eps, floor):
     """(C,) bool: merging x into y keeps the link condition, positive areas and the quality (see `_merge`)."""
     link = np.asarray(A[x].multiply(A[y]).sum(axis=1)).ravel() == 2
     cx, fx = vf[x].nonzero()  # faces around x
