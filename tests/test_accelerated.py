@@ -175,3 +175,31 @@ def test_small_problems_run_on_numpy_until_numba_is_loaded_unless_chosen(monkeyp
     backend.long_lived()
     with backend.sized(10):
         assert backend.current().name == "numba"
+
+
+def test_newton_hessian_sums_every_face_block_in_its_place():
+    # the sparse pattern (one sort of vertex pairs) against a dense sum of the faces' 6 x 6 blocks, with
+    # fixed vertices, a free vertex in no face and a pull (added on the diagonal)
+    from isotween.optimisation.barrier import SymmetricDirichlet
+
+    mesh = grid_mesh(7, 6)
+    z0 = mesh.vertices[:, 0] + 1j * mesh.vertices[:, 1]
+    z1 = z0 * np.exp(0.2j) + 0.04 * np.cos(2 * z0.imag)
+    for lonely in (False, True):
+        a, b = (np.r_[z0, 9 + 9j], np.r_[z1, 9 + 9j]) if lonely else (z0, z1)
+        fixed = np.zeros(len(a), dtype=bool)
+        fixed[[0, 5, 17]] = True
+        energy = SymmetricDirichlet(a, b, mesh.faces, fixed)
+        energy.rest(0.5)
+        energy.pull_towards(energy.free[::3], a[energy.free[::3]], 0.3)
+        g, A = energy.derivatives(b)
+        _, H6 = backend.current().face_derivatives(b, energy.faces, energy._G, energy._area)
+        dense = np.zeros(A.shape)
+        dof = energy._dof
+        rows, cols = np.broadcast_to(dof[:, :, None], H6.shape), np.broadcast_to(dof[:, None, :], H6.shape)
+        keep = (rows >= 0) & (cols >= 0)
+        np.add.at(dense, (rows[keep], cols[keep]), H6[keep])
+        m = len(energy.free)
+        slots = np.searchsorted(energy.free, energy.free[::3])
+        dense[np.r_[slots, slots + m], np.r_[slots, slots + m]] += 0.6
+        np.testing.assert_allclose(A.toarray(), dense, rtol=1e-12, atol=1e-12)

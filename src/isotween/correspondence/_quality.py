@@ -251,7 +251,7 @@ def _coarsen(z, w, f, K, sizes, eps, floor, rounds=40):
 
 
 def _merge(z, w, f, x, y, score, eps, floor):
-    """Merge vertices x into y (lowest ``score`` first, faces claimed once), where that is safe.
+    """Merge vertices x into y (lowest ``score`` first, merges that do not interfere), where that is safe.
 
     Safe: the link condition holds, every new face keeps a positive area in
     both meshes, and the smallest quality ``q`` (sine of the smallest angle)

@@ -74,6 +74,51 @@ def _cross(u, v):
     return (np.conj(u) * v).imag
 
 
+def _pattern(dof, keep, m):
+    """The fixed sparsity pattern of a Hessian over 2m unknowns (x of the m free vertices, then y).
+
+    Parameters
+    ----------
+    dof : (K, 6) int
+        Every face's unknowns x0 x1 x2 y0 y1 y2 (-1: a fixed vertex).
+    keep : (K, 6, 6) bool
+        The entries of the faces' 6 x 6 blocks between two unknowns.
+
+    Returns
+    -------
+    slot : (P,) int
+        Every kept entry's place among the pattern's nonzeros (CSR, columns sorted).
+    indices : (Z,) int, indptr : (2m + 1,) int
+    diagonal : (2m,) int or None
+        The slots of the diagonal; None when a free vertex is in no face.
+    """
+    # one sort of the faces' vertex pairs, not of the four times as many entries: a row of vertex i holds
+    # the x columns of the vertices that share a face with i (itself included), then their y columns
+    v = dof[:, :3]
+    both = (v[:, :, None] >= 0) & (v[:, None, :] >= 0)
+    i, j = np.broadcast_to(v[:, :, None], both.shape)[both], np.broadcast_to(v[:, None, :], both.shape)[both]
+    pair, at = np.unique(i * m + j, return_inverse=True)
+    inverse = np.zeros(both.shape, dtype=np.int64)
+    inverse[both] = at
+    at = np.tile(inverse, (1, 2, 2))[keep]
+    first, second = pair // m, pair % m
+    deg = np.bincount(first, minlength=m)  # vertices beside i (i included)
+    rank = np.arange(len(pair)) - np.r_[0, np.cumsum(deg)[:-1]][first]
+    indptr = np.r_[0, np.cumsum(np.r_[2 * deg, 2 * deg])]
+    rows = np.broadcast_to(dof[:, :, None], keep.shape)[keep]
+    cols = np.broadcast_to(dof[:, None, :], keep.shape)[keep]
+    slot = indptr[rows] + (cols >= m) * deg[first[at]] + rank[at]
+    indices = np.empty(indptr[-1], dtype=np.int64)
+    for half in (0, 1):  # the x rows, then the y rows
+        base = indptr[half * m + first] + rank
+        indices[base], indices[base + deg[first]] = second, second + m
+    if np.any(deg == 0):
+        return slot, indices, indptr, None
+    own = rank[np.searchsorted(pair, np.arange(m) * (m + 1))]  # vertex i among its own neighbours
+    diagonal = np.r_[indptr[:m] + own, indptr[m:2 * m] + deg + own]
+    return slot, indices, indptr, diagonal
+
+
 def minimise(energy, z, limit, tol=TOL):
     """Projected Newton with the flip-preventing line search; every iterate an embedding.
 
@@ -165,17 +210,9 @@ class SymmetricDirichlet:
         self._index = index
         m = len(self.free)
         dof = np.c_[index[f], np.where(index[f] >= 0, index[f] + m, -1)]  # (K, 6): x0 x1 x2 y0 y1 y2
-        rows = np.broadcast_to(dof[:, :, None], (len(f), 6, 6))
-        cols = np.broadcast_to(dof[:, None, :], (len(f), 6, 6))
-        self._keep = (rows >= 0) & (cols >= 0)
-        # the Hessian's fixed pattern: entry -> its slot among the sorted (row, column) pairs
-        key, self._slot = np.unique(rows[self._keep] * (2 * m) + cols[self._keep], return_inverse=True)
-        self._indices = key % (2 * m)
-        self._indptr = np.searchsorted(key // (2 * m), np.arange(2 * m + 1))
-        # the slot of every diagonal entry (the pull adds there); a free vertex in no face has none
-        diagonal = np.arange(2 * m) * (2 * m + 1)
-        self._diagonal = np.minimum(np.searchsorted(key, diagonal), max(len(key) - 1, 0))
-        self._full_diagonal = bool(len(key)) and np.array_equal(key[self._diagonal], diagonal)
+        self._keep = (dof[:, :, None] >= 0) & (dof[:, None, :] >= 0)
+        self._slot, self._indices, self._indptr, self._diagonal = _pattern(dof, self._keep, m)
+        self._full_diagonal = self._diagonal is not None
         self._dof = dof
         self._size = 2 * m
         self._symbolic = None
