@@ -26,7 +26,7 @@ import numpy as np
 from ..geometry import ring_area
 from .regions import Item
 
-__all__ = ["open_holes", "close_slits", "OPEN", "ROOM", "MOVE", "SLIT"]
+__all__ = ["open_holes", "close_slits", "OPEN", "ROOM", "MOVE", "SLIT", "NEAR"]
 
 OPEN = 0.5  # a hole with this share of its area in a notch of the other drawing opens into it
 ROOM = 2.0  # ... if the notch is at most this many times as large as the hole
@@ -34,6 +34,7 @@ MOVE = 0.3  # failing that, a notch of the paired region moved by at most this s
 SLIT = 1e-3  # the slit's width, in bounding-box diagonals of the drawing
 CANDIDATES = 12  # places tried for the slit: the thinnest bridges from the hole to the outer ring
 SAMPLES = 256  # ring samples compared when choosing among them
+NEAR = 0.01  # cut rings whose correlation with the partner is this near the best's are told apart by `_strain`
 
 
 def open_holes(items, frames):
@@ -140,12 +141,13 @@ def _slit(outer, hole, filled, width, partner, moved=False, others=()):
 
     Candidate bridges join a hole vertex to its nearest outer vertex, mostly
     across the other drawing's gap (outside ``filled``): the shortest few,
-    not neighbours; of those, the cut ring most similar to
-    ``partner`` (the other drawing's outer ring there) wins: the largest
-    normalised cross-correlation of ring samples (`matching.correlation`).
-    ``moved`` (the notch is the partner's moved onto the hole): only a cut
-    ring more similar to the partner than the outer ring is. The cut ring
-    must keep clear of the region's ``others`` holes.
+    not neighbours; of those, the cut ring most similar to ``partner`` (the
+    other drawing's outer ring there: the normalised cross-correlation of
+    ring samples, `matching.correlation`) wins, and of cut rings within
+    `NEAR` of it the one matched to the partner most nearly rigidly
+    (`_strain`). ``moved`` (the notch is the partner's moved onto the
+    hole): only a cut ring more similar to the partner than the outer ring
+    is. The cut ring must keep clear of the region's ``others`` holes.
     """
     import shapely
 
@@ -169,9 +171,10 @@ def _slit(outer, hole, filled, width, partner, moved=False, others=()):
     if np.sign(ring_area(partner)) != np.sign(ring_area(outer)):
         partner = partner[::-1]
     target = points_at(partner, True, grid)
-    best, found = -np.inf, None
+    least = -np.inf
     if moved:  # the hole opens only where that makes the ring more like its partner's
-        best = np.abs(correlation(points_at(outer, True, grid), target)).max()
+        least = np.abs(correlation(points_at(outer, True, grid), target)).max()
+    cuts, score = [], []
     for i in thin:
         cut = _spliced(outer, hole, int(j_of[i]), int(i), width)
         if cut is None:
@@ -179,10 +182,31 @@ def _slit(outer, hole, filled, width, partner, moved=False, others=()):
         poly = shapely.Polygon(np.c_[cut[0].real, cut[0].imag], [np.c_[r.real, r.imag] for r in others])
         if not (poly.is_valid and abs(poly.area - area) <= 0.05 * area):
             continue
-        score = np.abs(correlation(points_at(cut[0], True, grid), target)).max()
-        if score > best:
-            best, found = score, cut
-    return found
+        cuts.append(cut)
+        score.append(np.abs(correlation(points_at(cut[0], True, grid), target)).max())
+    if not cuts or max(score) <= least:
+        return None
+    # of the cut rings about as similar as the most similar one, the one matched most nearly rigidly (a
+    # shackle's leg cut where the body begins rather than a little above: the whole leg goes with the shackle)
+    near = [k for k, x in enumerate(score) if x >= max(score) - NEAR]
+    return cuts[min(near, key=lambda k: _strain(cuts[k][0], partner))]
+
+
+def _strain(ring, partner):
+    """How far matching ``ring`` to ``partner`` (`matching.match_rings`) is from moving it rigidly.
+
+    Over the matched edges (weights: their lengths in both), the mean
+    absolute log of their stretch plus the spread of their turns (one minus
+    the length of the mean unit turn): 0 for a rigid motion.
+    """
+    from .matching import match_rings
+
+    pair = match_rings(ring, partner, True)
+    es, et = np.diff(np.r_[pair.source, pair.source[:1]]), np.diff(np.r_[pair.target, pair.target[:1]])
+    keep = (np.abs(es) > 0) & (np.abs(et) > 0)
+    r = et[keep] / es[keep]
+    w = np.abs(es[keep]) + np.abs(et[keep])
+    return float(np.sum(w * np.abs(np.log(np.abs(r)))) / w.sum() + 1 - np.abs(np.sum(w * r / np.abs(r))) / w.sum())
 
 
 def _spliced(outer, hole, j, i, width):
