@@ -287,3 +287,17 @@ def test_nearest_samples_are_the_nearest():
         d, j = near.query(x)
         every = np.abs(x[:, None] - q[None, :])
         assert np.array_equal(j, every.argmin(axis=1)) and np.allclose(d, every.min(axis=1), rtol=0, atol=1e-9)
+
+
+def test_a_page_becomes_a_folder_upright(tmp_path):
+    # a portrait page fits a landscape folder far better turned by a quarter turn, but it is no turned copy
+    # of it (the fit stays off by more than `alignment.COPY`): the page widens upright instead of spinning
+    svg = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16"><path d="{}"/></svg>'
+    page = "M4 1H9L13 5V14A1 1 0 0 1 12 15H4A1 1 0 0 1 3 14V2A1 1 0 0 1 4 1Z"
+    folder = "M1 4A1 1 0 0 1 2 3H6L7.5 4.5H14A1 1 0 0 1 15 5.5V12A1 1 0 0 1 14 13H2A1 1 0 0 1 1 12Z"
+    for name, d in (("page", page), ("folder", folder)):
+        (tmp_path / f"{name}.svg").write_text(svg.format(d))
+    a, b, _ = isotween.correspond(*(isotween.io.load(tmp_path / f"{n}.svg") for n in ("page", "folder")))
+    outer = max(a.paths, key=lambda p: len(p[0]))[0]
+    p, q = a.z[outer] - a.z[outer].mean(), b.z[outer] - b.z[outer].mean()
+    assert abs(np.angle(np.vdot(p, q), deg=True)) < 10.0

@@ -19,12 +19,16 @@ import numpy as np
 from .matching import SAMPLES, correlation, points_at
 from .regions import Frame, ring_area
 
-__all__ = ["align", "GAIN", "MIN_TURN"]
+__all__ = ["align", "GAIN", "MIN_TURN", "COPY", "SMALL_TURN"]
 
 #: a rotation is used when its fit distance is below this fraction of the unrotated fit's
 GAIN = 0.5
 #: nor unless the unrotated fit is off by at least this fraction of the diagonal (a symmetric drawing stays put)
 VISIBLE = 0.005
+#: a turn above `SMALL_TURN` is used only when the turned source lies this near (fit distance over the diagonal)
+#: the target: a turned copy; two different drawings (a page and a folder) are not spun round to fit
+COPY = 0.005
+SMALL_TURN = np.deg2rad(20.0)
 #: turns whose fit distance is within this fraction of the best one's fit as well (the smallest of them is used)
 TIE = 0.05
 #: rotations below this angle (radians) count as none
@@ -103,8 +107,10 @@ def align(items, frames):
     Returns
     -------
     frames : list of two Frame
-        The given frames, or, when a rotation fits clearly better, frames
-        whose ``to`` is that similarity (the target's ``turn`` its rotation).
+        The given frames, or, when a rotation fits clearly better (and, if
+        it turns by more than `SMALL_TURN`, the turned source is nearly the
+        target: `COPY`), frames whose ``to`` is that similarity (the
+        target's ``turn`` its rotation).
     turn : complex
         The rotation (unit complex) from source to target; 1 when none.
     """
@@ -144,6 +150,8 @@ def align(items, frames):
         best, best_a, best_b = min((f for f in fits if f[0] <= (1 + TIE) * least), key=lambda f: abs(np.angle(f[1])))
     diagonal = abs(complex(np.ptp(q.real), np.ptp(q.imag)))
     if best_a is None or not best < GAIN * plain or plain < VISIBLE * diagonal:
+        return frames, 1.0 + 0j
+    if abs(np.angle(best_a)) > SMALL_TURN and best > COPY * diagonal:
         return frames, 1.0 + 0j
     turn = best_a / abs(best_a)
     scale = frames[0].scale
