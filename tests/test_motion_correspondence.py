@@ -171,13 +171,19 @@ def test_a_symmetric_drawing_does_not_spin(tmp_path):
     folder = ("M9.828 3h3.982a2 2 0 0 1 1.992 2.181l-.637 7A2 2 0 0 1 13.174 14H2.825a2 2 0 0 1-1.991-1.819"
               "l-.637-7a2 2 0 0 1 .342-1.31L.5 3a2 2 0 0 1 2-2h3.672a2 2 0 0 1 1.414.586l.828.828A2 2 0 0 0 9.828 3"
               "m-8.322.12q.322-.119.684-.12h5.396l-.707-.707A1 1 0 0 0 6.172 2H2.5a1 1 0 0 0-1 .981z")
-    for name, d in (("square", square), ("folder", folder)):
-        (tmp_path / f"{name}.svg").write_text(svg.format(d))
-    a, b, _ = isotween.correspond(*(isotween.io.load(tmp_path / f"{n}.svg") for n in ("square", "folder")))
+    a, b, outer, turn = _outer_turn(tmp_path, svg.format(square), svg.format(folder))
+    assert turn < 10.0
+    assert np.abs(a.z[outer] - b.z[outer]).max() < 0.25 * a.bbox_diagonal()  # every point stays near its place
+
+
+def _outer_turn(tmp_path, source_svg, target_svg):
+    """Two drawings corresponded with no options; (a, b, the largest ring's vertices, its turn in degrees)."""
+    for name, text in (("a", source_svg), ("b", target_svg)):
+        (tmp_path / f"{name}.svg").write_text(text)
+    a, b, _ = isotween.correspond(*(isotween.io.load(tmp_path / f"{n}.svg") for n in ("a", "b")))
     outer = max(a.paths, key=lambda p: len(p[0]))[0]
     p, q = a.z[outer] - a.z[outer].mean(), b.z[outer] - b.z[outer].mean()
-    assert abs(np.angle(np.vdot(p, q), deg=True)) < 10.0
-    assert np.abs(a.z[outer] - b.z[outer]).max() < 0.25 * a.bbox_diagonal()  # every point stays near its place
+    return a, b, outer, abs(np.angle(np.vdot(p, q), deg=True))
 
 
 def s_bar(bent, width=10.0, per_arc=24):
@@ -295,9 +301,4 @@ def test_a_page_becomes_a_folder_upright(tmp_path):
     svg = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16"><path d="{}"/></svg>'
     page = "M4 1H9L13 5V14A1 1 0 0 1 12 15H4A1 1 0 0 1 3 14V2A1 1 0 0 1 4 1Z"
     folder = "M1 4A1 1 0 0 1 2 3H6L7.5 4.5H14A1 1 0 0 1 15 5.5V12A1 1 0 0 1 14 13H2A1 1 0 0 1 1 12Z"
-    for name, d in (("page", page), ("folder", folder)):
-        (tmp_path / f"{name}.svg").write_text(svg.format(d))
-    a, b, _ = isotween.correspond(*(isotween.io.load(tmp_path / f"{n}.svg") for n in ("page", "folder")))
-    outer = max(a.paths, key=lambda p: len(p[0]))[0]
-    p, q = a.z[outer] - a.z[outer].mean(), b.z[outer] - b.z[outer].mean()
-    assert abs(np.angle(np.vdot(p, q), deg=True)) < 10.0
+    assert _outer_turn(tmp_path, svg.format(page), svg.format(folder))[3] < 10.0

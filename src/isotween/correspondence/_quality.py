@@ -258,6 +258,12 @@ def _merge(z, w, f, x, y, score, eps, floor):
     around x grows, or stays at least ``floor``. Each x takes its safe merge
     of lowest score; its other candidates are checked only when its first
     (lowest score) is not safe.
+
+    Returns
+    -------
+    f : (F', 3) int, merged : int, touched : (N,) bool
+        The faces after the merges, how many merged, and the vertices of the
+        faces that changed (where a merge found unsafe may have become safe).
     """
     N, nF = len(z), len(f)
     if not len(x):

@@ -212,7 +212,6 @@ class SymmetricDirichlet:
         dof = np.c_[index[f], np.where(index[f] >= 0, index[f] + m, -1)]  # (K, 6): x0 x1 x2 y0 y1 y2
         self._keep = (dof[:, :, None] >= 0) & (dof[:, None, :] >= 0)
         self._slot, self._indices, self._indptr, self._diagonal = _pattern(dof, self._keep, m)
-        self._full_diagonal = self._diagonal is not None
         self._dof = dof
         self._size = 2 * m
         self._symbolic = None
@@ -299,7 +298,7 @@ class SymmetricDirichlet:
             g[slot] += 2 * lam * r.real
             g[slot + len(self.free)] += 2 * lam * r.imag
             pulled = np.r_[slot, slot + len(self.free)]
-            if self._full_diagonal:
+            if self._diagonal is not None:  # every free vertex has its diagonal entries
                 np.add.at(data, self._diagonal[pulled], 2 * lam)
                 pulled = None
         A = csc_matrix((data, self._indices, self._indptr), shape=(self._size,) * 2)  # symmetric: CSR = CSC
