@@ -39,6 +39,8 @@ CANDIDATES = 8
 DRAWING_SAMPLES = 500
 #: turns tried besides the correlation peaks (a coarse circle about the drawings' centroids)
 GRID_TURNS = 24
+#: every this many of the source's samples screen the candidates (all of them refine the best)
+SCREEN = 4
 #: best candidates refined by iterative closest points
 REFINED = 4
 #: rounds of iterative closest points
@@ -80,9 +82,9 @@ class _Nearest:
     def query(self, x):
         """(n,) distances and (n,) indices of the nearest of ``q`` to each point of ``x`` (n,) complex."""
         xy = np.c_[x.real, x.imag]
-        if len(self._out) != len(x):
+        if len(self._out) < len(x):
             self._out = np.empty((len(x), self.q.shape[1]))
-        d2 = np.matmul(xy, self.q, out=self._out)
+        d2 = np.matmul(xy, self.q, out=self._out[:len(x)])
         d2 += self.q2  # |x - q|^2 less |x|^2
         j = np.argmin(d2, axis=1)
         return np.sqrt(np.maximum(d2[np.arange(len(x)), j] + np.einsum("ij,ij->i", xy, xy), 0.0)), j
@@ -135,9 +137,10 @@ def align(items, frames):
     pc, qc = p.mean(), q.mean()
     spread = np.sqrt(np.mean(np.abs(q - qc) ** 2) / max(np.mean(np.abs(p - pc) ** 2), 1e-300))
     cands += [(spread * np.exp(1j * th), pc, qc) for th in np.linspace(0, 2 * np.pi, GRID_TURNS, endpoint=False)]
-    # screened one way (samples of the source to the target's), the best refined and scored both ways
+    # screened one way (some samples of the source to the target's), the best refined and scored both ways
+    few = p[::SCREEN]
     scored = sorted((float(near.query(tp)[0].mean()), i)
-                    for i, tp in enumerate(d + a * (p - c) for a, c, d in cands))
+                    for i, tp in enumerate(d + a * (few - c) for a, c, d in cands))
     fits = []  # (distance, a, b) of the refined turns
     for _, i in scored[:REFINED]:
         a, c, d = cands[i]
