@@ -152,9 +152,8 @@ def align(items, frames):
         least = min(f[0] for f in fits)
         best, best_a, best_b = min((f for f in fits if f[0] <= (1 + TIE) * least), key=lambda f: abs(np.angle(f[1])))
     diagonal = abs(complex(np.ptp(q.real), np.ptp(q.imag)))
-    if best_a is None or not best < GAIN * plain or plain < VISIBLE * diagonal:
-        return frames, 1.0 + 0j
-    if abs(np.angle(best_a)) > SMALL_TURN and best > COPY * diagonal:
+    if (best_a is None or not best < GAIN * plain or plain < VISIBLE * diagonal
+            or (abs(np.angle(best_a)) > SMALL_TURN and best > COPY * diagonal)):  # a large turn only for a copy
         return frames, 1.0 + 0j
     turn = best_a / abs(best_a)
     scale = frames[0].scale
