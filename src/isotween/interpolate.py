@@ -182,10 +182,11 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
                    max_iter=max_iter, method=method, times=times, assembly=assembly,
                    linear_solver=linear_solver, fold=fold)
 
-    def run(spans):
+    def run(spans, faces=None):  # faces: the same pair on other triangles
         if method != "aiap":
             return _baseline(method, source, target, t, options, callback, spans)
-        seq = spanned(lambda grid: _aiap(source, target, grid, options, callback), t, spans)
+        a, b = (source, target) if faces is None else (source.with_faces(faces), target.with_faces(faces))
+        seq = spanned(lambda grid: _aiap(a, b, grid, options, callback), t, spans)
         seq.timings["total"] = time.perf_counter() - start
         seq.info.update(span_paint(source, target, spans))
         return seq
@@ -196,7 +197,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         return seq
     # other timings the fold check tries, before a repair that lets pieces meet
     alternatives = [(lambda s=s: run(s), s) for s in ([] if timings is None else timings[1:])]
-    return _fallback(seq, source, target, t, options, first, alternatives)
+    return _fallback(seq, source, target, t, options, first, alternatives, lambda f: run(first, f))
 
 
 def _aiap(source, target, t, options, callback):
@@ -248,12 +249,17 @@ def _baseline(method, source, target, t, options, callback, spans):
     return seq
 
 
-def _fallback(seq, source, target, t, options, spans, alternatives=(), apart_only=False):
+def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=None, apart_only=False):
     """``seq``; where an in-between frame folds or collides, its folding frames repaired, else the fold-free morph.
 
     A frame folds where a triangle flips or a region's outline crosses
     itself, and collides where two separate pieces cross each other
-    (`_crossed`). First `isotween.foldfree.repair.repair_folds` with the
+    (`_crossed`). Where a few faces flip, AIAP is first solved again with
+    edges flipped there (`isotween.foldfree.unfold`; ``resolve(faces)``:
+    the sequence on other faces): where that folds no face and no outline
+    crosses, it is the result (AIAP's, ``info['unfolded']`` says how many
+    edges were flipped), else the repairs start from it. Then
+    `isotween.foldfree.repair.repair_folds` with the
     scaffold around the pieces (`isotween.foldfree.scaffold`): the frames
     moved as little as no flip in the regions or in the empty space around
     them allows (where AIAP only flips triangles, first in the regions
@@ -281,6 +287,16 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), apart_onl
     crossings, collisions = within(inner, z[1:-1]), across(inner, z[1:-1])
     if not (flips.any() or crossings.any() or collisions.any()):
         return seq
+    if resolve is not None and flips.any():  # a few faces fold: AIAP again with edges flipped there
+        from .foldfree.unfold import unfold
+
+        seq = unfold(seq, resolve)
+        if "unfolded" in seq.info:
+            z = _complex_frames(seq.frames)
+            flips = metrics.flipped_faces(seq, None)[1:-1]
+            crossings, collisions = within(inner, z[1:-1]), across(inner, z[1:-1])
+            if not (flips.any() or crossings.any() or collisions.any()):
+                return seq
     bad = flips | crossings | collisions
     folded = (f"{seq.method} folded in {int(np.count_nonzero(bad))} of {len(t) - 2} in-between frames "
               f"({int(flips.sum())} flipped triangles, {int(crossings.sum() + collisions.sum())} outline crossings)")

@@ -544,6 +544,41 @@ class Shape:
         s.vertices = v
         return s
 
+    def with_faces(self, faces: ArrayLike) -> Shape:
+        """The same shape (vertices, uv, paths, paint) with other triangles.
+
+        The sides of the old faces give way to those of the new ones; edges
+        that bound no face (open strokes, outlines outside the mesh) stay.
+
+        Parameters
+        ----------
+        faces : (F, 3) array_like of int
+
+        Returns
+        -------
+        Shape
+
+        Examples
+        --------
+        >>> from isotween import Shape
+        >>> s = Shape.from_mesh([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1, 2], [0, 2, 3]])
+        >>> flipped = s.with_faces([[0, 1, 3], [1, 2, 3]])  # the other diagonal
+        >>> sorted(map(sorted, flipped.edges.tolist()))
+        [[0, 1], [0, 3], [1, 2], [1, 3], [2, 3]]
+        """
+        f = _as_index_array(faces, 3, "face")
+        n = self.n_vertices
+
+        def keys(e: NDArray) -> NDArray:
+            return np.sort(e, axis=1) @ np.array([n, 1])
+
+        loose = self.edges if self.faces is None else \
+            self.edges[~np.isin(keys(self.edges), keys(_edges_of_faces(self.faces)))]
+        s = Shape(self.vertices, np.vstack([_edges_of_faces(f), loose]), f, uv=self.uv, paths=self.paths,
+                  y_down=self.y_down, regions=self.regions, paint=self.paint)
+        s.drawing = self.drawing
+        return s
+
     def face_areas(self, vertices: ArrayLike | None = None) -> NDArray[np.float64]:
         """(F,) signed triangle areas (positive = counter-clockwise).
 
