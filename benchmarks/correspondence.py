@@ -311,18 +311,22 @@ def _stages(seq):
 def frame_flips(seq, source):
     """Triangles of every in-between frame whose orientation differs from the generated source mesh's.
 
-    Against the mesh as correspondence built it, not frame 0 of the sequence: a ring that
+    The sequence's own triangles (where AIAP folded a few faces, the fold fallback may have
+    flipped edges of the generated mesh: `isotween.foldfree.unfold`), oriented as at the
+    generated source mesh's positions, not as in frame 0 of the sequence: a ring that
     vanishes at the start is collapsed to a point in frame 0 (`pipeline.collapse_vanishing`),
     which would flip its triangles there. A triangle of zero area in between counts as flipped.
     """
     if not source.n_faces:
         return [0] * (len(seq.frames) - 2)
-    f = np.asarray(source.faces)
-    ref = np.sign(source.face_areas())
-    z = seq.frames[1:-1]
-    u, v = z[:, f[:, 1]] - z[:, f[:, 0]], z[:, f[:, 2]] - z[:, f[:, 0]]
-    area = u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
-    return [int(c) for c in np.count_nonzero((np.sign(area) * ref <= 0) & (ref != 0), axis=1)]
+    f = np.asarray(source.faces if seq.shape.faces is None else seq.shape.faces)
+
+    def area(z):  # (..., n, 2) -> (..., F) signed, doubled
+        u, v = z[..., f[:, 1], :] - z[..., f[:, 0], :], z[..., f[:, 2], :] - z[..., f[:, 0], :]
+        return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+    ref = np.sign(area(source.vertices))
+    return [int(c) for c in np.count_nonzero((np.sign(area(seq.frames[1:-1])) * ref <= 0) & (ref != 0), axis=1)]
 
 
 def _warm(job):

@@ -47,10 +47,20 @@ def test_a_t_becomes_an_arrow_by_aiap_on_flipped_edges(tmp_path):
     assert np.all(seq.shape.face_areas(seq.frames[-1]) > 0)
 
 
-def test_the_command_line_morph_reports_the_unfolding(tmp_path):
-    seq = isotween.morph(drawing(tmp_path / "a.svg", T), drawing(tmp_path / "b.svg", ARROW), frames=21)
-    assert "fallback" not in seq.info
-    assert seq.info["unfolded"].startswith("aiap folded")
+def test_morph_and_the_command_line_say_where_edges_were_flipped(tmp_path):
+    from click.testing import CliRunner
+
+    from isotween.cli import main
+
+    a, b = drawing(tmp_path / "a.svg", T), drawing(tmp_path / "b.svg", ARROW)
+    seq = isotween.morph(a, b, frames=21)
+    assert "fallback" not in seq.info and seq.info["unfolded"].startswith("aiap folded")
+    out = tmp_path / "out.npz"
+    result = CliRunner().invoke(main, ["interpolate", str(a), str(b), "--frames", "21", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert f"fold check: {seq.info['unfolded']}" in result.output and "repaired" not in result.output
+    saved = isotween.io.load_sequence(str(out))
+    assert saved.method == "aiap" and metrics.flipped_faces(saved) == 0
 
 
 @pytest.mark.parametrize("a, b", [(Z, HEART), (T, ARROW)])

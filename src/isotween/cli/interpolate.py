@@ -65,8 +65,9 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
         seq = interpolate(prepared.source, prepared.target, callback=callback, correspondence="never", spans=spans,
                           **kwargs)
     finish(seq, prepared.report, stagger, strokes)  # no specks at the ends; strokes kept from crossing
-    if "fallback" in seq.info and not quiet:
-        click.echo(f"fold check: {seq.info['fallback']}")
+    for key in ("unfolded", "fallback"):  # edges flipped where AIAP folded; the repair or the fold-free morph
+        if key in seq.info and not quiet:
+            click.echo(f"fold check: {seq.info[key]}")
     if "spans" in seq.info and not quiet:  # the staggering was shortened or dropped to keep the pieces apart
         share = stagger_shares(stagger)[seq.info["spans"]["used"]]
         click.echo(f"stagger: {share:g} instead of {stagger:g}: {seq.info['spans']['why']}")

@@ -372,8 +372,7 @@ class Session:
         else:
             morph = self._solve_keys(doc, inputs, options, curves, notes, hooks)
         inputs, src, tgt, report, keys, base, times, preview = morph
-        if "fallback" in base.info:
-            notes.append(f"fold check: {base.info['fallback']}")
+        notes += [f"fold check: {base.info[key]}" for key in ("unfolded", "fallback") if key in base.info]
         check()
         seq = base
         edits = {int(k): np.asarray(v, dtype=np.float64) for k, v in doc.get("edits", {}).items()}
