@@ -548,7 +548,8 @@ class Shape:
         """The same shape (vertices, uv, paths, paint) with other triangles.
 
         The sides of the old faces give way to those of the new ones; edges
-        that bound no face (open strokes, outlines outside the mesh) stay.
+        that are sides of neither (open strokes, outlines outside the mesh)
+        stay.
 
         Parameters
         ----------
@@ -572,9 +573,9 @@ class Shape:
         def keys(e: NDArray) -> NDArray:
             return np.sort(e, axis=1) @ np.array([n, 1])
 
-        loose = self.edges if self.faces is None else \
-            self.edges[~np.isin(keys(self.edges), keys(_edges_of_faces(self.faces)))]
-        s = Shape(self.vertices, np.vstack([_edges_of_faces(f), loose]), f, uv=self.uv, paths=self.paths,
+        sides = [_edges_of_faces(f)] + ([] if self.faces is None else [_edges_of_faces(self.faces)])
+        loose = self.edges[~np.isin(keys(self.edges), keys(np.vstack(sides)))]
+        s = Shape(self.vertices, np.vstack([sides[0], loose]), f, uv=self.uv, paths=self.paths,
                   y_down=self.y_down, regions=self.regions, paint=self.paint)
         s.drawing = self.drawing
         return s

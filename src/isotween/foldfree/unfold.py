@@ -54,7 +54,7 @@ def unfold(seq, solve):
     before = best = len(bad)
     if not 0 < best <= MOST:
         return seq
-    kept, count, flipped, stale = seq, 0, 0, 0
+    kept, count, total, stale = seq, 0, 0, 0
     z0, z1 = (seq.frames[k, :, 0] + 1j * seq.frames[k, :, 1] for k in (0, -1))
     eps = (1e-14 * _scale2(z0), 1e-14 * _scale2(z1))
     for _ in range(ROUNDS):
@@ -62,12 +62,12 @@ def unfold(seq, solve):
         done = _flip_folds(z0, z1, f, bad, eps)
         if not done:
             break
-        flipped += done
+        total += done
         new = solve(f)
         bad = folding(new)
         stale = 0 if len(bad) < best else stale + 1
         if len(bad) < best:
-            best, kept, count = len(bad), new, flipped
+            best, kept, count = len(bad), new, total
         if best == 0 or stale == STALE:
             break
     if kept is not seq:
