@@ -128,6 +128,29 @@ def test_a_vanishing_piece_is_gone_by_half_time(tmp_path):
         isotween.morph(a, b, stagger=1.5)
 
 
+def test_a_vanished_piece_is_one_point_with_every_triangle_flat(tmp_path):
+    """The last frame collapses the whole piece that shrank away, its inner mesh vertices too."""
+    pytest.importorskip("svgelements")
+    turn = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    lobes = 3 * (1 + 0.3 * np.cos(3 * turn))
+    blob = np.c_[16 + lobes * np.cos(turn), 5 + lobes * np.sin(turn)]
+    square = [[0, 0], [10, 0], [10, 10], [0, 10]]
+
+    def path(rings):
+        return '<path d="' + " ".join("M" + " L".join(f"{x:.4f} {y:.4f}" for x, y in r) + " Z" for r in rings) + '"/>'
+
+    a = drawing(tmp_path / "a.svg", path([square, blob]))
+    b = drawing(tmp_path / "b.svg", path([[[0, 0], [0, 10], [12, 10], [12, 0]]]))
+    seq = isotween.morph(a, b, frames=9)
+    shape = seq.shape
+    piece = next(k for k, (idx, _) in enumerate(shape.paths) if np.ptp(seq.frames[-1, idx], axis=0).max() == 0)
+    members = shape.components == shape.components[shape.paths[piece][0][0]]
+    assert members.sum() > len(shape.paths[piece][0])  # the piece's mesh has inner vertices
+    assert np.ptp(seq.frames[-1, members], axis=0).max() == 0  # all of them at one point
+    area = shape.face_areas(seq.frames[-1])
+    assert np.all(area[members[shape.faces].all(axis=1)] == 0) and np.all(area >= 0)
+
+
 def test_paths_out_of_sight_are_not_crossings():
     # a vertical bar crosses a horizontal one; it fades out by the middle frame
     bars = [[[0, 1], [4, 1]], [[2, 0], [2, 2]]]
