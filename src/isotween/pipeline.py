@@ -427,10 +427,10 @@ def collapse_vanishing(seq, report):
     An item or hole that one drawing lacks grows from (shrinks to) a small
     copy; at its end it becomes one point, so that the end frame is the
     drawing exactly, with no speck: a whole piece (every ring of a mesh
-    component, its inner vertices too) at the centroid of its rings, so
-    every one of its triangles is flat; a hole at its centroid, or where
-    that would turn a triangle around it over, at the first of its own
-    vertices that turns none. A slit that opened a hole into a notch is
+    component, its inner vertices too) at the mean of its ring vertices,
+    so every one of its triangles is flat; a hole at the mean of its
+    vertices, or where that would turn a triangle around it over, at the
+    first of its own vertices that turns none. A slit that opened a hole into a notch is
     closed at its end (`correspondence.notches.close_slits`).
 
     Parameters
@@ -448,6 +448,7 @@ def collapse_vanishing(seq, report):
 
     shape = seq.shape
     faces = np.zeros((0, 3), dtype=np.int64) if shape.faces is None else shape.faces
+    comp = shape.components
     on_paths = np.concatenate([p for p, _ in shape.paths]) if shape.paths else np.zeros(0, dtype=np.int64)
     for key, frame in zip(getattr(report, "vanishing", None) or [], (0, -1), strict=False):
         if not key:
@@ -455,20 +456,19 @@ def collapse_vanishing(seq, report):
         z = seq.frames[frame, :, 0] + 1j * seq.frames[frame, :, 1]
         gone = np.zeros(len(z), dtype=bool)
         gone[np.concatenate(key)] = True
-        comp = shape.components
         whole = np.ones(shape.n_components, dtype=bool)  # components whose every path vertex vanishes
         whole[comp[on_paths[~gone[on_paths]]]] = False
         for idx in key:
-            if whole[comp[idx[0]]]:  # the whole piece, inner vertices too, to the centroid of its rings
+            if whole[comp[idx[0]]]:  # the whole piece, inner vertices too, to the mean of its ring vertices
                 piece = comp == comp[idx[0]]
                 z[piece] = z[piece & gone].mean()
                 continue
             around = faces[np.isin(faces, idx).any(axis=1) & ~np.isin(faces, idx).all(axis=1)]
-            points = np.r_[z[idx].mean(), z[idx]]  # the centroid, else the first vertex that turns none over
+            points = np.r_[z[idx].mean(), z[idx]]  # the mean, else the first vertex that turns none over
             moved = np.repeat(z[None], len(points), axis=0)
             moved[:, idx] = points[:, None]
             turns = (triangle_areas(moved, around) * np.sign(triangle_areas(z, around)) < 0).any(axis=1)
-            z[idx] = points[np.argmin(turns)]  # (the centroid where every point turns one over)
+            z[idx] = points[np.argmin(turns)]  # (the mean where every point turns one over)
         seq.frames[frame] = np.c_[z.real, z.imag]
     for slits, frame in zip(getattr(report, "slits", None) or [], (0, -1), strict=False):
         if slits:
