@@ -182,11 +182,12 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
                    max_iter=max_iter, method=method, times=times, assembly=assembly,
                    linear_solver=linear_solver, fold=fold)
 
-    def run(spans, faces=None):  # faces: the same pair on other triangles
+    def run(spans, faces=None):  # faces (AIAP only): the same pair on other triangles
         if method != "aiap":
             return _baseline(method, source, target, t, options, callback, spans)
         a, b = (source, target) if faces is None else (source.with_faces(faces), target.with_faces(faces))
-        seq = spanned(lambda grid: _aiap(a, b, grid, options, callback), t, spans)
+        told = callback if faces is None else None  # the progress shown is the first solve's
+        seq = spanned(lambda grid: _aiap(a, b, grid, options, told), t, spans)
         seq.timings["total"] = time.perf_counter() - start
         seq.info.update(span_paint(source, target, spans))
         return seq
@@ -197,7 +198,8 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         return seq
     # other timings the fold check tries, before a repair that lets pieces meet
     alternatives = [(lambda s=s: run(s), s) for s in ([] if timings is None else timings[1:])]
-    return _fallback(seq, source, target, t, options, first, alternatives, lambda f: run(first, f))
+    resolve = (lambda faces: run(first, faces)) if method == "aiap" else None  # AIAP on other triangles
+    return _fallback(seq, source, target, t, options, first, alternatives, resolve)
 
 
 def _aiap(source, target, t, options, callback):
