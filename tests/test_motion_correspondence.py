@@ -302,3 +302,17 @@ def test_a_page_becomes_a_folder_upright(tmp_path):
     page = "M4 1H9L13 5V14A1 1 0 0 1 12 15H4A1 1 0 0 1 3 14V2A1 1 0 0 1 4 1Z"
     folder = "M1 4A1 1 0 0 1 2 3H6L7.5 4.5H14A1 1 0 0 1 15 5.5V12A1 1 0 0 1 14 13H2A1 1 0 0 1 1 12Z"
     assert _outer_turn(tmp_path, svg.format(page), svg.format(folder))[3] < 10.0
+
+
+def test_a_house_becomes_a_heart_upright(tmp_path):
+    # Bootstrap Icons' house-fill body and heart-fill (MIT): the house's only sharp corner, its apex, is
+    # convex and the heart's top dip concave, so no corner pairs with the shift that keeps both upright;
+    # that shift stands all the same, rather than the start that pairs the apex with the heart's tip and
+    # turns the house upside down (the two fit almost as well turned by half a turn)
+    svg = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16"><path d="{}"/></svg>'
+    house = "M8 3.293l6 6V13.5a1.5 1.5 0 0 1-1.5 1.5h-9A1.5 1.5 0 0 1 2 13.5V9.293z"
+    heart = "M8 1.314C12.438-3.248 23.534 4.735 8 15-7.534 4.736 3.562-3.248 8 1.314"
+    a, b, outer, turn = _outer_turn(tmp_path, svg.format(house), svg.format(heart))
+    assert turn < 10.0
+    apex = outer[np.argmin(a.vertices[outer, 1])]  # y down: the top
+    assert b.vertices[apex, 1] < np.median(b.vertices[outer, 1])  # lands in the heart's upper half
