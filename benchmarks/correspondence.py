@@ -319,14 +319,12 @@ def frame_flips(seq, source):
     """
     if not source.n_faces:
         return [0] * (len(seq.frames) - 2)
+    from isotween.geometry import triangle_areas
+
     f = np.asarray(source.faces if seq.shape.faces is None else seq.shape.faces)
-
-    def area(z):  # (..., n, 2) -> (..., F) signed, doubled
-        u, v = z[..., f[:, 1], :] - z[..., f[:, 0], :], z[..., f[:, 2], :] - z[..., f[:, 0], :]
-        return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
-
-    ref = np.sign(area(source.vertices))
-    return [int(c) for c in np.count_nonzero((np.sign(area(seq.frames[1:-1])) * ref <= 0) & (ref != 0), axis=1)]
+    ref = np.sign(triangle_areas(source.vertices, f))
+    area = triangle_areas(seq.frames[1:-1], f)
+    return [int(c) for c in np.count_nonzero((np.sign(area) * ref <= 0) & (ref != 0), axis=1)]
 
 
 def _warm(job):

@@ -186,8 +186,8 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         if method != "aiap":
             return _baseline(method, source, target, t, options, callback, spans)
         a, b = (source, target) if faces is None else (source.with_faces(faces), target.with_faces(faces))
-        told = callback if faces is None else None  # the progress shown is the first solve's
-        seq = spanned(lambda grid: _aiap(a, b, grid, options, told), t, spans)
+        progress = callback if faces is None else None  # the progress shown is the first solve's
+        seq = spanned(lambda grid: _aiap(a, b, grid, options, progress), t, spans)
         seq.timings["total"] = time.perf_counter() - start
         seq.info.update(span_paint(source, target, spans))
         return seq

@@ -430,8 +430,8 @@ def collapse_vanishing(seq, report):
     component, its inner vertices too) at the mean of its ring vertices,
     so every one of its triangles is flat; a hole at the mean of its
     vertices, or where that would turn a triangle around it over, at the
-    first of its own vertices that turns none. A slit that opened a hole into a notch is
-    closed at its end (`correspondence.notches.close_slits`).
+    first of its own vertices that turns none. A slit that opened a hole
+    into a notch is closed at its end (`correspondence.notches.close_slits`).
 
     Parameters
     ----------

@@ -573,8 +573,10 @@ def _corner_anchors(z, w, s_z, s_w, closed, phi, turn, rounded, place=None):
                                        None if apart is None else apart[np.ix_(oa, ob)])
         cost += SHIFT_WEIGHT * (score.max() - score[int(round(off * SAMPLES)) % SAMPLES])
         if cost < best[0]:  # a start that pairs no corner can win too: then no anchors, the shift stands
-            i, j = np.array(pairs).T if pairs else (np.zeros(0, dtype=int),) * 2
-            best = (cost, (az[oa[i]], aw[ob[j]]) if pairs else None)
+            best = (cost, None)
+            if pairs:
+                i, j = np.array(pairs).T
+                best = (cost, (az[oa[i]], aw[ob[j]]))
     return best[1]
 
 
