@@ -242,3 +242,28 @@ def test_the_fold_check_leaves_a_piece_out_of_sight_out():
     assert across(1, onto) > 0 and across(2, onto) == 0 and within(2, onto) == 0
     around = Around(shape, np.stack([z, onto, z]), hidden)
     assert around.held(1) == (0, 1) and around.held(2) == (0,)
+
+
+def test_a_hole_that_no_own_point_can_close_closes_inside_the_kernel_of_its_star():
+    """A hole reaching into both arms of an L closes where every triangle around it keeps its side."""
+    from isotween.geometry import triangle_areas
+    from isotween.pipeline import _kernel_point
+
+    ell = np.array([0, 3, 3 + 1j, 1 + 1j, 1 + 3j, 3j])  # an L: its kernel is the unit square at the corner
+    z = np.r_[2.5 + 0.5j, 0.5 + 2.5j, ell]  # the hole's two vertices, one in each arm, then the L
+    hole = np.array([0, 1])
+    L = 2 + np.arange(6)
+    around = np.array([[0, L[0], L[1]], [0, L[1], L[2]], [0, L[2], L[3]],  # the arms' sides seen from their vertex
+                       [1, L[3], L[4]], [1, L[4], L[5]], [1, L[5], L[0]],
+                       [1, L[3], 0], [1, L[0], 0]])  # with both of the hole's vertices: flat once it closes
+    assert np.all(triangle_areas(z, around) > 0)
+
+    def closed_at(p):
+        moved = z.copy()
+        moved[hole] = p
+        return triangle_areas(moved, around[:6])
+
+    assert all((closed_at(p) < 0).any() for p in [z[hole].mean(), *z[hole]])  # no point of its own does
+    p = _kernel_point(z, around, hole)
+    assert 0 < p.real < 1 and 0 < p.imag < 1
+    assert np.all(closed_at(p) > 0)

@@ -430,7 +430,8 @@ def collapse_vanishing(seq, report):
     component, its inner vertices too) at the mean of its ring vertices,
     so every one of its triangles is flat; a hole at the mean of its
     vertices, or where that would turn a triangle around it over, at the
-    first of its own vertices that turns none. A slit that opened a hole
+    first of its own vertices that turns none, else inside the kernel of
+    the triangles around it (`_kernel_point`). A slit that opened a hole
     into a notch is closed at its end (`correspondence.notches.close_slits`).
 
     Parameters
@@ -468,12 +469,51 @@ def collapse_vanishing(seq, report):
             moved = np.repeat(z[None], len(points), axis=0)
             moved[:, idx] = points[:, None]
             turns = (triangle_areas(moved, around) * np.sign(triangle_areas(z, around)) < 0).any(axis=1)
-            z[idx] = points[np.argmin(turns)]  # (the mean where every point turns one over)
+            z[idx] = points[np.argmin(turns)] if not turns.all() else _kernel_point(z, around, idx)
         seq.frames[frame] = np.c_[z.real, z.imag]
     for slits, frame in zip(getattr(report, "slits", None) or [], (0, -1), strict=False):
         if slits:
             z = close_slits(seq.frames[frame, :, 0] + 1j * seq.frames[frame, :, 1], slits)
             seq.frames[frame] = np.c_[z.real, z.imag]
+
+
+def _kernel_point(z, around, idx):
+    """Where the vertices ``idx`` can meet so that no triangle of ``around`` (A, 3) turns over, at ``z`` (N,) complex.
+
+    A triangle with one vertex of ``idx`` keeps its orientation while the
+    meeting point stays on its side of the opposite edge: the point deepest
+    inside all those half-planes (the Chebyshev centre of the star's kernel,
+    a linear programme); triangles with two or three vertices of ``idx``
+    become flat. Where the kernel is empty, the mean of ``z[idx]``.
+
+    Returns
+    -------
+    complex
+    """
+    import numpy as np
+    from scipy.optimize import linprog
+
+    from .geometry import triangle_areas
+
+    mine = np.isin(around, idx)
+    one = around[mine.sum(axis=1) == 1]
+    mean = complex(z[idx].mean())
+    if not len(one):
+        return mean
+    sign = np.sign(triangle_areas(z, one))
+    first = np.argmax(np.isin(one, idx), axis=1)  # rolled so the moving vertex comes first: (p, v, w)
+    r = np.arange(len(one))
+    v, w = z[one[r, (first + 1) % 3]], z[one[r, (first + 2) % 3]]
+    d = w - v
+    # twice the area of (p, v, w) is cross(v, w) + d.x p.y - d.y p.x; kept above r |d| times its sign
+    A = np.c_[sign * d.imag, -sign * d.real, np.abs(d)]
+    b = sign * (np.conj(v) * w).imag
+    star = z[np.unique(one)]
+    bounds = [(star.real.min(), star.real.max()), (star.imag.min(), star.imag.max()), (0, None)]
+    res = linprog([0, 0, -1], A_ub=A, b_ub=b, bounds=bounds, method="highs")
+    if res.status != 0 or res.x[2] <= 0:
+        return mean
+    return complex(res.x[0], res.x[1])
 
 
 def finish(seq, report, stagger=STAGGER, strokes="untangle"):
