@@ -39,6 +39,20 @@ def test_flipped_faces_counts_sign_changes():
     assert metrics.flipped_faces(seq, reduce="max") == mesh.n_faces
 
 
+def test_flips_are_told_against_the_shape_not_an_end_changed_after_solving():
+    """A corner folded over in frame 0 alone (a hole collapsed there): the in-betweens, as the mesh, are not flipped."""
+    mesh = grid_mesh(3, 2)
+    frames = np.repeat(mesh.vertices[None], 4, axis=0)
+    frames[0, 0] = frames[0, 4] + (frames[0, 4] - frames[0, 0])  # frame 0: one corner folded over
+    seq = Sequence(frames, mesh)
+    flipped = metrics.flipped(seq)
+    assert flipped[0].any() and not flipped[1:].any()
+    assert metrics.flipped_faces(seq) == 0
+    frames[0] = mesh.vertices[0]  # frame 0 collapsed to one point: its flat faces tell nothing
+    frames[1, :, 0] *= -1
+    assert not metrics.flipped(Sequence(frames, mesh))[1].any()
+
+
 def test_isometric_energy_zero_for_rigid_and_positive_for_stretch():
     src = ellipse()
     rot = src.with_vertices(src.vertices @ np.array([[0, -1], [1, 0]]).T)

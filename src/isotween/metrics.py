@@ -136,7 +136,11 @@ def flipped(seq: Sequence) -> np.ndarray:
     """(F, faces) bool: the one definition of a flipped face.
 
     A face is flipped in a frame when its signed area has the other sign than
-    in the source (frame 0); a face of zero area in the source never counts.
+    in the source: the shape's own vertices, frame 0 unless an end frame was
+    changed after solving (`pipeline.collapse_vanishing` collapses a hole
+    one drawing lacks to a point, which may turn triangles around it over
+    there); a face of zero area in the source or in frame 0 (a piece
+    collapsed to a point there) never counts.
 
     Examples
     --------
@@ -150,7 +154,8 @@ def flipped(seq: Sequence) -> np.ndarray:
     A = seq.shape.face_areas(seq.frames)
     if not A.size:
         return np.zeros((len(seq.frames), 0), bool)
-    return (np.sign(A) != np.sign(A[:1])) & (A[:1] != 0)
+    source = seq.shape.face_areas()
+    return (np.sign(A) != np.sign(source)) & (source != 0) & (A[:1] != 0)
 
 
 @overload
