@@ -496,12 +496,12 @@ def _kernel_point(z, around, idx):
     from .geometry import triangle_areas
 
     mine = np.isin(around, idx)
-    one = around[mine.sum(axis=1) == 1]
-    mean = complex(z[idx].mean())
+    single = mine.sum(axis=1) == 1
+    one, mean = around[single], complex(z[idx].mean())
     if not len(one):
         return mean
-    sign = np.sign(triangle_areas(z, one))
-    first = np.argmax(np.isin(one, idx), axis=1)  # rolled so the moving vertex comes first: (p, v, w)
+    sign = np.sign(triangle_areas(z, one))  # each triangle's orientation at z, to keep
+    first = np.argmax(mine[single], axis=1)  # rolled so the moving vertex comes first: (p, v, w)
     r = np.arange(len(one))
     v, w = z[one[r, (first + 1) % 3]], z[one[r, (first + 2) % 3]]
     d = w - v
