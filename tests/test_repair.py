@@ -1,6 +1,7 @@
 """Folds repaired frame by frame: no flipped triangle, the rest of the frame kept."""
 
 import numpy as np
+import pytest
 
 from isotween.foldfree.repair import RINGS, repair_folds
 from isotween.geometry import triangle_areas
@@ -61,3 +62,26 @@ def test_clockwise_faces_are_kept_clockwise():
     folded[6] = z[6] + 1.5 + 1.5j
     out, _ = repair_folds(np.stack([z, folded, z]), f)
     assert np.all(triangle_areas(out[1], f) < 0)
+
+
+def test_a_fold_in_one_piece_leaves_the_others_as_they_were_though_a_scaffold_is_given():
+    """With a scaffold, a frame is first repaired in the regions alone, kept where that holds the pieces apart."""
+    pytest.importorskip("shapely")
+    from isotween import Shape
+    from isotween.foldfree.scaffold import Around
+    from isotween.metrics import crossing_pairs
+
+    z, f = grid(6)
+    side = np.arange(5)
+    ring = np.r_[side, 5 + 6 * side, 35 - side, 30 - 6 * side]  # the grid's outline, counter-clockwise
+    Z, F = np.r_[z, z + 10], np.r_[f, f + 36]
+    shape = Shape(np.c_[Z.real, Z.imag], faces=F, paths=[(ring, True), (ring + 36, True)], regions=[[0], [1]])
+    folded = Z.copy()
+    folded[2 * 6 + 2] += 1.6 + 1.3j  # an inner vertex of the first piece pushed across two of its neighbours
+    frames = np.stack([Z, folded, Z])
+    outline = np.c_[np.r_[ring, ring + 36], np.r_[np.roll(ring, -1), np.roll(ring, -1) + 36]]
+    apart = lambda k, x: crossing_pairs(x, outline) == 0  # noqa: E731
+    out, info = repair_folds(frames, F, accept=apart, scaffold=Around(shape, frames))
+    assert info["frames"] == [1] and np.all(triangle_areas(out[1], F) > 0)
+    assert np.array_equal(out[1][36:], folded[36:])  # the other piece: bit for bit
+    assert np.array_equal(out, repair_folds(frames, F, accept=apart)[0])  # the regions' own repair: no scaffold paid

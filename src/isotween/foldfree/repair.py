@@ -21,10 +21,13 @@ folds to ``a``, at the folds, blended to ``a`` over the rings. Where that
 fails (an outline that crosses with no face folded, or a result that
 ``accept`` refuses), every vertex moves, from the repaired frame before
 moved towards ``a`` as far as no triangle degenerates. With a scaffold
-(`isotween.foldfree.scaffold`) the empty space around the pieces joins
-the energy, so pieces cannot pass
-through each other either: triangulated where they are before the first
-repaired frame, then carried from frame to frame with its edges flipped to
+(`isotween.foldfree.scaffold`), frames are first repaired in the regions
+alone, around their folds, while ``accept`` keeps the result (the
+scaffold's guess turns its own triangles over, which widens the band
+round the folds to nearly every vertex); from the first frame where it
+does not, the empty space around the pieces joins the energy, so pieces
+cannot pass through each other either: triangulated where they are before
+that frame, then carried from frame to frame with its edges flipped to
 Delaunay, and triangulated afresh where its smallest angle falls below
 `WORN` of what it was when built, or where a frame repaired in the carried
 one is refused (pieces that touch leave it a gap). Frames
@@ -79,7 +82,9 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
         regions'), each resting as it is, grown to at least a small area
         (`GAP`): a barrier that pushes nothing but resists squeezing, so a
         repaired frame is an embedding and no two pieces overlap, while
-        pieces can still slide past each other from frame to frame.
+        pieces can still slide past each other from frame to frame. It
+        joins from the first frame that the regions repaired alone do not
+        pass ``accept``.
 
     Returns
     -------
@@ -123,8 +128,20 @@ def repair_folds(frames, faces, accept=None, scaffold=None):
     stride = np.abs(np.diff(frames, axis=0)).max()
     k, last = folded[0], folded[-1]
     latest = min(len(frames) - 2, last + int(CATCH_UP * (len(frames) - 1)))
+    alone = scaffold is not None  # first the regions alone, around their folds, until a frame needs the scaffold
     while k <= last:
-        for retry in (False, True):
+        x = None
+        if alone:
+            a = frames[k]
+            sides = np.abs(a[np.roll(f, -1, axis=1)] - a[f])
+            local = _local(prev[:n], a, f, sides, None, np.zeros(n, dtype=bool), n, float(np.mean(sides ** 2)))
+            if local is not None:
+                _spend(info, local[1], n)
+            if local is not None and (accept is None or accept(k, local[0])):
+                x = local[0]
+            else:
+                alone = False
+        for retry in () if x is not None else (False, True):
             a, joint, fixed, weight = frames[k], f, np.zeros(n, dtype=bool), None
             state, area = prev, np.zeros(0)
             carried = False
