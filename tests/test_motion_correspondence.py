@@ -316,3 +316,24 @@ def test_a_house_becomes_a_heart_upright(tmp_path):
     assert turn < 10.0
     apex = outer[np.argmin(a.vertices[outer, 1])]  # y down: the top
     assert b.vertices[apex, 1] < np.median(b.vertices[outer, 1])  # lands in the heart's upper half
+
+
+def test_a_rounded_corner_where_a_stroke_joins_pairs_with_its_partner():
+    # a lock's body: the shackle's leg joins the top-left corner right where its arc begins (a sharp corner
+    # next to the arc); in the target the leg stands further right. The arcs' middles pair all the same
+    from isotween.correspondence.matching import match_rings
+
+    def body(width, height, leg):
+        ring, middles = rounded_rectangle(width, height, 2, 9, 0)
+        top = height / 2
+        start = np.flatnonzero(np.isclose(ring, complex(2 - width / 2, top)))[0]  # the top-left arc's start
+        foot = [leg + 1 + 1j * top, leg + 1 + 1j * (top + 3), leg + 1j * (top + 3)]
+        foot += [] if np.isclose(leg, 2 - width / 2) else [leg + 1j * top]
+        return np.r_[ring[:start], foot, ring[start:]], middles[2]
+
+    z, corner_z = body(30, 20, -13.0)
+    w, corner_w = body(40, 12, 0.0)
+    pair = match_rings(z, w, True, turn=1 + 0j, place=lambda p: p)
+    k = np.argmin(np.abs(pair.source - corner_z))
+    # the middle of the arc (radius 2) lands on its partner's within a quarter of the radius, not on the top side
+    assert abs(pair.source[k] - corner_z) < 1e-9 and abs(pair.target[k] - corner_w) < 0.5

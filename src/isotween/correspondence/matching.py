@@ -16,7 +16,10 @@ A ring (closed) or polyline (open) is parameterised by normalised arc length
    rings are not similar copies, also rounded corners, arcs that turn by
    `ROUND_CORNER` within a short stretch, `_corners`) of the two rings that
    land near each other under the shift are paired (mutual nearest, same turn,
-   monotone order), then every target vertex that lands near a source vertex
+   monotone order). A rounded corner left unpaired pairs, arc to arc, with
+   one of the other ring that a sharp corner next to it hid (a stroke
+   joining where the arc begins: `_soft_corners`), where the two lie between
+   the same anchors. Then every target vertex that lands near a source vertex
    is paired with it. The parameter map ``phi`` from source to target is
    piecewise linear in arc length through the anchors.
 3. **Union.** Every source vertex goes into the target at ``phi(s)`` and
@@ -206,30 +209,69 @@ def _corners(z, s, closed, rounded=True):
     sharp = np.flatnonzero(np.abs(t) >= CORNER)
     at, turn, soft = s[sharp], t[sharp], np.zeros(len(sharp), dtype=bool)
     if rounded:
-        reach = np.r_[s - 1.0, s, s + 1.0] if closed else s  # a ring's window may wrap round
-        tt = np.tile(t, 3) if closed else t
-        cum, moment = np.r_[0.0, np.cumsum(tt)], np.r_[0.0, np.cumsum(tt * reach)]
-        lo = np.searchsorted(reach, s - ROUND_WINDOW, side="left")
-        hi = np.searchsorted(reach, s + ROUND_WINDOW, side="right")
-        window = cum[hi] - cum[lo]
-        cand = np.flatnonzero(np.abs(window) >= ROUND_CORNER)
-
-        def gap(a, b):  # (len(a), len(b)) parameter distances, round the ring
-            d = a[:, None] - b[None, :]
-            return np.abs(_wrap(d) if closed else d)
-
-        if len(cand):
-            w = np.abs(window[cand])
-            beaten = (gap(s[cand], s[cand]) <= ROUND_WINDOW) & (
-                (w[None, :] > w[:, None]) | ((w[None, :] == w[:, None]) & (cand[None, :] < cand[:, None])))
-            cand = cand[~beaten.any(axis=1)]
-            if len(sharp) and len(cand):
-                cand = cand[~(gap(s[cand], s[sharp]) <= ROUND_WINDOW).any(axis=1)]
-            centre = (moment[hi[cand]] - moment[lo[cand]]) / window[cand]
-            at, turn = np.r_[at, np.mod(centre, 1.0) if closed else centre], np.r_[turn, window[cand]]
-            soft = np.r_[soft, np.ones(len(cand), dtype=bool)]
+        centre, window, _, vertex = _rounded(t, s, closed)
+        far = ~_near(vertex, s[sharp], closed)
+        at, turn = np.r_[at, centre[far]], np.r_[turn, window[far]]
+        soft = np.r_[soft, np.ones(int(far.sum()), dtype=bool)]
     order = np.argsort(at, kind="stable")
     return at[order], turn[order], soft[order]
+
+
+def _rounded(t, s, closed):
+    """Rounded corners of a ring from its (k,) turning angles ``t``.
+
+    Where the turning within `ROUND_WINDOW` on either side of a vertex
+    reaches `ROUND_CORNER` and is the largest that near.
+
+    Returns
+    -------
+    centre, turn, half, vertex : (r,) float arrays
+        The turning's centroid in arc length (the corner's place), the
+        turning, the arc's half length (from the turning's spread, as if
+        uniform), and the arc parameter of the vertex it is centred on.
+    """
+    reach = np.r_[s - 1.0, s, s + 1.0] if closed else s  # a ring's window may wrap round
+    tt = np.tile(t, 3) if closed else t
+    cum, moment = np.r_[0.0, np.cumsum(tt)], np.r_[0.0, np.cumsum(tt * reach)]
+    second = np.r_[0.0, np.cumsum(tt * reach**2)]
+    lo = np.searchsorted(reach, s - ROUND_WINDOW, side="left")
+    hi = np.searchsorted(reach, s + ROUND_WINDOW, side="right")
+    window = cum[hi] - cum[lo]
+    cand = np.flatnonzero(np.abs(window) >= ROUND_CORNER)
+    w = np.abs(window[cand])
+    beaten = _near(s[cand], s[cand], closed, every=True) & (
+        (w[None, :] > w[:, None]) | ((w[None, :] == w[:, None]) & (cand[None, :] < cand[:, None])))
+    cand = cand[~beaten.any(axis=1)]
+    lo, hi, window = lo[cand], hi[cand], window[cand]
+    centre = (moment[hi] - moment[lo]) / window
+    spread = np.maximum((second[hi] - second[lo]) / window - centre**2, 0.0)
+    return (np.mod(centre, 1.0) if closed else centre), window, np.sqrt(3.0 * spread), s[cand]
+
+
+def _near(a, b, closed, every=False):
+    """(len(a),) bool: parameters ``a`` within `ROUND_WINDOW` of one of ``b``; ``every``: the (len(a), len(b)) table."""
+    d = a[:, None] - b[None, :]
+    near = np.abs(_wrap(d) if closed else d) <= ROUND_WINDOW
+    return near if every else near.any(axis=1)
+
+
+def _soft_corners(z, s, closed, hidden=False):
+    """Rounded corners of a ring: (r,) arc parameters, turning angles and half lengths of their arcs.
+
+    Those of `_corners` (no sharp corner near), or with ``hidden`` those
+    next to a sharp corner that `_corners` leaves out (a stroke joining a
+    rounded corner where its arc begins), their turning counted without the
+    sharp vertices.
+    """
+    t = _turning(z, closed)
+    sharp = np.abs(t) >= CORNER
+    centre, turn, half, vertex = _rounded(t, s, closed)
+    keep = ~_near(vertex, s[sharp], closed)
+    if hidden:  # near a sharp corner, and not one already found
+        found = centre[keep]
+        centre, turn, half, vertex = _rounded(np.where(sharp, 0.0, t), s, closed)
+        keep = _near(vertex, s[sharp], closed) & ~_near(centre, found, closed)
+    return centre[keep], turn[keep], half[keep]
 
 
 def _wrap(d):
@@ -577,7 +619,53 @@ def _corner_anchors(z, w, s_z, s_w, closed, phi, turn, rounded, place=None):
             if pairs:
                 i, j = np.array(pairs).T
                 best = (cost, (az[oa[i]], aw[ob[j]]))
-    return best[1]
+    if not rounded or best[1] is None:
+        return best[1]
+    a, b = best[1]
+    soft_z, soft_w = _soft_corners(z, s_z, True), _soft_corners(w, s_w, True)
+    lone_z, lone_w = ~np.isin(soft_z[0], a), ~np.isin(soft_w[0], b)
+    one = _gap_pairs(a, b, [x[lone_z] for x in soft_z], _soft_corners(w, s_w, True, hidden=True))
+    two = _gap_pairs(b, a, [x[lone_w] for x in soft_w], _soft_corners(z, s_z, True, hidden=True))
+    a, b = np.r_[a, one[0], two[1]], np.r_[b, one[1], two[0]]
+    order = np.argsort(a, kind="stable")
+    keep = order[_monotone(a[order], b[order], True)]
+    return a[keep], b[keep]
+
+
+def _gap_pairs(a, b, lone, hidden):
+    """Anchors pairing a rounded corner left unpaired on one ring with a hidden one of the other in the same gap.
+
+    Parameters
+    ----------
+    a, b : (m,) float
+        Anchor parameters on the two rings, in order round both from ``a[0]``, ``b[0]``.
+    lone : three (p,) float arrays
+        Unpaired rounded corners of the first ring: parameters, turning
+        angles, half lengths of their arcs (`_soft_corners`).
+    hidden : three (h,) float arrays
+        The same of the hidden corners of the second ring.
+
+    Returns
+    -------
+    (k,) float, (k,) float
+        Parameters on the first ring and on the second: the two arcs' starts,
+        centres and ends, where a gap between two consecutive anchors holds
+        one corner of each, of a similar turn.
+    """
+    (c, q, h), (d, t, g) = lone, hidden
+    ends_a, ends_b = np.r_[np.mod(a - a[0], 1.0), 1.0], np.r_[np.mod(b - b[0], 1.0), 1.0]
+    c, d = np.mod(c - a[0], 1.0), np.mod(d - b[0], 1.0)
+    gap_a, gap_b = np.searchsorted(ends_a, c, side="right"), np.searchsorted(ends_b, d, side="right")
+    count = lambda gap: np.bincount(gap, minlength=len(ends_a))[gap] == 1  # noqa: E731
+    i, j = np.nonzero((gap_a[:, None] == gap_b[None, :]) & (np.abs(q[:, None] - t[None, :]) <= CORNER_TURN)
+                      & count(gap_a)[:, None] & count(gap_b)[None, :])
+
+    def arc(x, half, ends, gap):  # (k, 3) start, centre, end: within half way to the gap's anchors
+        lo, hi = ends[gap - 1], ends[gap]
+        return np.c_[x - np.minimum(half, 0.5 * (x - lo)), x, x + np.minimum(half, 0.5 * (hi - x))]
+
+    return (np.mod(arc(c[i], h[i], ends_a, gap_a[i]) + a[0], 1.0).ravel(),
+            np.mod(arc(d[j], g[j], ends_b, gap_b[j]) + b[0], 1.0).ravel())
 
 
 def _split(s, u, closed, hs, hu):
