@@ -318,6 +318,19 @@ def test_a_house_becomes_a_heart_upright(tmp_path):
     assert b.vertices[apex, 1] < np.median(b.vertices[outer, 1])  # lands in the heart's upper half
 
 
+def test_a_heart_becomes_a_star_upright(tmp_path):
+    # Bootstrap Icons' heart-fill and star-fill (MIT): two blobs whose outlines fit so well (correlation
+    # above `matching.WARP_FIT`) that they count as similar copies, so the alignment's upright shift stands;
+    # the heart's dip is not pulled onto one of the star's inner corners, which turns the heart by a fifth
+    # of a star's turn on its way
+    svg = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16"><path d="{}"/></svg>'
+    heart = "M8 1.314C12.438-3.248 23.534 4.735 8 15-7.534 4.736 3.562-3.248 8 1.314"
+    star = ("M3.612 15.443c-.386.198-.824-.149-.746-.592l.83-4.73L.173 6.765c-.329-.314-.158-.888.283-.95l4.898"
+            "-.696L7.538.792c.197-.39.73-.39.927 0l2.184 4.327 4.898.696c.441.062.612.636.282.95l-3.522 3.356.83 "
+            "4.73c.078.443-.36.79-.746.592L8 13.187l-4.389 2.256z")
+    assert _outer_turn(tmp_path, svg.format(heart), svg.format(star))[3] < 10.0
+
+
 def test_a_rounded_corner_where_a_stroke_joins_pairs_with_its_partner():
     # a lock's body: the shackle's leg joins the top-left corner right where its arc begins (a sharp corner
     # next to the arc); in the target the leg stands further right. The arcs' middles pair all the same

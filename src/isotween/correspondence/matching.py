@@ -46,6 +46,8 @@ ROUND_WINDOW = 0.05
 PLACE_WEIGHT = 1.0
 #: how far (fraction of the ring) a corner may land from its partner and still anchor
 CORNER_WINDOW = 0.15
+#: the same where the rings are similar copies (the alignment's shift is exact there)
+COPY_WINDOW = 0.03
 #: rings whose best similarity fit (normalised correlation) is below this are matched by warping
 WARP_FIT = 0.97
 #: samples per ring of the warped match, the cost of a step along one ring alone, and anchors every so many steps
@@ -604,14 +606,16 @@ def _corner_anchors(z, w, s_z, s_w, closed, phi, turn, rounded, place=None):
     score = shift_score(rho, turn)
     lead = int(np.argmax(np.abs(qz)))
     offsets = [float(phi(az[lead]) - az[lead])]
-    offsets += [float(aw[j] - az[lead]) for j in np.flatnonzero(np.abs(qw - qz[lead]) <= CORNER_TURN)]
+    window = CORNER_WINDOW if rounded else COPY_WINDOW  # a similar copy: the shift stands, corners snap
+    if rounded:
+        offsets += [float(aw[j] - az[lead]) for j in np.flatnonzero(np.abs(qw - qz[lead]) <= CORNER_TURN)]
     best = (np.inf, None)
     for off in np.mod(offsets, 1.0):
-        cut = az[lead] - 0.5 * CORNER_WINDOW  # just before the lead corner, and where it lands
+        cut = az[lead] - 0.5 * window  # just before the lead corner, and where it lands
         da = np.mod(az - cut, 1.0)
         db = np.mod(aw - cut - off, 1.0)
         oa, ob = np.argsort(da), np.argsort(db)
-        cost, pairs = _align_sequences(da[oa], qz[oa], db[ob], qw[ob], CORNER_WINDOW,
+        cost, pairs = _align_sequences(da[oa], qz[oa], db[ob], qw[ob], window,
                                        None if apart is None else apart[np.ix_(oa, ob)])
         cost += SHIFT_WEIGHT * (score.max() - score[int(round(off * SAMPLES)) % SAMPLES])
         if cost < best[0]:  # a start that pairs no corner can win too: then no anchors, the shift stands
