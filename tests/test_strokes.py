@@ -212,3 +212,23 @@ def test_a_stroke_prefers_a_partner_of_its_direction():
     cost = regions._cost(feats, feats, closed=False)  # same place and length: only the directions differ
     assert cost[0, 0] == cost[1, 1] == pytest.approx(0.0)
     assert cost[0, 1] == cost[1, 0] == pytest.approx(4 * regions.TURN_COST)
+
+
+def test_strokes_drawn_off_and_on_take_turns(tmp_path):
+    # two cells of the bar sweeping through four short strokes: both bars are drawn off and on, one
+    # after the other, so the drawing never loses both at once (all at once, both vanish half way)
+    head = HEAD.replace("0 0 24 24", "0 0 48 24")
+    cell = '<path d="M{} 12h20"/><path d="M{} 7h2"/><path d="M{} 7h2"/><path d="M{} 17h2"/><path d="M{} 17h2"/>'
+    across = head + cell.format(2, 16, 6, 6, 16) + cell.format(26, 40, 30, 30, 40) + "</svg>"
+    upright = across.replace("M2 12h20", "M12 2v20").replace("M26 12h20", "M36 2v20")
+    a, b = tmp_path / "a.svg", tmp_path / "b.svg"
+    a.write_text(across)
+    b.write_text(upright)
+    seq = isotween.morph(a, b, frames=21)
+    assert seq.info["strokes"].startswith("2 of 10")
+    assert not metrics.outline_crossings(seq, visible=True).any()
+    _, paints = sequence_paint(seq)
+    bars = [k for k, (idx, _) in enumerate(seq.shape.paths) if len(idx) and np.ptp(seq.z[0, idx].real) > 10]
+    ink = sum(np.abs(np.diff(seq.z[:, seq.shape.paths[k][0]], axis=1)).sum(axis=1)
+              * np.array([p[k].opacity for p in paints]) for k in bars)
+    assert len(bars) == 2 and ink.min() >= 20.0 - 1e-9  # a whole bar (20 long) on view in every frame

@@ -14,7 +14,9 @@ art is drawn on the web. A stroke drawn off or on only covers where it is
 in its drawing, so it can only meet what moves across it; the changes stop
 when no such crossing is left or no stroke is left to change, the version
 with the fewest crossings is kept, and a changed stroke whose change the
-others made needless morphs again.
+others made needless morphs again. Several strokes so changed take turns
+where that makes no more crossings (their switches spread over `SPREAD` of
+the morph, in drawing order), so that the drawing does not empty half way.
 """
 
 import numpy as np
@@ -26,6 +28,8 @@ __all__ = ["drawn", "untangle", "stroke_paths", "FADE"]
 
 #: share of a stroke's time drawn off (on) in which it also fades out (in): its last moments, a dot
 FADE = 0.25
+#: share of the morph over which the switches of several strokes drawn off and on are spread
+SPREAD = 0.4
 
 
 def drawn(z, u, closed=False):
@@ -83,6 +87,7 @@ class _Swaps:
 
     def __init__(self, seq, vanishing, share):
         self.seq, self.share = seq, share
+        self.spread = 0.0  # `SPREAD` once the strokes take turns
         self.z = seq.frames[..., 0] + 1j * seq.frames[..., 1]
         self.t = np.asarray(seq.times, dtype=np.float64)
         shape = seq.shape
@@ -94,11 +99,24 @@ class _Swaps:
         self.keys = None if keyed is None else keyed[1:]  # (key times, keys)
         self.out_of_sight = out_of_sight(seq)
 
+    def schedule(self, swapped):
+        """Per swapped path: (a, b, h), drawn off within (a - h, a) and on within (b, b + h).
+
+        All at once: off within the first share of the morph, on within the
+        last. Taking turns (``spread``): the paths in drawing order, their
+        switches spread evenly over ``spread`` of the morph round its middle,
+        each as long as its place allows, so that some strokes are on view at
+        every moment.
+        """
+        a, b = self.share, 1.0 - self.share
+        order = sorted(swapped)
+        lead = np.linspace(-0.5, 0.5, len(order)) * self.spread if len(order) > 1 else np.zeros(len(order))
+        return {p: (a + d, b + d, min(a, a + d, 1.0 - b - d)) for p, d in zip(order, lead, strict=True)}
+
     def hidden(self, swapped):
         """(F, P) bool: paths drawn with opacity 0 in each frame."""
         out = self.out_of_sight.copy()
-        a, b = self.share, 1.0 - self.share
-        for p in swapped:
+        for p, (a, b, _) in self.schedule(swapped).items():
             out[:, p] = ((self.t >= a) & (self.t <= b)) | ((self.t < a) & (p in self.absent[0])) \
                 | ((self.t > b) & (p in self.absent[1]))
             out[0, p] = p in self.absent[0]
@@ -108,13 +126,12 @@ class _Swaps:
     def frames(self, swapped):
         """(F, n) complex frames with the ``swapped`` paths drawn off and on."""
         z = self.z.copy()
-        a, b = self.share, 1.0 - self.share
-        for p in swapped:
+        for p, (a, b, h) in self.schedule(swapped).items():
             idx = self.seq.shape.paths[p][0]
             start, end = self.z[0, idx], self.z[-1, idx]
             closed = self.seq.shape.paths[p][1]
-            off = drawn(start, 1.0 - self.t / a, closed)
-            on = drawn(end, (self.t - b) / a, closed)
+            off = drawn(start, (a - self.t) / h, closed)
+            on = drawn(end, (self.t - b) / h, closed)
             if p in self.absent[0]:  # nothing to draw off: it waits, one point, where it is drawn on
                 off = np.broadcast_to(end[0], off.shape)
             if p in self.absent[1]:  # nothing to draw on: it stays, one point, where it was drawn off
@@ -137,14 +154,14 @@ class _Swaps:
         way as it is drawn on.
         """
         key_times, keys = self.keys
-        a, b = self.share, 1.0 - self.share
-        times = np.unique(np.r_[key_times, a * (1.0 - FADE), a, b, b + a * FADE])
+        plan = self.schedule(swapped)
+        times = np.unique(np.r_[key_times, np.ravel([[a - h * FADE, a, b, b + h * FADE] for a, b, h in plan.values()])])
         new = paint_at(key_times, keys, times)
-        for p in swapped:
+        for p, (a, b, h) in plan.items():
             start, end = keys[0][p], keys[-1][p]
             for k, t in enumerate(times):
-                was = start if t <= 0.5 else end
-                seen = np.clip(max((a - t) / (a * FADE), (t - b) / (a * FADE)), 0.0, 1.0)
+                was = start if t <= a else end
+                seen = np.clip(max((a - t) / (h * FADE), (t - b) / (h * FADE)), 0.0, 1.0)
                 if (p in self.absent[0] and t < b) or (p in self.absent[1] and t > a):
                     seen = 0.0  # a stroke the drawing lacks: one point, out of sight
                 elif t <= 0.0 or t >= 1.0:
@@ -203,6 +220,9 @@ def untangle(seq, report, share=0.5):
             left, chosen = n, fewer
     if not chosen:
         return seq
+    swaps.spread = SPREAD  # taking turns, where that makes no more crossings
+    if int(swaps.crossings(chosen).sum()) > left:
+        swaps.spread = 0.0
     z = swaps.frames(chosen)
     seq.frames[...] = np.stack([z.real, z.imag], axis=-1)
     if swaps.keys is not None:
