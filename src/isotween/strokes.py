@@ -16,7 +16,8 @@ when no such crossing is left or no stroke is left to change, the version
 with the fewest crossings is kept, and a changed stroke whose change the
 others made needless morphs again. Several strokes so changed take turns
 where that makes no more crossings (their switches spread over `SPREAD` of
-the morph, in drawing order), so that the drawing does not empty half way.
+the morph, else half that, in drawing order), so that the drawing does not
+empty half way.
 """
 
 import numpy as np
@@ -220,9 +221,10 @@ def untangle(seq, report, share=0.5):
             left, chosen = n, fewer
     if not chosen:
         return seq
-    swaps.spread = SPREAD  # taking turns, where that makes no more crossings
-    if int(swaps.crossings(chosen).sum()) > left:
-        swaps.spread = 0.0
+    for spread in (SPREAD, 0.5 * SPREAD, 0.0):  # taking turns, where that makes no more crossings
+        swaps.spread = spread
+        if not spread or int(swaps.crossings(chosen).sum()) <= left:
+            break
     z = swaps.frames(chosen)
     seq.frames[...] = np.stack([z.real, z.imag], axis=-1)
     if swaps.keys is not None:
