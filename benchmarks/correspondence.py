@@ -232,7 +232,20 @@ def stroke_measures(seq, drawings):
             ok, why = False, "stroke lost at an end"
         if min(e["opacity"] for e in ends) == 0 < max(e["opacity"] for e in ends):
             fades += 1
-    return {"strokes": ok and n > 0, "stroked_paths": n, "fades": fades, "why": why}
+    return {"strokes": ok and n > 0, "stroked_paths": n, "fades": fades, "why": why, "on_view": on_view(seq)}
+
+
+def on_view(seq):
+    """The least stroke length on view in an in-between (length times opacity, all paths), over the smaller end's."""
+    from isotween.paint import sequence_paint
+
+    _, paints = sequence_paint(seq)
+    z = seq.z
+    ink = np.zeros(len(z))
+    for k, (p, closed) in enumerate(seq.shape.paths):
+        w = z[:, np.r_[p, p[:1]]] if closed else z[:, p]
+        ink += np.abs(np.diff(w, axis=1)).sum(axis=1) * np.array([f[k].opacity for f in paints])
+    return float(ink[1:-1].min() / max(min(ink[0], ink[-1]), 1e-300))
 
 
 # ---------------------------------------------------------------- isotween
@@ -777,9 +790,13 @@ def main():
         changed = [r for r in strokes if r.get("untangled")]
         n_changed = sum(int(r["untangled"].split()[0]) for r in changed)
         n_all = sum(r["stroke"]["stroked_paths"] for r in strokes if r["stroke"])
+        seen = [r["stroke"]["on_view"] for r in strokes if r["stroke"] and "on_view" in r["stroke"]]
         body += ["", f"Strokes drawn off and on instead of passing through other paths (`isotween.strokes.untangle`): "
                  f"{n_changed} of the {n_all} stroked paths, in {len(changed)} of the {len(strokes)} stroked pairs; "
-                 "the others morph."]
+                 "the others morph."
+                 + (f" The least stroke length on view in an in-between (length times opacity), as a share of the "
+                    f"smaller end's: median {np.median(seen):.2f}, lowest {min(seen):.2f} (0: the drawing empties)."
+                    if seen else "")]
     by_time = sorted(good, key=lambda r: -r["seconds"])[:10]
     by_end = sorted(good, key=lambda r: -max(r["ends"]))[:10]
     body += ["", "Slowest pairs: " + "; ".join(
