@@ -232,3 +232,6 @@ def test_strokes_drawn_off_and_on_take_turns(tmp_path):
     ink = sum(np.abs(np.diff(seq.z[:, seq.shape.paths[k][0]], axis=1)).sum(axis=1)
               * np.array([p[k].opacity for p in paints]) for k in bars)
     assert len(bars) == 2 and ink.min() >= 20.0 - 1e-9  # a whole bar (20 long) on view in every frame
+    quick = isotween.morph(a, b, frames=21, stagger=0.2)  # off within the first fifth, on within the last
+    assert np.isfinite(quick.frames).all() and not metrics.outline_crossings(quick, visible=True).any()
+    np.testing.assert_array_equal(quick.frames[[0, -1]], seq.frames[[0, -1]])

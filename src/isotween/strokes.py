@@ -111,7 +111,8 @@ class _Swaps:
         """
         a, b = self.share, 1.0 - self.share
         order = sorted(swapped)
-        lead = np.linspace(-0.5, 0.5, len(order)) * self.spread if len(order) > 1 else np.zeros(len(order))
+        spread = min(self.spread, a)  # each one drawn off after 0 and on before 1
+        lead = np.linspace(-0.5, 0.5, len(order)) * spread if len(order) > 1 else np.zeros(len(order))
         return {p: (a + d, b + d, min(a, a + d, 1.0 - b - d)) for p, d in zip(order, lead, strict=True)}
 
     def hidden(self, swapped):
