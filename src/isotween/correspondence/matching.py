@@ -211,10 +211,8 @@ def _corners(z, s, closed, rounded=True):
     sharp = np.flatnonzero(np.abs(t) >= CORNER)
     at, turn, soft = s[sharp], t[sharp], np.zeros(len(sharp), dtype=bool)
     if rounded:
-        centre, window, _, vertex = _rounded(t, s, closed)
-        far = ~_near(vertex, s[sharp], closed)
-        at, turn = np.r_[at, centre[far]], np.r_[turn, window[far]]
-        soft = np.r_[soft, np.ones(int(far.sum()), dtype=bool)]
+        centre, window, _ = _soft_corners(z, s, closed)
+        at, turn, soft = np.r_[at, centre], np.r_[turn, window], np.r_[soft, np.ones(len(centre), dtype=bool)]
     order = np.argsort(at, kind="stable")
     return at[order], turn[order], soft[order]
 
