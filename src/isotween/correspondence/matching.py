@@ -577,11 +577,15 @@ def _corner_anchors(z, w, s_z, s_w, closed, phi, turn, rounded, place=None):
     `_align_sequences` in arc-length order. On a ring every start is tried
     (the strongest source corner against each target corner of a similar
     turn, and the alignment's own shift); the cost adds how much worse the
-    start's shift fits the drawing's rotation (`shift_score`). With
+    start's shift fits the drawing's rotation (`shift_score`). Rings that
+    are similar copies (not ``rounded``) keep the alignment's shift, and
+    corners pair within `COPY_WINDOW` of where it puts them. With
     ``place`` (the drawings' alignment), a pair with a rounded corner also
     costs the distance between its two corners, over the target ring's
     radius (`PLACE_WEIGHT`): a rounded rectangle's corners pair with the
-    corners where they lie, not with the next ones round.
+    corners where they lie, not with the next ones round. Then rounded
+    corners left unpaired pair with hidden ones of the other ring
+    (`_gap_pairs`).
     """
     az, qz, rz = _corners(z, s_z, closed, rounded)
     aw, qw, rw = _corners(w, s_w, closed, rounded)
