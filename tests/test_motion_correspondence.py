@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import isotween
+from isotween import metrics
 from isotween.errors import IncompatibleShapesError, ParameterError
 from isotween.metrics import flipped_faces
 
@@ -350,3 +351,18 @@ def test_a_rounded_corner_where_a_stroke_joins_pairs_with_its_partner():
     k = np.argmin(np.abs(pair.source - corner_z))
     # the middle of the arc (radius 2) lands on its partner's within a quarter of the radius, not on the top side
     assert abs(pair.source[k] - corner_z) < 1e-9 and abs(pair.target[k] - corner_w) < 0.5
+
+
+def test_a_piece_does_not_pair_into_the_hole_of_a_paired_region(tmp_path):
+    # a disc and a square beside it -> a ring with a square island in its hole: the disc becomes the ring,
+    # and the square beside it would have to cross the ring to reach the island; it leaves, the island grows
+    svg = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 40 24"><path fill-rule="evenodd" d="{}"/></svg>'
+    disc = "M2 12a8 8 0 1 0 16 0a8 8 0 1 0 -16 0Z"
+    beside = disc + " M30 9h6v6h-6Z"
+    island = disc + " M5 12a5 5 0 1 0 10 0a5 5 0 1 0 -10 0Z M8 9h4v4h-4Z"
+    (tmp_path / "a.svg").write_text(svg.format(beside))
+    (tmp_path / "b.svg").write_text(svg.format(island))
+    _, _, report = isotween.correspond(*(isotween.io.load(tmp_path / f"{n}.svg") for n in ("a", "b")))
+    assert report.regions == {"paired": 1, "grown": 1, "shrunk": 1}
+    seq = isotween.morph(tmp_path / "a.svg", tmp_path / "b.svg", frames=21)
+    assert "fallback" not in seq.info and not metrics.outline_crossings(seq, visible=True).any()

@@ -27,6 +27,10 @@ __all__ = ["Item", "Slot", "Frame", "TINY", "items_of", "frames_of", "plan", "wi
 
 #: scale of the small copy a missing item grows from (or shrinks to)
 TINY = 0.05
+#: leaving an item unpaired costs this many times the dearest pair (only where a pair is forbidden)
+UNPAIRED = 10.0
+#: rounds of region pairing that forbid the pairs carrying a piece into or out of a paired region's hole
+NESTING_ROUNDS = 3
 
 _KINDS = ("region", "ring", "line")
 #: kinds paired with each other: filled regions; strokes (closed rings and open polylines)
@@ -228,8 +232,13 @@ def _overlap(a_rings, b_rings):
     return np.where(union > 0, inter / np.maximum(union, 1e-300), 0.0)
 
 
-def _assign(cost, forced=()):
-    """Optimal pairs (rows, cols) of a cost matrix, after the forced pairs."""
+def _assign(cost, forced=(), forbidden=()):
+    """Optimal pairs (rows, cols) of a cost matrix, after the forced pairs.
+
+    As many pairs as the smaller side allows, least total cost; pairs in
+    ``forbidden`` ((row, col) pairs) are never made, their row and column
+    left unpaired where no other pair takes them.
+    """
     forced = list(forced)
     rows = [r for r in range(cost.shape[0]) if r not in {f[0] for f in forced}]
     cols = [c for c in range(cost.shape[1]) if c not in {f[1] for f in forced}]
@@ -238,10 +247,20 @@ def _assign(cost, forced=()):
         from scipy.sparse import csr_array  # scipy.sparse.csgraph, not scipy.optimize (0.1 s more to import)
         from scipy.sparse.csgraph import min_weight_full_bipartite_matching
 
-        sub = cost[np.ix_(rows, cols)]
-        # every entry stored (shifted above 0): a full matching of the smaller side, least total cost
-        r, c = min_weight_full_bipartite_matching(csr_array(sub - sub.min() + 1.0))
-        pairs += [(rows[i], cols[j]) for i, j in zip(r, c, strict=True)]
+        sub = cost[np.ix_(rows, cols)] - cost[np.ix_(rows, cols)].min() + 1.0  # every entry stored, above 0
+        m, n = sub.shape
+        if forbidden:  # each side may also go unpaired (a dummy partner), at a cost above any pair's
+            at = {(r, c) for r, c in forbidden}
+            keep = np.array([[(r, c) not in at for c in cols] for r in rows])
+            lone = UNPAIRED * (sub.max() + 1.0)
+            full = np.zeros((m + n, n + m))
+            full[:m, :n] = np.where(keep, sub, 0.0)
+            full[:m, n:] = lone * np.eye(m)
+            full[m:, :n] = lone * np.eye(n)
+            full[m:, n:] = 1.0
+            sub = full
+        r, c = min_weight_full_bipartite_matching(csr_array(sub))
+        pairs += [(rows[i], cols[j]) for i, j in zip(r, c, strict=True) if i < m and j < n]
     return pairs
 
 
@@ -290,6 +309,7 @@ def plan(items, frames, pairs=None):
     """
     K = len(items)
     slots = []
+    nests = [containers(key) for key in items]
     for group in _GROUPS:
         kind = group[0]
         closed = kind == "region"  # the overlap of filled areas counts for regions only
@@ -306,7 +326,15 @@ def plan(items, frames, pairs=None):
                 forced = _check_forced(pairs, n_regions)
             done = []
             if feats_ref and feats_k:
-                done = _assign(_cost(feats_ref, feats_k, closed), forced)
+                cost = _cost(feats_ref, feats_k, closed)
+                done = _assign(cost, forced)
+                forbidden = set()
+                for _ in range(NESTING_ROUNDS if kind == "region" else 0):
+                    bad = _nesting_conflicts(done, refs, own[k], k, nests) - set(forced)
+                    if bad <= forbidden or not bad & set(done):
+                        break
+                    forbidden |= bad
+                    done = _assign(cost, forced, forbidden)
             for r, c in done:
                 kind_slots[r][k] = own[k][c]
             taken = {c for _, c in done}
@@ -320,6 +348,69 @@ def plan(items, frames, pairs=None):
             # an open stroke paired with a closed one: both morph as open polylines
             slots.append(Slot(kinds.pop() if len(kinds) == 1 else "line", members, holes))
     return slots
+
+
+def containers(items):
+    """Per item, (region item, ring) of the smallest hole its outline lies in, or None.
+
+    Parameters
+    ----------
+    items : list of Item
+        One drawing's items (`items_of`).
+
+    Returns
+    -------
+    list of (int, int) or None
+    """
+    import shapely
+
+    holes = [(i, h, _polygon(it.rings[h])) for i, it in enumerate(items) if it.kind == "region"
+             for h in range(1, len(it.rings))]
+    out = []
+    for m, it in enumerate(items):
+        p = shapely.Point(it.rings[0][0].real, it.rings[0][0].imag)  # a vertex of its outline
+        inside = [(poly.area, i, h) for i, h, poly in holes if i != m and poly.contains(p)]
+        out.append(min(inside)[1:] if inside else None)
+    return out
+
+
+def _nesting_conflicts(done, refs, own, k, nests):
+    """Region pairs (row, col) that would carry a piece into or out of a hole of a region ``done`` pairs.
+
+    A pair conflicts where one of its two regions lies in a hole of a region
+    that has a partner, and the other does not lie in a hole of that partner:
+    it would cross the partner's outline on its way (an island of the
+    target's hole paired with a piece outside its container's partner).
+
+    Parameters
+    ----------
+    done : list of (int, int)
+        Pairs (row into ``refs``, column into ``own``).
+    refs : list of (int, int)
+        Per row, (item, drawing) of the reference.
+    own : list of int
+        Per column, the item of drawing ``k``.
+    nests : list of list
+        `containers` of every drawing.
+
+    Returns
+    -------
+    set of (int, int)
+        Every such (row, column), paired in ``done`` or not.
+    """
+    partner = {refs[r]: own[c] for r, c in done}  # (item, drawing) -> item of drawing k
+    back = {own[c]: refs[r] for r, c in done}
+    bad = set()
+    for r, (i, o) in enumerate(refs):
+        src = nests[o][i]
+        src = None if src is None else (src[0], o)
+        for c, j in enumerate(own):
+            tgt = nests[k][j]
+            if src is not None and tgt is not None and partner.get(src) == tgt[0]:
+                continue  # in holes of two partners
+            if (src is not None and src in partner) or (tgt is not None and tgt[0] in back):
+                bad.add((r, c))
+    return bad
 
 
 def _plan_holes(items, frames, members):
