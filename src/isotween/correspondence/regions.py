@@ -331,7 +331,7 @@ def plan(items, frames, pairs=None):
                 forbidden = set()
                 for _ in range(NESTING_ROUNDS if kind == "region" else 0):
                     bad = _nesting_conflicts(done, refs, own[k], k, nests) - set(forced)
-                    if bad <= forbidden or not bad & set(done):
+                    if not bad & set(done):
                         break
                     forbidden |= bad
                     done = _assign(cost, forced, forbidden)
@@ -364,14 +364,15 @@ def containers(items):
     """
     import shapely
 
-    holes = [(i, h, _polygon(it.rings[h])) for i, it in enumerate(items) if it.kind == "region"
-             for h in range(1, len(it.rings))]
-    out = []
-    for m, it in enumerate(items):
-        p = shapely.Point(it.rings[0][0].real, it.rings[0][0].imag)  # a vertex of its outline
-        inside = [(poly.area, i, h) for i, h, poly in holes if i != m and poly.contains(p)]
-        out.append(min(inside)[1:] if inside else None)
-    return out
+    owner = [(i, h) for i, it in enumerate(items) if it.kind == "region" for h in range(1, len(it.rings))]
+    if not owner:
+        return [None] * len(items)
+    holes = np.array([_polygon(items[i].rings[h]) for i, h in owner], dtype=object)
+    points = shapely.points([(it.rings[0][0].real, it.rings[0][0].imag) for it in items])  # a vertex of each
+    inside = shapely.contains(holes[None, :], points[:, None])  # (items, holes)
+    inside &= np.array([i for i, _ in owner])[None, :] != np.arange(len(items))[:, None]
+    area = np.where(inside, shapely.area(holes)[None, :], np.inf)
+    return [owner[int(np.argmin(a))] if np.isfinite(a).any() else None for a in area]
 
 
 def _nesting_conflicts(done, refs, own, k, nests):
