@@ -97,10 +97,13 @@ def _dense(polylines, step):
     """Points along polylines ((k, 2) arrays, closed ones with their first point repeated), ``step`` apart.
 
     Returns the points (m, 2) and a (m,) mask of those on a seam: a stretch of the outline
-    that another stretch runs back over (points within ``0.6 step`` of each other, heading
-    opposite ways). A seam has no width, so a fill draws nothing there: a slit that opened a
-    hole into a notch, closed again at its end (`isotween.correspondence.notches.close_slits`),
-    runs from the outer ring to the hole and back. (The tip of a drawing's own cusp is one too.)
+    that another stretch runs back over (points within ``step`` of each other, heading
+    opposite ways: samples are at most a step apart, so a vertex where seams meet counts too).
+    A seam has no width, so a fill draws nothing there: a slit that opened a hole into a notch,
+    closed again at its end (`isotween.correspondence.notches.close_slits`), runs from the outer
+    ring to the hole and back; the parts of a region cut where the other drawing parts it
+    (`isotween.correspondence.splits`) meet along their cuts. (The tip of a drawing's own cusp
+    is one too.)
     """
     out, heading = [], []
     for p in polylines:
@@ -117,7 +120,7 @@ def _dense(polylines, step):
     points, heading = np.vstack(out), np.vstack(heading)
     from scipy.spatial import cKDTree
 
-    near = cKDTree(points).query_pairs(0.6 * step, output_type="ndarray")
+    near = cKDTree(points).query_pairs(step, output_type="ndarray")
     back = near[np.einsum("ij,ij->i", heading[near[:, 0]], heading[near[:, 1]]) < -0.9]
     seam = np.zeros(len(points), bool)
     seam[back.ravel()] = True

@@ -27,6 +27,7 @@ from .compatibility import as_shape, check_compatible
 from .matching import match_rings, project
 from .notches import open_holes
 from .resample import _counts, _Ring, resample
+from .splits import split_regions
 
 __all__ = ["Correspondence", "CorrespondenceReport", "correspond", "correspond_keys", "mesh_outlines", "region_key",
            "MAX_TRIANGLES"]
@@ -84,6 +85,9 @@ class CorrespondenceReport:
         Meshed regions whose source points were slid along the outline to
         make the map more rigid (a bent copy: `slide.slid_rings`), then
         meshed again.
+    cut : list of int
+        Per drawing, the regions cut among the pieces the other drawing
+        shows them in (`splits.split_regions`).
     """
 
     unchanged: bool = False
@@ -102,6 +106,7 @@ class CorrespondenceReport:
     slits: list = field(default_factory=list)
     hinted: bool = False
     slid: int = 0
+    cut: list = field(default_factory=list)
 
     def summary(self):
         """One line saying what was done."""
@@ -120,6 +125,8 @@ class CorrespondenceReport:
         for k, side in enumerate(("source", "target")):
             if len(self.slits) > k and self.slits[k]:
                 parts.append(f"{len(self.slits[k])} {side} hole(s) opened into notches")
+            if len(self.cut) > k and self.cut[k]:
+                parts.append(f"{self.cut[k]} {side} region(s) cut where the {('target', 'source')[k]} parts them")
         pts = np.asarray(self.points)
         parts.append(f"{int(pts.sum())} points on {len(pts)} ring(s) ({int(pts.min())}-{int(pts.max())} each)")
         if self.meshes:
@@ -322,9 +329,11 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs, la
     frames = _regions.frames_of(items)
     if pairs is not None and len(shapes) != 2:
         raise ParameterError("pairs are for two drawings")
-    turn, slits = None, []
+    turn, slits, cut = None, [], []
     if len(shapes) == 2:
         frames, turn = align(items, frames)
+        if pairs is None:  # region pairs given by index: the regions stay as drawn
+            items, cut = split_regions(items, frames)
         items, slits = open_holes(items, frames)
     slots = _regions.plan(items, frames, pairs)
     per_key, closed, paint, layout, tiny = _fill_slots(items, frames, slots, unmatched)
@@ -353,6 +362,7 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs, la
     _count_items(report, slots, len(shapes))
     report.vanishing = [[result[k].paths[r][0] for r in rings_k] for k, rings_k in enumerate(tiny)]
     report.slits = slits
+    report.cut = cut
     return result, report
 
 

@@ -85,14 +85,24 @@ def _draw_painted(ax, shape, v):
     """Fill and stroke every region and path with its own paint (no default colours)."""
     artists, strokes = [], []
     paths = shape.paths
-    for z, (group, paint) in enumerate(paint_groups(shape)):
+    groups, z = paint_groups(shape), 0
+    while z < len(groups):
+        group, paint = groups[z]
         rings = [paths[i][0] for i in group if paths[i][1] and len(paths[i][0]) >= 3]
         if paint.fill is not None and rings and paint.opacity > 0:
-            patch = PathPatch(_rings_path(v, rings), facecolor=rgba_of(paint.fill, paint.opacity),
+            fill = [_rings_path(v, rings)]
+            # opaque regions painted alike one after the other (the parts of a cut region) fill as one path: where
+            # they meet, anti-aliasing shows no seam; the non-zero rule fills their union, as painting each would
+            while _opaque(paint) and z + 1 < len(groups) and groups[z + 1][1] == paint:
+                z += 1
+                more = [paths[i][0] for i in groups[z][0] if paths[i][1] and len(paths[i][0]) >= 3]
+                fill += [_rings_path(v, more)] if more else []
+            patch = PathPatch(Path.make_compound_path(*fill), facecolor=rgba_of(paint.fill, paint.opacity),
                               edgecolor="none", zorder=1 + 2 * z)
             artists.append(ax.add_artist(patch))
         if paint.stroke is not None and paint.stroke_width > 0 and paint.opacity > 0:
             strokes.append((group, paint, 2 + 2 * z))
+        z += 1
     ax.update_datalim(v)
     ax.set_aspect("equal")
     ax.autoscale_view()
@@ -111,6 +121,11 @@ def _draw_painted(ax, shape, v):
                                    lw=paint.stroke_width * points_per_unit, zorder=z,
                                    solid_capstyle="round", solid_joinstyle="round"))
     return artists
+
+
+def _opaque(paint):
+    """Whether a paint fills opaquely and draws no stroke (painting it twice over looks as painting it once)."""
+    return paint.stroke is None and paint.fill is not None and paint.fill[3] * paint.opacity >= 1.0
 
 
 def _resolve_style(shape, style, has_texture):

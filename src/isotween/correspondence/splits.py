@@ -1,0 +1,196 @@
+"""A region that the other drawing shows in pieces: cut where the pieces part, before regions are paired.
+
+An eye and the same eye struck through (Bootstrap's ``eye-fill`` and
+``eye-slash-fill``): the stroke cuts the eye in two. Paired one to one, the
+whole eye becomes one piece (half its outline travelling round to the cut)
+while the other piece grows from nothing; the motion is the eye parting
+where the stroke comes in. So, before regions are paired, a region R of one
+drawing that holds two or more regions of the other (once the drawings are
+aligned: `alignment.align`), each mostly inside it (`INSIDE`) and filled
+alike, that together cover most of it (`COVER`), where no region of the
+other drawing overlaps R as a whole (`WHOLE`), is cut among them: every
+point of R goes to the nearest of them (the Voronoi zones of their
+outlines, `STEP` apart). The parts touch along the cuts, so the end still
+draws R (the cuts are seams of no width, which a fill does not draw), and
+each then pairs with its piece like any region. Regions with a stroke,
+which would draw the seams, stay whole.
+"""
+
+import numpy as np
+
+from ..geometry import ring_area
+from .regions import Item, region_polygon
+
+__all__ = ["split_regions", "INSIDE", "COVER", "WHOLE", "LEAST", "STEP"]
+
+INSIDE = 0.8  # a piece of the other drawing lies at least this share of its area inside the region
+COVER = 0.7  # the pieces together cover at least this share of the region
+WHOLE = 0.9  # a region of the other drawing overlapping the region this much (intersection over union) keeps it whole
+LEAST = 0.05  # pieces smaller than this share of the region do not count
+STEP = 0.005  # the pieces' outlines are sampled this far apart (share of the drawing's diagonal) for their zones
+CRUMB = 1e-3  # a part of a zone's cut smaller than this share of the region joins the part it touches most
+HAIR = np.deg2rad(2.0)  # a cut's vertex where the outline turns back within this angle is a hair of no width
+
+
+def split_regions(items, frames):
+    """The drawings' items with every region that the other drawing shows in pieces cut among them.
+
+    Parameters
+    ----------
+    items : list (two drawings) of list of Item
+    frames : list of two `regions.Frame`
+        The drawings' aligned frames.
+
+    Returns
+    -------
+    items : list of list of Item
+        The same, a region cut in pieces replaced by its parts (in its place, so the painting order holds).
+    cut : list of int
+        Per drawing, the regions cut.
+    """
+    out, cut = [list(items[0]), list(items[1])], [0, 0]
+    for k in (0, 1):
+        other = 1 - k
+        theirs = [(region_polygon([frames[other].to(frames[k], r) for r in it.rings]), it.paint[0])
+                  for it in items[other] if it.kind == "region"]
+        if len(theirs) < 2:
+            continue
+        every = np.concatenate([r for it in items[k] for r in it.rings])
+        step = STEP * abs(complex(np.ptp(every.real), np.ptp(every.imag)))
+        new = []
+        for it in out[k]:
+            parts = None
+            if it.kind == "region" and not any(getattr(p, "stroke", None) for p in it.paint):
+                parts = _parts(region_polygon(it.rings), it.paint[0], theirs, step)
+            if parts is None:
+                new.append(it)
+                continue
+            cut[k] += 1
+            outer = np.sign(ring_area(it.rings[0]))
+            new += [Item("region", _rings(p, outer), [it.paint[0]] * (1 + len(p.interiors)), it.index) for p in parts]
+        out[k] = new
+    return out, cut
+
+
+def _parts(region, paint, theirs, step):
+    """The region cut among the pieces of the other drawing it holds (shapely polygons), or None."""
+    import shapely
+
+    area = region.area
+    if area <= 0:
+        return None
+    polys = np.array([p for p, _ in theirs], dtype=object)
+    inter = shapely.area(shapely.intersection(region, polys))
+    union = area + shapely.area(polys) - inter
+    if np.any(inter >= WHOLE * union):
+        return None
+    fill = getattr(paint, "fill", None)
+    held = [i for i, (p, q) in enumerate(theirs) if p.area >= LEAST * area and inter[i] >= INSIDE * p.area
+            and getattr(q, "fill", None) == fill]
+    if len(held) < 2 or inter[held].sum() < COVER * area:
+        return None
+    # every piece's outline sampled; each point's Voronoi cell goes to its piece
+    points, owner = [], []
+    for n, i in enumerate(held):
+        for ring in [polys[i].exterior, *polys[i].interiors]:
+            xy = np.asarray(shapely.segmentize(ring, step).coords)[:-1]
+            points.append(xy)
+            owner.append(np.full(len(xy), n))
+    xy, owner = np.concatenate(points), np.concatenate(owner)
+    xy, first = np.unique(xy, axis=0, return_index=True)
+    owner = owner[first]
+    cells = _voronoi(xy, region.bounds)
+    if cells is None:
+        return None
+    try:
+        # zone by zone, each part what is left of the region: the parts tile it, the last takes the rest
+        # (a zone's outline is a staircase of Voronoi edges, straightened within a quarter step)
+        parts, rest = [], region
+        for n in range(len(held) - 1):
+            zone = shapely.union_all(cells[owner == n]).simplify(0.25 * step)
+            parts.append(shapely.intersection(rest, zone))
+            rest = shapely.difference(rest, parts[-1])
+        return _whole([*parts, rest], area, region)
+    except shapely.errors.GEOSException:  # a cut GEOS cannot make: the region stays whole
+        return None
+
+
+def _voronoi(xy, bounds):
+    """(m,) shapely polygons: the Voronoi cell of every point ``xy`` (m, 2) (Qhull), bounded far beyond ``bounds``."""
+    import shapely
+    from scipy.spatial import QhullError, Voronoi
+
+    lo, hi = np.array(bounds[:2]), np.array(bounds[2:])
+    ring = 0.5 * (lo + hi) + 10 * max(np.max(hi - lo), 1e-12) * np.array(
+        [[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1]])  # far points: every cell of xy bounded
+    try:
+        vor = Voronoi(np.r_[xy, ring])
+    except QhullError:
+        return None
+    cells = [vor.regions[r] for r in vor.point_region[:len(xy)]]
+    if any(-1 in c or len(c) < 3 for c in cells):
+        return None
+    return np.array([shapely.Polygon(vor.vertices[c]) for c in cells], dtype=object)
+
+
+def _whole(parts, area, region):
+    """One clean polygon per zone (`_clean`): crumbs (`CRUMB`) join the part they touch most; else None."""
+    import shapely
+
+    pieces = [sorted(getattr(p, "geoms", [p]), key=lambda g: -g.area) for p in parts]
+    pieces = [[g for g in ps if g.geom_type == "Polygon" and g.area > 0] for ps in pieces]
+    if any(not ps for ps in pieces):
+        return None
+    main = [ps[0] for ps in pieces]
+    for n, ps in enumerate(pieces):
+        for crumb in ps[1:]:
+            if crumb.area > CRUMB * area:
+                return None
+            touch = [shapely.intersection(crumb.buffer(1e-9 * np.sqrt(area)), m).area if j != n else -1.0
+                     for j, m in enumerate(main)]
+            j = int(np.argmax(touch))
+            merged = shapely.union_all([main[j], crumb])
+            if merged.geom_type != "Polygon":
+                return None
+            main[j] = merged
+    old = np.concatenate([np.asarray(ring.coords) for ring in [region.exterior, *region.interiors]]) @ [1, 1j]
+    main = [_clean(m, old) for m in main]
+    return None if any(m is None for m in main) else main
+
+
+def _clean(poly, old):
+    """The polygon without the hairs the cut may leave (a vertex it turns back at, `HAIR`); None if it is not valid.
+
+    ``old`` (m,) complex are the region's own vertices.
+
+    Only a vertex on the cut (one it made or next to one) goes: the region's
+    own sharp corners elsewhere stay.
+    """
+    import shapely
+
+    rings = []
+    for ring in [poly.exterior, *poly.interiors]:
+        z = np.asarray(ring.coords)[:-1] @ [1, 1j]
+        while len(z) >= 3:
+            z = z[z != np.roll(z, 1)]
+            a, b = np.roll(z, 1) - z, np.roll(z, -1) - z
+            new = ~np.isin(z, old)
+            hair = (np.abs(np.angle(b / a)) < HAIR) & (new | np.roll(new, 1) | np.roll(new, -1))
+            if not hair.any():
+                break
+            z = np.delete(z, np.flatnonzero(hair)[0])
+        if len(z) < 3:
+            return None
+        rings.append(np.c_[z.real, z.imag])
+    out = shapely.Polygon(rings[0], rings[1:])
+    return out if out.is_valid else None
+
+
+def _rings(poly, outer):
+    """A polygon's rings as complex arrays: the outer ring turning like ``outer`` (its sign), holes the other way."""
+    rings = []
+    for n, ring in enumerate([poly.exterior, *poly.interiors]):
+        z = np.asarray(ring.coords)[:-1] @ [1, 1j]
+        want = outer if n == 0 else -outer
+        rings.append(z if np.sign(ring_area(z)) == want else z[::-1])
+    return rings

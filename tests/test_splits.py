@@ -1,0 +1,57 @@
+"""A region that the other drawing shows in pieces is cut where the pieces part (`correspondence.splits`)."""
+
+import numpy as np
+import pytest
+
+import isotween
+from isotween.geometry import ring_area
+
+SVG = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 20 20">{}</svg>'
+SQUARE = '<path d="M2 2h16v16h-16Z"/>'
+PARTED = '<path d="M2 2h7v16h-7Z M11 2h7v16h-7Z"/>'  # the square with a gap of 2 down its middle, x = 9 to 11
+
+
+def _pair(tmp_path, a, b):
+    (tmp_path / "a.svg").write_text(SVG.format(a))
+    (tmp_path / "b.svg").write_text(SVG.format(b))
+    return tmp_path / "a.svg", tmp_path / "b.svg"
+
+
+@pytest.mark.parametrize("whole_first", [True, False])
+def test_a_region_the_other_drawing_parts_is_cut_where_they_part(tmp_path, whole_first):
+    a, b = _pair(tmp_path, *((SQUARE, PARTED) if whole_first else (PARTED, SQUARE)))
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.cut == ([1, 0] if whole_first else [0, 1])
+    assert report.regions == {"paired": 2, "grown": 0, "shrunk": 0}
+    seq = isotween.morph(a, b, frames=11)
+    z = seq.z  # (F, n) complex
+    whole = 0 if whole_first else -1
+    rings = [idx for idx, closed in seq.shape.paths if closed]
+    # at the whole square's end the two parts tile it: they meet at x = 10 and their areas add up to 16 x 16
+    assert sum(abs(ring_area(z[whole, idx])) for idx in rings) == pytest.approx(256.0, rel=1e-9)
+    for idx in rings:
+        side = np.sign(z[-1 - whole, idx].real.mean() - 10.0)
+        assert np.all(side * (z[:, idx].real - 10.0) >= -1e-9)  # each part keeps to its side of the cut
+    # the parts stay where they are drawn: the cut opens into the gap, nothing else moves much
+    assert np.abs(z - z[whole]).max() <= 1.0 + 0.05
+
+
+def test_a_region_with_a_whole_partner_stays_whole(tmp_path):
+    # a face, and the same face with two eyes painted on it: the eyes lie inside the face, but the face has a partner
+    face = '<path d="M2 2h16v16h-16Z"/>'
+    eyes = face + '<path d="M5 5h3v3h-3Z"/><path d="M12 5h3v3h-3Z"/>'
+    a, b = _pair(tmp_path, face, eyes)
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.cut == [0, 0] and report.regions == {"paired": 1, "grown": 2, "shrunk": 0}
+
+
+def test_the_parts_of_a_cut_region_draw_as_the_region_with_no_seam(tmp_path):
+    from isotween.render.frame import FramePainter
+
+    # the square and two triangles parted along its diagonal: the cut runs from corner to corner
+    a, b = _pair(tmp_path, SQUARE, '<path d="M2 2h14l-14 14Z M18 4v14h-14Z"/>')
+    seq = isotween.morph(a, b, frames=5)
+    assert seq.info["correspondence"].count("cut") == 1
+    rgb = FramePainter(157, 157, (0.0, 0.0, 20.0, 20.0), y_down=True).render(seq.shape.with_vertices(seq.frames[0]))
+    # filled as one path, the halves leave no lighter line where they meet: the middle of the square is all black
+    assert rgb[47:110, 47:110].max() == 0
