@@ -7,8 +7,10 @@ while the other piece grows from nothing; the motion is the eye parting
 where the stroke comes in. So, before regions are paired, a region R of one
 drawing that holds two or more regions of the other (once the drawings are
 aligned: `alignment.align`), each mostly inside it (`INSIDE`) and filled
-alike, that together cover most of it (`COVER`), where no region of the
-other drawing overlaps R as a whole (`WHOLE`), is cut among them: every
+alike, that together cover most of it (`COVER`) and with the other
+drawing's other regions (the stroke across) more still (`FILLED`: not a
+cart's body and wheels inside a bag), where no region of the other drawing
+overlaps R as a whole (`WHOLE`), is cut among them: every
 point of R goes to the nearest of them (the Voronoi zones of their
 outlines, `STEP` apart). The parts touch along the cuts, so the end still
 draws R (the cuts are seams of no width, which a fill does not draw), and
@@ -21,10 +23,11 @@ import numpy as np
 from ..geometry import ring_area
 from .regions import Item, region_polygon
 
-__all__ = ["split_regions", "INSIDE", "COVER", "WHOLE", "LEAST", "STEP"]
+__all__ = ["split_regions", "INSIDE", "COVER", "FILLED", "WHOLE", "LEAST", "STEP"]
 
 INSIDE = 0.8  # a piece of the other drawing lies at least this share of its area inside the region
-COVER = 0.7  # the pieces together cover at least this share of the region
+COVER = 0.6  # the pieces together cover at least this share of the region
+FILLED = 0.7  # and the other drawing's regions, the pieces and others (a slash across), this share of it
 WHOLE = 0.9  # a region of the other drawing overlapping the region this much (intersection over union) keeps it whole
 LEAST = 0.05  # pieces smaller than this share of the region do not count
 STEP = 0.005  # the pieces' outlines are sampled this far apart (share of the drawing's diagonal) for their zones
@@ -48,6 +51,8 @@ def split_regions(items, frames):
     cut : list of int
         Per drawing, the regions cut.
     """
+    import shapely
+
     out, cut = [list(items[0]), list(items[1])], [0, 0]
     for k in (0, 1):
         other = 1 - k
@@ -55,13 +60,14 @@ def split_regions(items, frames):
                   for it in items[other] if it.kind == "region"]
         if len(theirs) < 2:
             continue
+        filled = shapely.union_all([p for p, _ in theirs])
         every = np.concatenate([r for it in items[k] for r in it.rings])
         step = STEP * abs(complex(np.ptp(every.real), np.ptp(every.imag)))
         new = []
         for it in out[k]:
             parts = None
             if it.kind == "region" and not any(getattr(p, "stroke", None) for p in it.paint):
-                parts = _parts(region_polygon(it.rings), it.paint[0], theirs, step)
+                parts = _parts(region_polygon(it.rings), it.paint[0], theirs, filled, step)
             if parts is None:
                 new.append(it)
                 continue
@@ -72,8 +78,11 @@ def split_regions(items, frames):
     return out, cut
 
 
-def _parts(region, paint, theirs, step):
-    """The region cut among the pieces of the other drawing it holds (shapely polygons), or None."""
+def _parts(region, paint, theirs, filled, step):
+    """The region cut among the pieces of the other drawing it holds (shapely polygons), or None.
+
+    ``theirs`` are the other drawing's regions (polygon, paint), ``filled`` their union.
+    """
     import shapely
 
     area = region.area
@@ -87,7 +96,7 @@ def _parts(region, paint, theirs, step):
     fill = getattr(paint, "fill", None)
     held = [i for i, (p, q) in enumerate(theirs) if p.area >= LEAST * area and inter[i] >= INSIDE * p.area
             and getattr(q, "fill", None) == fill]
-    if len(held) < 2 or inter[held].sum() < COVER * area:
+    if len(held) < 2 or inter[held].sum() < COVER * area or shapely.intersection(region, filled).area < FILLED * area:
         return None
     # every piece's outline sampled; each point's Voronoi cell goes to its piece
     points, owner = [], []
