@@ -749,7 +749,8 @@ def main():
         f"{END_TARGET} % of that drawing's diagonal; paths invisible at an end (opacity 0, or a ring collapsed to a "
         "point) are left out, and so are seams, stretches of an outline that another stretch runs back over "
         "(no width, so a fill draws nothing there: a slit that opened a hole into a notch, closed again at its "
-        "end; regions with a stroke keep their holes). **Speck**: a closed ring of an end frame with an area "
+        "end, or the cuts between the parts of a region that the other drawing shows in pieces; regions with a "
+        "stroke keep their holes and stay whole). **Speck**: a closed ring of an end frame with an area "
         "above 0 and below 0.5 % of the "
         "drawing's bounding-box area where the input has no ring of about that area and place.",
         "",

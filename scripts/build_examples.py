@@ -223,6 +223,34 @@ def ex_lock():
     return shapes[0], shapes[1]
 
 
+def _svg_path(geometry):
+    """SVG path data of a shapely (multi)polygon: every ring a closed polyline."""
+    rings = [ring for poly in getattr(geometry, "geoms", [geometry]) for ring in [poly.exterior, *poly.interiors]]
+    return " ".join("M " + " L ".join(f"{x:.4f} {y:.4f}" for x, y in np.asarray(r.coords)[:-1]) + " Z" for r in rings)
+
+
+def ex_slash():
+    """An eye, and the same eye struck through: the slash parts the eye, which stays where it is drawn."""
+    import shapely
+
+    t = np.linspace(0.0, 1.0, 33)[:, None]
+    upper = (1 - t) ** 2 * [0, 8] + 2 * t * (1 - t) * [8, 0.5] + t ** 2 * [16, 8]  # quadratic Beziers
+    lens = shapely.Polygon(np.r_[upper, upper[-2:0:-1] * [1, -1] + [0, 16]])
+    eye = lens.difference(shapely.Point(8, 8).buffer(3.4, quad_segs=16))
+    pupil = shapely.Point(8, 8).buffer(2.0, quad_segs=16)
+    line = shapely.LineString([(1.5, 1.5), (14.5, 14.5)])
+    gap, bar = line.buffer(1.2, cap_style="flat"), line.buffer(0.55, cap_style="round")
+    drawings = {"eye": [eye, pupil], "slashed": [eye.difference(gap), pupil.difference(gap), bar]}
+    shapes = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, parts in drawings.items():
+            path = Path(tmp) / f"{name}.svg"
+            body = "".join(f'<path fill-rule="evenodd" d="{_svg_path(g)}"/>' for g in parts)
+            path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16">{body}</svg>')
+            shapes.append(io.load(path))
+    return shapes[0], shapes[1]
+
+
 def ex_curls():
     a, b = curl(60, 1.6, 0.12), curl(60, 1.1, 0.12, sign=-1.0)
     straight_a = np.c_[np.arange(60) * 0.12, np.zeros(60)]
@@ -284,6 +312,8 @@ EXAMPLES = [
      ex_strokes, "correspond", {"frames": 13}),
     ("lock", "a padlock opens with no options: the hole inside the shackle opens into the open lock's notch",
      ex_lock, "correspond", {"frames": 13}),
+    ("slash", "an eye struck through with no options: the slash parts the eye, each half staying where it is drawn",
+     ex_slash, "correspond", {"frames": 13}),
     ("curls", "two open polylines curling into spirals, one by 1.6 turns, one by 1.1 the other way",
      ex_curls, None, {"frames": 17}),
     ("hopper", "a textured mesh: Grace Hopper's photograph bends and waves",

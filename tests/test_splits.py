@@ -55,3 +55,27 @@ def test_the_parts_of_a_cut_region_draw_as_the_region_with_no_seam(tmp_path):
     rgb = FramePainter(157, 157, (0.0, 0.0, 20.0, 20.0), y_down=True).render(seq.shape.with_vertices(seq.frames[0]))
     # filled as one path, the halves leave no lighter line where they meet: the middle of the square is all black
     assert rgb[47:110, 47:110].max() == 0
+
+
+@pytest.mark.parametrize("across", [True, False])
+def test_a_region_is_cut_only_where_the_other_drawing_fills_most_of_it(tmp_path, across):
+    # two bars inside the square cover 62.5 % of it; with a stroke across the gap between them (not inside the
+    # square: it reaches out on both sides) the other drawing fills 87.5 % of it, the square struck through and
+    # parted; without, the bars stand in an empty square, which stays whole
+    bars = '<path d="M2 2h5v16h-5Z M13 2h5v16h-5Z"/>' + ('<path d="M8 -4h4v28h-4Z"/>' if across else "")
+    a, b = _pair(tmp_path, SQUARE, bars)
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.cut == ([1, 0] if across else [0, 0])
+
+
+def test_the_struck_through_eye_parts_where_it_is_drawn():
+    from isotween import examples
+
+    seq = examples.interpolate_example("slash")
+    z = seq.z
+    rings = sorted((idx for idx, closed in seq.shape.paths if closed), key=lambda idx: -abs(ring_area(z[0, idx])))
+    # the two largest rings are the eye's halves: they part along the slash (the gap is 1.2 wide on either side
+    # of it) and nothing else of them moves much; turned over, as one piece, the eye's far side would travel
+    # across the whole eye
+    for idx in rings[:2]:
+        assert np.abs(z[:, idx] - z[0, idx]).max() <= 1.5

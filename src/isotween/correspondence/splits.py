@@ -20,7 +20,7 @@ which would draw the seams, stay whole.
 
 import numpy as np
 
-from ..geometry import ring_area
+from ..geometry import bbox_diagonal, ring_area
 from .regions import Item, region_polygon
 
 __all__ = ["split_regions", "INSIDE", "COVER", "FILLED", "WHOLE", "LEAST", "STEP"]
@@ -61,8 +61,7 @@ def split_regions(items, frames):
         if len(theirs) < 2:
             continue
         filled = shapely.union_all([p for p, _ in theirs])
-        every = np.concatenate([r for it in items[k] for r in it.rings])
-        step = STEP * abs(complex(np.ptp(every.real), np.ptp(every.imag)))
+        step = STEP * bbox_diagonal(*[r for it in items[k] for r in it.rings])
         new = []
         for it in out[k]:
             parts = None
