@@ -79,3 +79,23 @@ def test_the_struck_through_eye_parts_where_it_is_drawn():
     # across the whole eye
     for idx in rings[:2]:
         assert np.abs(z[:, idx] - z[0, idx]).max() <= 1.5
+
+
+def test_a_browser_draws_the_parts_of_a_cut_region_with_no_seam(tmp_path, browser):
+    from browser import screenshot
+    from isotween.render.html import paint_data
+    from isotween.render.paths import PathData, svg_document
+
+    a, b = _pair(tmp_path, SQUARE, '<path d="M2 2h14l-14 14Z M18 4v14h-14Z"/>')
+    seq = isotween.morph(a, b, frames=5)
+    assert seq.info["joined"] == [[0, 1]] and len(PathData(seq).groups) == 1  # one element for both halves
+    assert [len(g["paths"]) for g in paint_data(seq)] == [2]  # and one path of the HTML player's canvas
+    (tmp_path / "first.svg").write_text(svg_document(seq, 0.0, size=400))
+    page = browser.new_page(viewport={"width": 400, "height": 400})
+    try:
+        page.goto((tmp_path / "first.svg").as_uri())
+        rgb = screenshot(page)
+    finally:
+        page.close()
+    # the halves meet along the diagonal; as one element, anti-aliasing leaves no lighter line there
+    assert rgb[150:250, 150:250].max() <= 8

@@ -12,8 +12,8 @@ import numpy as np
 
 from .errors import ParameterError
 
-__all__ = ["Paint", "DEFAULT_FILL", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb", "paint_keys", "sequence_paint",
-           "key_paint", "paint_at", "out_of_sight", "paint_groups", "svg_paint_attributes"]
+__all__ = ["Paint", "DEFAULT_FILL", "joined_groups", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb", "paint_keys",
+           "sequence_paint", "key_paint", "paint_at", "out_of_sight", "paint_groups", "svg_paint_attributes"]
 
 #: SVG's initial fill: opaque black
 DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
@@ -313,6 +313,46 @@ def paint_groups(shape):
     groups = [list(r) for r in regions] + [[i] for i in range(len(paths)) if i not in used]
     groups.sort(key=min)
     return [(g, shape.paint[g[0]]) for g in groups]
+
+
+def joined_groups(first, regions, paints, joined):
+    """Which paint groups draw as one: the parts of a region cut where the other drawing parts it.
+
+    The parts meet along the cut at their region's end; drawn as separate
+    paths, anti-aliasing shows a seam there. They draw as one path where they
+    come one after the other, each in the same opaque paint with no stroke
+    in every frame, so that filling them together looks as painting each
+    (by the even-odd rule, where parts overlap in an in-between, which they
+    do by little if at all, the overlap is left out).
+
+    Parameters
+    ----------
+    first : list of int
+        The first path of every group (`paint_groups` order).
+    regions : list of list of int
+        The shape's regions (path indices).
+    paints : list of list of Paint
+        ``paints[k][p]``: the paint of path ``p`` in frame ``k``.
+    joined : list of list of int
+        Region indices, the parts of one cut region each
+        (``Sequence.info['joined']``).
+
+    Returns
+    -------
+    dict
+        ``{group: the group it joins}`` for every group drawn with the one before it.
+    """
+    group_of = {r: first.index(paths[0]) for r, paths in enumerate(regions) if paths and paths[0] in first}
+    into = {}
+    for parts in joined:
+        gs = sorted(group_of[r] for r in parts if r in group_of)
+        if len(gs) < 2 or gs != list(range(gs[0], gs[0] + len(gs))):
+            continue
+        tracks = [[frame[first[g]] for frame in paints] for g in gs]
+        if all(t == tracks[0] for t in tracks) and all(
+                p.stroke is None and p.fill is not None and p.fill[3] * p.opacity >= 1.0 for p in tracks[0]):
+            into.update({g: gs[0] for g in gs[1:]})
+    return into
 
 
 def _hex(colour):

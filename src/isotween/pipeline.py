@@ -522,8 +522,13 @@ def finish(seq, report, stagger=STAGGER, strokes="untangle"):
     An item one drawing lacks becomes one point in its end frame
     (`collapse_vanishing`); with ``strokes='untangle'``, a stroke that would
     pass through another path is drawn off and on instead
-    (`isotween.strokes.untangle`, within ``stagger``, at most half).
+    (`isotween.strokes.untangle`, within ``stagger``, at most half). The
+    parts of a region cut where the other drawing parts it go into
+    ``info['joined']`` (lists of region indices), which the web outputs draw
+    as one path (`isotween.render.paths.PathData`).
     """
+    if getattr(report, "joined", None):
+        seq.info["joined"] = [list(r) for r in report.joined]
     collapse_vanishing(seq, report)
     if strokes == "untangle":
         from .strokes import untangle

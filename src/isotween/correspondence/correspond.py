@@ -88,6 +88,9 @@ class CorrespondenceReport:
     cut : list of int
         Per drawing, the regions cut among the pieces the other drawing
         shows them in (`splits.split_regions`).
+    joined : list of list of int
+        The output regions that are the parts of one cut region (they meet
+        along the cut at that end, and outputs draw them as one path there).
     """
 
     unchanged: bool = False
@@ -107,6 +110,7 @@ class CorrespondenceReport:
     hinted: bool = False
     slid: int = 0
     cut: list = field(default_factory=list)
+    joined: list = field(default_factory=list)
 
     def summary(self):
         """One line saying what was done."""
@@ -363,7 +367,21 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs, la
     report.vanishing = [[result[k].paths[r][0] for r in rings_k] for k, rings_k in enumerate(tiny)]
     report.slits = slits
     report.cut = cut
+    report.joined = _joined(items, slots, cut)
     return result, report
+
+
+def _joined(items, slots, cut):
+    """The output regions (indices in slot order) that are the parts of one region cut in a drawing."""
+    regions = [s for s in slots if s.kind == "region"]
+    out = []
+    for k, n in enumerate(cut):
+        parts = {}
+        for r, s in enumerate(regions if n else []):
+            if s.members[k] is not None:  # the parts of one region keep its index
+                parts.setdefault(items[k][s.members[k]].index, []).append(r)
+        out += [rs for rs in parts.values() if len(rs) > 1]
+    return out
 
 
 def _landmark_anchors(landmarks, per_key, closed):

@@ -15,7 +15,7 @@ from xml.sax.saxutils import escape
 import numpy as np
 
 from ..errors import ParameterError
-from ..paint import paint_groups, sequence_paint, svg_paint_attributes
+from ..paint import joined_groups, paint_groups, sequence_paint, svg_paint_attributes
 from ._frames import sequence_frames
 from ._view import PAD, bbox_of
 from .curves import CORNER, fit_curves
@@ -275,6 +275,9 @@ class PathData:
         self.digits = int(precision)
         regions, paints = sequence_paint(seq)
         self.groups, self.first_path = outline_groups(seq.shape, regions, None if paints is None else paints[0])
+        if paints is not None and regions:
+            self.groups, self.first_path = _joined(self.groups, self.first_path, regions, paints,
+                                                   seq.info.get("joined") or [])
         flat = [run for group in self.groups for run in group]
         if curves:
             fitted = fit_curves(frames, flat, tolerance=tolerance, corner=corner)
@@ -324,6 +327,19 @@ class PathData:
     def __call__(self, t):
         """The ``d`` string of every group at time ``t`` (list of str)."""
         return self.strings(self.frame(t)[None])[0]
+
+
+def _joined(groups, first, regions, paints, joined):
+    """Groups and their first paths with the parts of a cut region made one group (`paint.joined_groups`)."""
+    into = joined_groups(first, regions, paints, joined)
+    out_groups, out_first = [], []
+    for g, group in enumerate(groups):
+        if into.get(g, g) != g:
+            out_groups[-1] = out_groups[-1] + group
+            continue
+        out_groups.append(list(group))
+        out_first.append(first[g])
+    return out_groups, out_first
 
 
 def _paint_at(seq, t):
