@@ -13,7 +13,7 @@ import numpy as np
 from .errors import ParameterError
 
 __all__ = ["Paint", "DEFAULT_FILL", "joined_groups", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb", "paint_keys",
-           "sequence_paint", "key_paint", "paint_at", "out_of_sight", "paint_groups", "svg_paint_attributes"]
+           "sequence_paint", "key_paint", "paint_at", "out_of_sight", "paint_groups", "opaque", "svg_paint_attributes"]
 
 #: SVG's initial fill: opaque black
 DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
@@ -315,6 +315,11 @@ def paint_groups(shape):
     return [(g, shape.paint[g[0]]) for g in groups]
 
 
+def opaque(paint):
+    """Whether a paint fills opaquely and draws no stroke: painting it twice over looks as painting it once."""
+    return paint.stroke is None and paint.fill is not None and paint.fill[3] * paint.opacity >= 1.0
+
+
 def joined_groups(first, regions, paints, joined):
     """Which paint groups draw as one: the parts of a region cut where the other drawing parts it.
 
@@ -349,8 +354,7 @@ def joined_groups(first, regions, paints, joined):
         if len(gs) < 2 or gs != list(range(gs[0], gs[0] + len(gs))):
             continue
         tracks = [[frame[first[g]] for frame in paints] for g in gs]
-        if all(t == tracks[0] for t in tracks) and all(
-                p.stroke is None and p.fill is not None and p.fill[3] * p.opacity >= 1.0 for p in tracks[0]):
+        if all(t == tracks[0] for t in tracks) and all(opaque(p) for p in tracks[0]):
             into.update({g: gs[0] for g in gs[1:]})
     return into
 

@@ -9,7 +9,7 @@ from matplotlib.path import Path
 from ..errors import ParameterError
 from ..geometry import ring_area
 from ..io import atomic_path
-from ..paint import paint_groups
+from ..paint import opaque, paint_groups
 from ._view import bbox_of, check_frames, fit_view, image_size
 from .texture import load_texture, render_texture, texture_uv
 
@@ -93,7 +93,7 @@ def _draw_painted(ax, shape, v):
             fill = [_rings_path(v, rings)]
             # opaque regions painted alike one after the other (the parts of a cut region) fill as one path: where
             # they meet, anti-aliasing shows no seam; the non-zero rule fills their union, as painting each would
-            while _opaque(paint) and z + 1 < len(groups) and groups[z + 1][1] == paint:
+            while opaque(paint) and z + 1 < len(groups) and groups[z + 1][1] == paint:
                 z += 1
                 more = [paths[i][0] for i in groups[z][0] if paths[i][1] and len(paths[i][0]) >= 3]
                 fill += [_rings_path(v, more)] if more else []
@@ -121,11 +121,6 @@ def _draw_painted(ax, shape, v):
                                    lw=paint.stroke_width * points_per_unit, zorder=z,
                                    solid_capstyle="round", solid_joinstyle="round"))
     return artists
-
-
-def _opaque(paint):
-    """Whether a paint fills opaquely and draws no stroke (painting it twice over looks as painting it once)."""
-    return paint.stroke is None and paint.fill is not None and paint.fill[3] * paint.opacity >= 1.0
 
 
 def _resolve_style(shape, style, has_texture):
