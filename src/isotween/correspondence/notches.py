@@ -71,7 +71,7 @@ def open_holes(items, frames):
         diagonal = abs(complex(np.ptp(every.real), np.ptp(every.imag)))
         width = SLIT * diagonal
         for i, it in enumerate(out[k]):
-            if it.kind != "region" or len(it.rings) < 2 or any(getattr(p, "stroke", None) for p in it.paint):
+            if it.kind != "region" or len(it.rings) < 2 or it.stroked:
                 continue  # (a stroke would draw the closed slit: a seam of no width, invisible in a fill)
             rings, paint = list(it.rings), list(it.paint)
             region = _polygon(rings[0])

@@ -56,6 +56,11 @@ class Item(NamedTuple):
     paint: list
     index: int  # type: ignore[assignment]  # shadows tuple.index, which nothing here calls
 
+    @property
+    def stroked(self):
+        """Whether a ring of the item is drawn with a stroke (which would draw a seam of no width)."""
+        return any(getattr(p, "stroke", None) for p in self.paint)
+
 
 class Slot(NamedTuple):
     """One item of the common structure and what each drawing puts there.

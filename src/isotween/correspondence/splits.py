@@ -65,7 +65,7 @@ def split_regions(items, frames):
         new = []
         for it in out[k]:
             parts = None
-            if it.kind == "region" and not any(getattr(p, "stroke", None) for p in it.paint):
+            if it.kind == "region" and not it.stroked:
                 parts = _parts(region_polygon(it.rings), it.paint[0], theirs, filled, step)
             if parts is None:
                 new.append(it)

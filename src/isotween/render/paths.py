@@ -276,7 +276,7 @@ class PathData:
         regions, paints = sequence_paint(seq)
         self.groups, self.first_path = outline_groups(seq.shape, regions, None if paints is None else paints[0])
         if paints is not None and regions:
-            self.groups, self.first_path = _joined(self.groups, self.first_path, regions, paints,
+            self.groups, self.first_path = _merge_joined(self.groups, self.first_path, regions, paints,
                                                    seq.info.get("joined") or [])
         flat = [run for group in self.groups for run in group]
         if curves:
@@ -329,7 +329,7 @@ class PathData:
         return self.strings(self.frame(t)[None])[0]
 
 
-def _joined(groups, first, regions, paints, joined):
+def _merge_joined(groups, first, regions, paints, joined):
     """Groups and their first paths with the parts of a cut region made one group (`paint.joined_groups`)."""
     into = joined_groups(first, regions, paints, joined)
     out_groups, out_first = [], []
