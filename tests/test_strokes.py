@@ -235,3 +235,22 @@ def test_strokes_drawn_off_and_on_take_turns(tmp_path):
     quick = isotween.morph(a, b, frames=21, stagger=0.2)  # off within the first fifth, on within the last
     assert np.isfinite(quick.frames).all() and not metrics.outline_crossings(quick, visible=True).any()
     np.testing.assert_array_equal(quick.frames[[0, -1]], seq.frames[[0, -1]])
+
+
+def test_a_drawing_does_not_empty_to_untangle_its_strokes(tmp_path):
+    # a sun (a ring, eight short rays) into a crescent (one long open stroke round it): the ring becomes the
+    # crescent, which sweeps through the rays; drawing every stroke off and on would leave next to nothing half
+    # way, so the ring keeps morphing (crossing rays as they retract) and the drawing keeps its ink on view
+    rays = "".join(f'<path d="M{12 + 8 * np.cos(a):.3f} {12 + 8 * np.sin(a):.3f}L{12 + 10 * np.cos(a):.3f} '
+                   f'{12 + 10 * np.sin(a):.3f}"/>' for a in np.arange(8) * np.pi / 4)
+    sun = HEAD + '<circle cx="12" cy="12" r="4"/>' + rays + "</svg>"
+    moon = HEAD + '<path d="M21 12.5A9 9 0 1 1 11.5 3c.4 0 .6.5.4.8A6 6 0 0 0 20.2 12.1c.3-.2.8 0 .8.4"/></svg>'
+    a, b = tmp_path / "a.svg", tmp_path / "b.svg"
+    a.write_text(sun)
+    b.write_text(moon)
+    seq = isotween.morph(a, b, frames=21)
+    _, paints = sequence_paint(seq)
+    ink = sum(np.abs(np.diff(seq.z[:, np.r_[idx, idx[:1]] if closed else idx], axis=1)).sum(axis=1)
+              * np.array([p[k].opacity for p in paints]) for k, (idx, closed) in enumerate(seq.shape.paths))
+    assert ink[1:-1].min() >= 0.15 * min(ink[0], ink[-1])
+    assert seq.info["strokes"].startswith("6 of 9")  # the rays; the ring morphs

@@ -17,7 +17,8 @@ with the fewest crossings is kept, and a changed stroke whose change the
 others made needless morphs again. Several strokes so changed take turns
 where that makes no more crossings (their switches spread over `SPREAD` of
 the morph, else half that, in drawing order), so that the drawing does not
-empty half way.
+empty half way; where it would all but empty still (less than `ON_VIEW` of
+its length on view), the longest of them morph again, crossings and all.
 """
 
 import numpy as np
@@ -31,6 +32,8 @@ __all__ = ["drawn", "untangle", "stroke_paths", "FADE"]
 FADE = 0.25
 #: share of the morph over which the switches of several strokes drawn off and on are spread
 SPREAD = 0.4
+#: strokes drawn off and on keep at least this share of the drawing's length on view (the smaller end's)
+ON_VIEW = 0.15
 
 
 def drawn(z, u, closed=False):
@@ -66,6 +69,11 @@ def drawn(z, u, closed=False):
         sigma = s
     at = np.minimum(sigma[None, :], u[:, None] * s[-1])  # (F, k) arc length of every vertex
     return np.interp(at, s, w.real) + 1j * np.interp(at, s, w.imag)
+
+
+def _length(z, closed):
+    """Length of a polyline (closed: round the ring) of complex points ``z``."""
+    return float(np.abs(np.diff(np.r_[z, z[:1]] if closed else z)).sum())
 
 
 def stroke_paths(shape):
@@ -124,6 +132,15 @@ class _Swaps:
             out[0, p] = p in self.absent[0]
             out[-1, p] = p in self.absent[1]
         return out
+
+    def on_view(self, swapped):
+        """The least length of all paths on view in an in-between over the smaller end's, with ``swapped`` changed."""
+        z, hidden = self.frames(swapped), self.hidden(swapped)
+        ink = np.zeros(len(z))
+        for k, (idx, closed) in enumerate(self.seq.shape.paths):
+            w = z[:, np.r_[idx, idx[:1]]] if closed else z[:, idx]
+            ink += np.abs(np.diff(w, axis=1)).sum(axis=1) * ~hidden[:, k]
+        return float(ink[1:-1].min() / max(min(ink[0], ink[-1]), 1e-300))
 
     def frames(self, swapped):
         """(F, n) complex frames with the ``swapped`` paths drawn off and on."""
@@ -226,6 +243,12 @@ def untangle(seq, report, share=0.5):
         swaps.spread = spread
         if not spread or int(swaps.crossings(chosen).sum()) <= left:
             break
+    while chosen and swaps.on_view(chosen) < ON_VIEW:  # the drawing would all but empty: the longest morphs again
+        chosen.remove(max(chosen, key=lambda k: _length(z[0, shape.paths[k][0]], shape.paths[k][1])
+                          + _length(z[-1, shape.paths[k][0]], shape.paths[k][1])))
+        left = int(swaps.crossings(chosen).sum())
+    if not chosen:
+        return seq
     z = swaps.frames(chosen)
     seq.frames[...] = np.stack([z.real, z.imag], axis=-1)
     if swaps.keys is not None:
