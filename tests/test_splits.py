@@ -99,3 +99,21 @@ def test_a_browser_draws_the_parts_of_a_cut_region_with_no_seam(tmp_path, browse
         page.close()
     # the halves meet along the diagonal; as one element, anti-aliasing leaves no lighter line there
     assert rgb[150:250, 150:250].max() <= 8
+
+
+def test_svg_frames_draw_the_parts_of_a_cut_region_as_one_element_and_no_triangles(tmp_path):
+    import re
+
+    a, b = _pair(tmp_path, SQUARE, PARTED)
+    seq = isotween.morph(a, b, frames=5)
+    assert seq.info["joined"] == [[0, 1]] and seq.shape.n_faces > 0
+    files = isotween.write_output(seq, tmp_path / "frames", format="svg")
+    for k, path in enumerate(files):
+        text = path.read_text()
+        # one filled element holding both halves; the triangles inside them are not drawn as lines
+        assert re.findall(r'<path id="(\w+)"', text) == ["path0"]
+        back = isotween.io.load(path)
+        # the halves read back as two regions, each its ring of frame k (to the 17 digits written)
+        assert len(back.regions) == 2
+        for (idx, _), (back_idx, _) in zip(seq.shape.paths, back.paths, strict=True):
+            np.testing.assert_allclose(back.vertices[back_idx], seq.frames[k][idx], atol=1e-12)

@@ -595,11 +595,15 @@ def winding_numbers(points, rings, sparse=False):
     return out if sparse else out.toarray()
 
 
+PROBES = 5  # points of each ring at which `fill_regions` asks which rings are around it
+
+
 def fill_regions(rings, rule="evenodd"):
     """Regions of rings filled together under a fill rule.
 
-    Each ring's winding number just outside it (the sum over the other rings
-    at one of its points) and just inside it (plus its own orientation) says
+    Each ring's winding number just outside it (the sum over the other rings,
+    the median over `PROBES` of its vertices: rings that touch, as the parts
+    of a cut shape do, do not mislead it) and just inside it (plus its own orientation) says
     whether it bounds the fill: from unfilled outside to filled inside it is
     an outer ring, the other way round a hole of the smallest outer ring
     around it. A ring with the fill on both sides (or neither) bounds nothing.
@@ -617,10 +621,18 @@ def fill_regions(rings, rule="evenodd"):
         Rings that bound no filled region.
     """
     filled = (lambda w: w % 2 == 1) if rule == "evenodd" else (lambda w: w != 0)
-    probes = np.array([r[0] for r in rings])
+    # PROBES vertices of every ring (an odd number, spread along it): a vertex on another ring sees either side
+    n = np.array([len(r) for r in rings])
+    k = np.minimum(PROBES, n - (n % 2 == 0))
+    ring_of = np.repeat(np.arange(len(rings)), k)
+    at = np.arange(len(ring_of)) - np.repeat(np.cumsum(k) - k, k)
+    probes = np.concatenate(rings)[np.repeat(np.cumsum(n) - n, k) + at * n[ring_of] // k[ring_of]]
     w = winding_numbers(probes, rings, sparse=True)  # mostly zeros: many small rings are side by side
     signed = np.array([ring_area(r[:, 0] + 1j * r[:, 1]) for r in rings])
-    outside = np.asarray(w.sum(axis=1)).ravel() - w.diagonal()
+    seen = np.asarray(w.sum(axis=1)).ravel() - np.asarray(w[np.arange(len(ring_of)), ring_of]).ravel()
+    order = np.lexsort((seen, ring_of))
+    median = order[np.cumsum(k) - k + k // 2]  # each ring's probe of median winding number
+    outside, w = seen[median], w.tocsr()[median]
     inside = outside + np.sign(signed).astype(np.int64)
     is_outer = ~filled(outside) & filled(inside)
     is_hole = filled(outside) & ~filled(inside)

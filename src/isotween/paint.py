@@ -12,8 +12,9 @@ import numpy as np
 
 from .errors import ParameterError
 
-__all__ = ["Paint", "DEFAULT_FILL", "joined_groups", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb", "paint_keys",
-           "sequence_paint", "key_paint", "paint_at", "out_of_sight", "paint_groups", "opaque", "svg_paint_attributes"]
+__all__ = ["Paint", "DEFAULT_FILL", "drawn_groups", "joined_groups", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb",
+           "paint_keys", "sequence_paint", "key_paint", "paint_at", "out_of_sight", "paint_groups", "opaque",
+           "svg_paint_attributes"]
 
 #: SVG's initial fill: opaque black
 DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
@@ -313,6 +314,33 @@ def paint_groups(shape):
     groups = [list(r) for r in regions] + [[i] for i in range(len(paths)) if i not in used]
     groups.sort(key=min)
     return [(g, shape.paint[g[0]]) for g in groups]
+
+
+def drawn_groups(shape, joined=()):
+    """`paint_groups` with the parts of a cut region drawn as one group (`joined_groups`, in this one frame).
+
+    Parameters
+    ----------
+    shape : Shape
+        With ``paths``, ``regions`` and ``paint``.
+    joined : list of list of int
+        Region indices, the parts of one cut region each (``Sequence.info['joined']``).
+
+    Returns
+    -------
+    list of (list of int, Paint)
+    """
+    groups = paint_groups(shape)
+    if not joined or not shape.regions:
+        return groups
+    into = joined_groups([g[0] for g, _ in groups], shape.regions, [shape.paint], joined)
+    out = []
+    for k, (g, p) in enumerate(groups):
+        if into.get(k, k) != k:
+            out[-1] = (out[-1][0] + g, out[-1][1])
+        else:
+            out.append((list(g), p))
+    return out
 
 
 def opaque(paint):

@@ -1,5 +1,6 @@
 """One file per frame in a folder (``frame_0000.obj``, ``frame_0001.obj``, ...)."""
 
+import functools
 import re
 from pathlib import Path
 
@@ -101,7 +102,8 @@ def write_frames(seq, directory, format="obj", progress=False):
     list of Path
         The files written, in frame order (see `write_frame_files`). Each
         frame carries its own paint (`isotween.paint.sequence_paint`), which
-        the SVG format writes.
+        the SVG format writes (the parts of a cut region,
+        ``seq.info['joined']``, as one element).
     """
     from .shapes import SHAPE_FORMATS
 
@@ -110,6 +112,10 @@ def write_frames(seq, directory, format="obj", progress=False):
         raise ParameterError(f"unknown frame format '{format}'; use one of {', '.join(DATA_FRAME_FORMATS)} "
                              "(png frames: isotween.write_output)")
     save = SHAPE_FORMATS[f".{fmt}"][1]
+    if fmt == "svg" and seq.info.get("joined"):  # the parts of a cut region as one element: no seam
+        from .svg import write_svg
+
+        save = functools.partial(write_svg, joined=seq.info["joined"])
     regions, paints = sequence_paint(seq)
 
     def frame(k):  # frame k with its own (interpolated) paint

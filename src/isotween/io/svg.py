@@ -24,8 +24,8 @@ import numpy as np
 
 from .._validate import check_int
 from ..errors import FileFormatError, ParameterError, ShapeError, require
-from ..geometry import bbox_diagonal, fill_regions, ring_area
-from ..paint import Paint, paint_groups, svg_paint_attributes
+from ..geometry import bbox_diagonal, edge_keys, edge_table, fill_regions, ring_area
+from ..paint import Paint, drawn_groups, svg_paint_attributes
 from ..resources import check_memory
 from ..shape import MAX_COORDINATE, Shape
 from ._files import TEXT_BYTES_PER_BYTE, check_readable, write_text
@@ -675,12 +675,13 @@ def _subpath_data(points, closed):
     return f"M {coords}{' Z' if closed else ''}"
 
 
-def write_svg(shape, path):
+def write_svg(shape, path, joined=()):
     """Write the outline of a shape as SVG.
 
     Each shape path becomes one ``<path>`` element (``Z`` for a closed ring);
     edges outside every path (triangle sides, edge soups) are drawn as chains
-    in one more ``<path id="edges">``. Numbers are shortest round-trip
+    in one more ``<path id="edges">`` (not the sides of a painted shape's
+    triangles: they are its inside). Numbers are shortest round-trip
     decimals in user units, so a shape whose edges are its paths, listing the
     vertices in order (what `read_svg` returns), reads back identically. SVG
     is y-down: a y-down shape is written as it is, a y-up shape with y
@@ -689,7 +690,10 @@ def write_svg(shape, path):
     y-up shape. A shape with ``paint`` is written in its colours, one
     ``<path>`` per region (holes cut by the even-odd rule) or lone path, so
     regions and paint read back (colours to 8 bits). uv and faces are not
-    stored.
+    stored. ``joined``: lists of regions, the parts of one cut region each
+    (``Sequence.info['joined']``), written as one element where they share
+    an opaque paint, so that anti-aliasing draws no seam between them
+    (`isotween.paint.drawn_groups`); they read back as separate regions.
     """
     v = shape.vertices if shape.y_down else shape.vertices * np.array([1.0, -1.0]) + 0.0  # no -0.0
     lo, hi = (v.min(axis=0), v.max(axis=0)) if len(v) else (np.zeros(2), np.ones(2))
@@ -705,7 +709,7 @@ def write_svg(shape, path):
         for k, (idx, closed) in enumerate(paths):
             elements.append(f'  <path id="path{k}" d="{_subpath_data(v[idx], closed)}"/>')
     else:  # one element per region (holes cut by the even-odd rule) or lone path, in its paint
-        for group, paint in paint_groups(shape):
+        for group, paint in drawn_groups(shape, joined):
             d = " ".join(_subpath_data(v[paths[i][0]], paths[i][1]) for i in group)
             attrs = " ".join(f'{k}="{a}"' for k, a in svg_paint_attributes(paint).items())
             elements.append(f'  <path id="path{group[0]}" d="{d}" fill-rule="evenodd" {attrs}/>')
@@ -713,6 +717,8 @@ def write_svg(shape, path):
         pe = np.vstack([np.column_stack([p, np.roll(p, -1)] if c else [p[:-1], p[1:]]) for p, c in paths])
         covered = np.unique(np.sort(pe, axis=1), axis=0)
     rest = shape.edges
+    if shape.paint is not None and shape.n_faces:  # a painted drawing's triangles are its inside, not lines
+        rest = rest[~np.isin(edge_keys(rest[:, 0], rest[:, 1]), edge_table(shape.faces)[3])]
     if len(covered):
         key = np.sort(rest, axis=1)
         rest = rest[~_member(key, covered)]
