@@ -388,6 +388,7 @@ def run_isotween(job):
         out["report"] = seq.info.get("correspondence", "")
         out["fallback"] = seq.info.get("fallback", "")
         out["method"] = seq.method
+        out["stopped"] = seq.info.get("stopped")  # AIAP's iterations stopped before the first that folds
         out["vertices"] = shape.n_vertices
         out["faces"] = shape.n_faces
         # meshes: every face of the source with one orientation, the target's the same
@@ -668,6 +669,8 @@ def main():
     aiap = [r for r in meshed if r["method"] == "aiap"]
     repaired = [r for r in aiap if "repaired" in r["fallback"]]
     kept_folding = [r for r in aiap if r["fallback"] and r not in repaired]
+    plain = [r for r in aiap if not r["fallback"]]
+    stopped = [r for r in plain if r.get("stopped")]
     methods = {}
     for r in meshed:
         method = "aiap, folds repaired" if r in repaired else r["method"]
@@ -774,7 +777,12 @@ def main():
         f"({_pct(n_new_clean, len(ours))}; of the stroked pairs {n_new_stroke} of {len(kinds['stroke'])}).",
         "",
         f"Methods of the {n_meshed} meshed pairs: " + ", ".join(f"{m} {c}" for m, c in sorted(methods.items()))
-        + f" ('aiap' kept with a fold where no fold-free morph could be built: {len(kept_folding)}).",
+        + f" ('aiap' kept with a fold where no fold-free morph could be built: {len(kept_folding)}). "
+        f"Of the {len(plain)} AIAP results with no fallback, {len(stopped)} stopped before the first iteration "
+        "that folds a triangle (`interpolate`'s fold check; "
+        + (f"at iteration {np.median([r['stopped']['iteration'] for r in stopped]):.0f} of "
+           f"{np.median([r['stopped']['of'] for r in stopped]):.0f} begun, medians" if stopped else "-")
+        + f"), {len(plain) - len(stopped)} ran until Eq. (11) holds.",
         "",
         "Per-stage time, medians over the pairs that morphed (ms): read = `io.load` of both files; correspondence = "
         "`correspond` less meshing (`correspond._solids`); solve = `interpolate` less the fallback (the fold check "

@@ -1,5 +1,7 @@
 """AIAP solved again with edges flipped where a few faces fold: the paper's method, on other triangles."""
 
+import sys
+
 import numpy as np
 import pytest
 
@@ -28,7 +30,29 @@ def pair(tmp_path, a, b):
     return prepared.source, prepared.target
 
 
-def test_a_t_becomes_an_arrow_by_aiap_on_flipped_edges(tmp_path):
+@pytest.fixture
+def to_the_end(monkeypatch):
+    """AIAP's iterations run to the end with the fold check too.
+
+    Stopped before the first fold, T -> ARROW does not fold, and nothing is left to unfold.
+    """
+    monkeypatch.setattr(sys.modules["isotween.interpolate"], "_unfolded", lambda shape: lambda z: False)
+
+
+def test_aiap_stops_before_the_first_iteration_that_folds(tmp_path):
+    source, target = pair(tmp_path, T, ARROW)
+    converged = interpolate(source, target, frames=21, fold="allow")
+    assert metrics.flipped_faces(converged) > 0  # run to the end, AIAP folds a few faces
+    seq = interpolate(source, target, frames=21, fold="fallback")
+    k = seq.info["stopped"]["iteration"]
+    assert seq.method == "aiap" and "fallback" not in seq.info and 1 <= k < seq.info["stopped"]["of"]
+    assert metrics.flipped_faces(seq) == 0 and not any(metrics.outline_crossings(seq))
+    # the frames are the solver's own k-th iterate, ends exact
+    np.testing.assert_array_equal(seq.frames, interpolate(source, target, frames=21, fold="allow", max_iter=k).frames)
+    np.testing.assert_array_equal(seq.frames[-1], target.vertices)
+
+
+def test_a_t_becomes_an_arrow_by_aiap_on_flipped_edges(tmp_path, to_the_end):
     source, target = pair(tmp_path, T, ARROW)
     folded = interpolate(source, target, frames=21, fold="allow")
     assert 0 < len(folding(folded)) <= MOST  # the correspondence's meshes fold a few faces in AIAP's in-betweens
@@ -47,7 +71,7 @@ def test_a_t_becomes_an_arrow_by_aiap_on_flipped_edges(tmp_path):
     assert np.all(seq.shape.face_areas(seq.frames[-1]) > 0)
 
 
-def test_morph_and_the_command_line_say_where_edges_were_flipped(tmp_path):
+def test_morph_and_the_command_line_say_where_edges_were_flipped(tmp_path, to_the_end):
     from click.testing import CliRunner
 
     from isotween.cli import main

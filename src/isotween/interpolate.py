@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from .sequence import Sequence
     from .shape import ShapeLike
 
-__all__ = ["interpolate", "SOLVERS", "check_movable", "check_stopping"]
+__all__ = ["interpolate", "SOLVERS", "check_movable", "check_stopping", "fold_notes"]
 
 FOLDS = ("allow", "fallback")
 
@@ -222,12 +222,38 @@ def _aiap(source, target, t, options, callback):
             problem = keyed_problem([source, target], t, np.array([0, len(t) - 1]), init=init, scheme=scheme,
                                     tol=tol, max_iter=max_iter, diagonal=diag)
             init_time = time.perf_counter() - t0
+            # with the fold check, the iterations stop before the first that folds a triangle (where the
+            # first does not): Eq. (6) lowered as far as no fold allows, not a fold for the check to repair
+            keep = _unfolded(source) if options["fold"] == "fallback" and source.n_faces else None
             result = solve(problem, solver=options["solver"], assembly=options["assembly"],
-                           linear_solver=options["linear_solver"], callback=callback)
+                           linear_solver=options["linear_solver"], callback=callback, keep=keep)
         result.timings = {"init": init_time, **result.timings}
     result.timings["total"] = time.perf_counter() - start
-    return result.sequence(source, t, method="aiap", scheme=scheme,
-                           info={"options": options, "max_move": result.max_move})
+    info = {"options": options, "max_move": result.max_move}
+    if "kept" in result.info:
+        info["stopped"] = {"iteration": result.info["kept"], "of": result.info["of"]}
+    return result.sequence(source, t, method="aiap", scheme=scheme, info=info)
+
+
+def fold_notes(seq):
+    """What the fold check did to ``seq`` (`interpolate` with ``fold='fallback'``), one line each (list of str)."""
+    notes = []
+    if "stopped" in seq.info:
+        stop = seq.info["stopped"]
+        notes.append(f"aiap stopped at iteration {stop['iteration']}, before the first that folds a triangle "
+                     f"(iteration {stop['of']})")
+    return notes + [seq.info[key] for key in ("unfolded", "fallback") if key in seq.info]
+
+
+def _unfolded(shape):
+    """``keep(z)``: whether no triangle of ``shape`` is flipped (`metrics.flipped`) in any frame of ``z`` (n, F)."""
+    sign = np.sign(shape.face_areas())
+
+    def keep(z):
+        areas = shape.face_areas(np.stack([z.real.T, z.imag.T], axis=-1))  # (F, faces)
+        return bool(np.all((np.sign(areas) == sign) | (sign == 0) | (areas[:1] == 0)))
+
+    return keep
 
 
 def _complex_frames(frames):

@@ -53,6 +53,7 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
     elapsed = timer()
     check_outputs(output, fmt, texture, plot)
     options = correspondence_kwargs(params)
+    from ..interpolate import fold_notes
     from ..pipeline import STAGGER, check_stagger, finish, stagger_shares, unmatched_spans
 
     stagger = check_stagger(STAGGER if stagger is None else stagger)  # before any work
@@ -65,9 +66,8 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
         seq = interpolate(prepared.source, prepared.target, callback=callback, correspondence="never", spans=spans,
                           **kwargs)
     finish(seq, prepared.report, stagger, strokes)  # no specks at the ends; strokes kept from crossing
-    for key in ("unfolded", "fallback"):  # edges flipped where AIAP folded; the repair or the fold-free morph
-        if key in seq.info and not quiet:
-            click.echo(f"fold check: {seq.info[key]}")
+    for note in [] if quiet else fold_notes(seq):  # AIAP stopped before a fold, edges flipped, a repair or
+        click.echo(f"fold check: {note}")             # the fold-free morph
     if "spans" in seq.info and not quiet:  # the staggering was shortened or dropped to keep the pieces apart
         share = stagger_shares(stagger)[seq.info["spans"]["used"]]
         click.echo(f"stagger: {share:g} instead of {stagger:g}: {seq.info['spans']['why']}")

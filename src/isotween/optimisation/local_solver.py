@@ -21,7 +21,7 @@ __all__ = ["ASSEMBLY", "local_solve"]
 ASSEMBLY = ("shared", "per-frame")
 
 
-def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto", callback=None):
+def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto", callback=None, keep=None):
     """Run Algorithm 2.
 
     Parameters
@@ -40,6 +40,12 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
     factorisation : {'auto', 'banded', 'cholmod', 'splu'}
         Factorisation of the shared Eq. (10) Laplacian (see `FrameAssembler`).
     callback : callable(iteration, energy, max_move), optional
+    keep : callable(z) -> bool, optional
+        Judges every iterate's frames ``z`` (n, m+1) complex (e.g. that no
+        triangle flips). Where the first passes, the solve stops before the
+        first iterate that does not and returns the one before it
+        (``info['kept']``: its iteration, of ``info['of']`` begun); where
+        the first does not, every iterate is kept.
 
     Returns
     -------
@@ -59,7 +65,7 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
                                 factorisation=factorisation)
     edge_pass = backend.current().edge_pass(shape.topology, t, problem.scheme, fixed, smooth)
     edge_pass.reuse(edges)
-    energies, converged, move = [], False, np.inf
+    energies, converged, move, info = [], False, np.inf, {}
     timing = {"assemble": 0.0, "edges": 0.0}
     for it in range(1, problem.max_iter + 1):
         t0 = time.perf_counter()
@@ -74,6 +80,14 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
             step = float(np.max(np.abs(new - z[:, free]), initial=0.0))  # Eq. (11)
             z[:, free] = new
         timing["assemble"] += time.perf_counter() - t0
+        if keep is not None:
+            if keep(z):
+                kept = (it, z.copy())
+            elif it > 1:  # the last iterate that passed, and no further
+                z, info = kept[1], {"kept": kept[0], "of": it}
+                break
+            else:
+                keep = None
         t0 = time.perf_counter()
         if it > 1:
             move = step
@@ -86,4 +100,4 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
         if converged:
             break
     edge_pass.close()
-    return Result(z, energies, it, converged, move, timing)
+    return Result(z, energies, it, converged, move, timing, info)

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, IsotweenError, ParameterError
+from ..interpolate import fold_notes
 from ..pipeline import STROKES
 from ..shape import Shape
 
@@ -372,7 +373,7 @@ class Session:
         else:
             morph = self._solve_keys(doc, inputs, options, curves, notes, hooks)
         inputs, src, tgt, report, keys, base, times, preview = morph
-        notes += [f"fold check: {base.info[key]}" for key in ("unfolded", "fallback") if key in base.info]
+        notes += [f"fold check: {note}" for note in fold_notes(base)]
         check()
         seq = base
         edits = {int(k): np.asarray(v, dtype=np.float64) for k, v in doc.get("edits", {}).items()}
