@@ -779,7 +779,7 @@ def main():
         f"Methods of the {n_meshed} meshed pairs: " + ", ".join(f"{m} {c}" for m, c in sorted(methods.items()))
         + f" ('aiap' kept with a fold where no fold-free morph could be built: {len(kept_folding)}). "
         f"Of the {len(plain)} AIAP results with no fallback, {len(stopped)} stopped before the first iteration "
-        "that folds a triangle (`interpolate`'s fold check; "
+        "that folds a triangle or lets outlines cross (`interpolate`'s fold check; "
         + (f"at iteration {np.median([r['stopped']['iteration'] for r in stopped]):.0f} of "
            f"{np.median([r['stopped']['of'] for r in stopped]):.0f} begun, medians" if stopped else "-")
         + f"), {len(plain) - len(stopped)} ran until Eq. (11) holds.",

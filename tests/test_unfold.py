@@ -101,3 +101,22 @@ def test_unfolding_never_folds_more(tmp_path, a, b):
     assert len(folding(out)) <= len(folding(seq))
     assert (out is seq) == (len(folding(out)) == len(folding(seq)))
     assert tried  # edges were flipped and AIAP solved again
+
+
+@pytest.mark.parametrize("last_clean", [1, 2, 6, 19])
+def test_the_fold_check_finds_the_most_iterations_whose_outlines_do_not_cross(last_clean):
+    from types import SimpleNamespace
+
+    from isotween.interpolate import _fewer_iterations
+
+    calls = []
+
+    def fewer(j):  # AIAP stopped after j iterations: its outlines cross from iteration last_clean + 1 on
+        calls.append(j)
+        return SimpleNamespace(iterations=j, info={}, crossing=j > last_clean)
+
+    seq = _fewer_iterations(20, fewer, lambda s: not s.crossing)
+    assert seq.iterations == last_clean and seq.info["stopped"] == {
+        "iteration": last_clean, "of": last_clean + 1, "why": "outlines cross"}
+    assert len(calls) <= 1 + int(np.ceil(np.log2(20)))  # a bisection, not a walk through every count
+    assert _fewer_iterations(20, fewer, lambda s: False) is None  # where the first crosses: nothing

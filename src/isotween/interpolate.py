@@ -182,12 +182,13 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
                    max_iter=max_iter, method=method, times=times, assembly=assembly,
                    linear_solver=linear_solver, fold=fold)
 
-    def run(spans, faces=None):  # faces (AIAP only): the same pair on other triangles
+    def run(spans, faces=None, max_iter=None):  # faces (AIAP only): the same pair on other triangles
         if method != "aiap":
             return _baseline(method, source, target, t, options, callback, spans)
         a, b = (source, target) if faces is None else (source.with_faces(faces), target.with_faces(faces))
-        progress = callback if faces is None else None  # the progress shown is the first solve's
-        seq = spanned(lambda grid: _aiap(a, b, grid, options, progress), t, spans)
+        progress = callback if faces is None and max_iter is None else None  # the progress shown: the first solve's
+        opts = options if max_iter is None else {**options, "max_iter": max_iter}
+        seq = spanned(lambda grid: _aiap(a, b, grid, opts, progress), t, spans)
         seq.timings["total"] = time.perf_counter() - start
         seq.info.update(span_paint(source, target, spans))
         return seq
@@ -199,7 +200,8 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     # other timings the fold check tries, before a repair that lets pieces meet
     alternatives = [(lambda s=s: run(s), s) for s in ([] if timings is None else timings[1:])]
     resolve = (lambda faces: run(first, faces)) if method == "aiap" else None  # AIAP on other triangles
-    return _fallback(seq, source, target, t, options, first, alternatives, resolve)
+    fewer = (lambda j: run(first, max_iter=j)) if method == "aiap" else None  # AIAP stopped after j iterations
+    return _fallback(seq, source, target, t, options, first, alternatives, resolve, fewer=fewer)
 
 
 def _aiap(source, target, t, options, callback):
@@ -229,10 +231,8 @@ def _aiap(source, target, t, options, callback):
                            linear_solver=options["linear_solver"], callback=callback, keep=keep)
         result.timings = {"init": init_time, **result.timings}
     result.timings["total"] = time.perf_counter() - start
-    info = {"options": options, "max_move": result.max_move}
-    if "kept" in result.info:
-        info["stopped"] = {"iteration": result.info["kept"], "of": result.info["of"]}
-    return result.sequence(source, t, method="aiap", scheme=scheme, info=info)
+    return result.sequence(source, t, method="aiap", scheme=scheme,
+                           info={"options": options, "max_move": result.max_move})
 
 
 def fold_notes(seq):
@@ -240,8 +240,8 @@ def fold_notes(seq):
     notes = []
     if "stopped" in seq.info:
         stop = seq.info["stopped"]
-        notes.append(f"aiap stopped at iteration {stop['iteration']}, before the first that folds a triangle "
-                     f"(iteration {stop['of']})")
+        notes.append(f"aiap stopped at iteration {stop['iteration']}, before the first in which "
+                     f"{stop.get('why', 'a triangle folds')} (iteration {stop['of']})")
     return notes + [seq.info[key] for key in ("unfolded", "fallback") if key in seq.info]
 
 
@@ -277,7 +277,8 @@ def _baseline(method, source, target, t, options, callback, spans):
     return seq
 
 
-def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=None, apart_only=False):
+def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=None, apart_only=False,
+              fewer=None):
     """``seq``; where an in-between frame folds or collides, its folding frames repaired, else the fold-free morph.
 
     A frame folds where a triangle flips or a region's outline crosses
@@ -300,29 +301,38 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     morph (`interpolate`'s ``spans``), each checked in turn where this one
     cannot be kept with its pieces apart, before the repair in the regions
     alone, keeping or replacing; ``apart_only``: only the repairs that keep
-    pieces apart, else None.
+    pieces apart, else None. ``fewer(j)``: the sequence after at most j
+    AIAP iterations; where outlines cross but no face folds, the most
+    iterations whose outlines do not are looked for first (`_fewer_iterations`).
     """
     from . import metrics
     from .foldfree.scaffold import Around
 
     if seq.method in ("convex", "injective") or len(t) < 3:
         return seq
-    flips = metrics.flipped_faces(seq, None)[1:-1]
     z = _complex_frames(seq.frames)
     hidden = _hidden(seq)
     within, across = _crossed(seq.shape, z[[0, -1]], hidden)
     inner = np.arange(1, len(t) - 1)
-    crossings, collisions = within(inner, z[1:-1]), across(inner, z[1:-1])
+
+    def folds(s):  # (flips, crossings, collisions) of the in-between frames of s, (F - 2,) int each
+        x = _complex_frames(s.frames)[1:-1]
+        return metrics.flipped_faces(s, None)[1:-1], within(inner, x), across(inner, x)
+
+    flips, crossings, collisions = folds(seq)
     if not (flips.any() or crossings.any() or collisions.any()):
         return seq
+    if fewer is not None and not flips.any() and seq.iterations > 1:  # outlines cross, no face folds
+        done = _fewer_iterations(seq.iterations, fewer, lambda s: not any(x.any() for x in folds(s)))
+        if done is not None:
+            return done
     if resolve is not None and flips.any():  # a few faces fold: AIAP again with edges flipped there
         from .foldfree.unfold import unfold
 
         seq = unfold(seq, resolve)
         if "unfolded" in seq.info:
             z = _complex_frames(seq.frames)
-            flips = metrics.flipped_faces(seq, None)[1:-1]
-            crossings, collisions = within(inner, z[1:-1]), across(inner, z[1:-1])
+            flips, crossings, collisions = folds(seq)
             if not (flips.any() or crossings.any() or collisions.any()):
                 return seq
     bad = flips | crossings | collisions
@@ -365,6 +375,26 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
         free.info["fallback"] = f"{folded}; replaced by the fold-free convex morph (injective failed: {exc})"
     free.timings["total"] = free.timings.get("total", 0.0) + seq.timings.get("total", 0.0)
     return free
+
+
+def _fewer_iterations(k, fewer, clean):
+    """The result of the most AIAP iterations below ``k`` that is ``clean``, or None where the first is not.
+
+    ``fewer(j)``: the sequence after at most j iterations; the clean ones are
+    taken to come first (a bisection). ``info['stopped']`` says where, and why.
+    """
+    best, lo, hi = fewer(1), 1, k - 1
+    if not clean(best):
+        return None
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        seq = fewer(mid)
+        if clean(seq):
+            best, lo = seq, mid
+        else:
+            hi = mid - 1
+    best.info["stopped"] = {"iteration": best.iterations, "of": lo + 1, "why": "outlines cross"}
+    return best
 
 
 def _repaired(seq, z, attempts, folded):

@@ -43,9 +43,10 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
     keep : callable(z) -> bool, optional
         Judges every iterate's frames ``z`` (n, m+1) complex (e.g. that no
         triangle flips). Where the first passes, the solve stops before the
-        first iterate that does not and returns the one before it
-        (``info['kept']``: its iteration, of ``info['of']`` begun); where
-        the first does not, every iterate is kept.
+        first iterate that does not and returns the one before it (its
+        iteration the result's ``iterations``; ``info['stopped']``:
+        ``{'iteration': it, 'of': the one refused}``); where the first does
+        not pass, every iterate is kept.
 
     Returns
     -------
@@ -84,7 +85,8 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
             if keep(z):
                 kept = (it, z.copy())
             elif it > 1:  # the last iterate that passed, and no further
-                z, info = kept[1], {"kept": kept[0], "of": it}
+                z, info = kept[1], {"stopped": {"iteration": kept[0], "of": it}}
+                it -= 1
                 break
             else:
                 keep = None
