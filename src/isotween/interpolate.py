@@ -200,7 +200,7 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     # other timings the fold check tries, before a repair that lets pieces meet
     alternatives = [(lambda s=s: run(s), s) for s in ([] if timings is None else timings[1:])]
     resolve = (lambda faces: run(first, faces)) if method == "aiap" else None  # AIAP on other triangles
-    fewer = (lambda j: run(first, max_iter=j)) if method == "aiap" else None  # AIAP stopped after j iterations
+    fewer = (lambda j, faces=None: run(first, faces, max_iter=j)) if method == "aiap" else None  # j iterations
     return _fallback(seq, source, target, t, options, first, alternatives, resolve, fewer=fewer)
 
 
@@ -301,9 +301,11 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     morph (`interpolate`'s ``spans``), each checked in turn where this one
     cannot be kept with its pieces apart, before the repair in the regions
     alone, keeping or replacing; ``apart_only``: only the repairs that keep
-    pieces apart, else None. ``fewer(j)``: the sequence after at most j
-    AIAP iterations; where outlines cross but no face folds, the most
-    iterations whose outlines do not are looked for first (`_fewer_iterations`).
+    pieces apart, else None. ``fewer(j, faces=None)``: the sequence after at
+    most j AIAP iterations (on other faces); where outlines cross but no face
+    folds, the most iterations whose outlines do not are looked for first
+    (`_fewer_iterations`); where the first iteration folds, edges are first
+    flipped where it does (`unfold`, judged on first iterations).
     """
     from . import metrics
     from .foldfree.scaffold import Around
@@ -329,6 +331,15 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     if resolve is not None and flips.any():  # a few faces fold: AIAP again with edges flipped there
         from .foldfree.unfold import unfold
 
+        if fewer is not None and "stopped" not in seq.info and seq.iterations > 1:
+            # the first iteration folds already: edges flipped where it folds (judged on first iterations,
+            # `fewer(1, faces)`), then AIAP on those faces, stopped before a fold again
+            first = unfold(fewer(1), lambda faces: fewer(1, faces))
+            if "unfolded" in first.info and not folds(first)[0].any():
+                again = resolve(first.shape.faces)
+                if not any(x.any() for x in folds(again)):
+                    again.info["unfolded"] = first.info["unfolded"]
+                    return again
         seq = unfold(seq, resolve)
         if "unfolded" in seq.info:
             z = _complex_frames(seq.frames)
