@@ -781,7 +781,9 @@ def main():
         f"Of the {len(plain)} AIAP results with no fallback, {len(stopped)} stopped before the first iteration "
         "that folds a triangle or lets outlines cross (`interpolate`'s fold check; "
         + (f"at iteration {np.median([r['stopped']['iteration'] for r in stopped]):.0f} of "
-           f"{np.median([r['stopped']['of'] for r in stopped]):.0f} begun, medians" if stopped else "-")
+           f"{np.median([r['stopped']['of'] for r in stopped]):.0f} begun, medians; "
+           f"{sum(1 for r in stopped if r['stopped']['iteration'] == 1)} at iteration 1, the assembled "
+           "edge-vector initialisation of Eqs. (12)-(13) and (10)" if stopped else "-")
         + f"), {len(plain) - len(stopped)} ran until Eq. (11) holds.",
         "",
         "Per-stage time, medians over the pairs that morphed (ms): read = `io.load` of both files; correspondence = "
