@@ -120,3 +120,36 @@ def test_the_fold_check_finds_the_most_iterations_whose_outlines_do_not_cross(la
         "iteration": last_clean, "of": last_clean + 1, "why": "outlines cross"}
     assert len(calls) <= 1 + int(np.ceil(np.log2(20)))  # a bisection, not a walk through every count
     assert _fewer_iterations(20, fewer, lambda s: False) is None  # where the first crosses: nothing
+
+
+# Bootstrap Icons (MIT licence, The Bootstrap Authors): truck-front-fill and cloud-lightning-fill
+TRUCK = ("M3.5 0A2.5 2.5 0 0 0 1 2.5v9c0 .818.393 1.544 1 2v2a.5.5 0 0 0 .5.5h2a.5.5 0 0 0 .5-.5V14h6v1.5a.5.5 0 0 0 "
+         ".5.5h2a.5.5 0 0 0 .5-.5v-2c.607-.456 1-1.182 1-2v-9A2.5 2.5 0 0 0 12.5 0zM3 3a1 1 0 0 1 1-1h8a1 1 0 0 1 1 "
+         "1v3.9c0 .625-.562 1.092-1.17.994C10.925 7.747 9.208 7.5 8 7.5s-2.925.247-3.83.394A1.008 1.008 0 0 1 3 "
+         "6.9zm1 9a1 1 0 1 1 0-2 1 1 0 0 1 0 2m8 0a1 1 0 1 1 0-2 1 1 0 0 1 0 2m-5-2h2a1 1 0 1 1 0 2H7a1 1 0 1 1 0-2")
+CLOUD = ("M7.053 11.276A.5.5 0 0 1 7.5 11h1a.5.5 0 0 1 .474.658l-.28.842H9.5a.5.5 0 0 1 .39.812l-2 2.5a.5.5 0 0 "
+         "1-.875-.433L7.36 14H6.5a.5.5 0 0 1-.447-.724zm6.352-7.249a5.001 5.001 0 0 0-9.499-1.004A3.5 3.5 0 1 0 3.5 "
+         "10H13a3 3 0 0 0 .405-5.973")
+
+
+def test_where_the_first_iteration_folds_edges_are_flipped_there_and_aiap_stops_before_a_fold(tmp_path):
+    from isotween.pipeline import STAGGER, unmatched_spans
+
+    files = []
+    for name, d in (("truck", TRUCK), ("cloud", CLOUD)):
+        files.append(tmp_path / f"{name}.svg")
+        files[-1].write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16"><path d="{d}"/></svg>')
+    prepared = prepare_pair(*files)
+    source, target = prepared.source, prepared.target
+    spans = unmatched_spans(source, prepared.report, STAGGER)  # the lightning comes in late, as `morph` has it
+    first = interpolate(source, target, frames=21, fold="allow", max_iter=1, spans=spans)
+    assert 0 < len(folding(first)) <= MOST  # the assembled initialisation folds a few faces already
+    seq = interpolate(source, target, frames=21, fold="fallback", spans=spans)
+    assert seq.method == "aiap" and "fallback" not in seq.info and "unfolded" in seq.info
+    assert metrics.flipped_faces(seq) == 0
+    # AIAP's own k-th iterate on the flipped faces (the same vertices and ends)
+    k = seq.info["stopped"]["iteration"]
+    own = interpolate(source.with_faces(seq.shape.faces), target.with_faces(seq.shape.faces), frames=21,
+                      fold="allow", max_iter=k, spans=spans)
+    np.testing.assert_array_equal(own.frames, seq.frames)
+    np.testing.assert_array_equal(seq.frames[-1], target.vertices)
