@@ -603,8 +603,8 @@ def fill_regions(rings, rule="evenodd"):
 
     Each ring's winding number just outside it (the sum over the other rings,
     the median over `PROBES` of its vertices: rings that touch, as the parts
-    of a cut shape do, do not mislead it) and just inside it (plus its own orientation) says
-    whether it bounds the fill: from unfilled outside to filled inside it is
+    of a cut shape do, do not mislead it) and just inside it (plus its own
+    orientation) says whether it bounds the fill: from unfilled outside to filled inside it is
     an outer ring, the other way round a hole of the smallest outer ring
     around it. A ring with the fill on both sides (or neither) bounds nothing.
 

@@ -335,7 +335,7 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
             # the first iteration folds already: edges flipped where it folds (judged on first iterations,
             # `fewer(1, faces)`), then AIAP on those faces, stopped before a fold again
             first = unfold(fewer(1), lambda faces: fewer(1, faces))
-            if "unfolded" in first.info and not folds(first)[0].any():
+            if "unfolded" in first.info and not metrics.flipped_faces(first):
                 again = resolve(first.shape.faces)
                 if not any(x.any() for x in folds(again)):
                     again.info["unfolded"] = first.info["unfolded"]
