@@ -230,7 +230,8 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
     opts = _check_options(options)
     if not isinstance(seq, Sequence):
         raise ParameterError(f"write_output expects an isotween.Sequence, got {type(seq).__name__}")
-    check_sequence(seq, f"cannot write {out}")
+    if kind != "sequence":  # (save_sequence checks it itself)
+        check_sequence(seq, f"cannot write {out}")
     if texture is not None and not Path(texture).is_file():
         raise FileFormatError(f"{texture}: no such texture image")
     if kind == "sequence":
