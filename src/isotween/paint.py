@@ -13,8 +13,8 @@ import numpy as np
 from .errors import ParameterError
 
 __all__ = ["Paint", "DEFAULT_FILL", "drawn_groups", "joined_groups", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb",
-           "paint_keys", "sequence_paint", "key_paint", "paint_at", "out_of_sight", "paint_groups", "opaque",
-           "svg_paint_attributes"]
+           "paint_keys", "sequence_paint", "key_paint", "paint_at", "out_of_sight", "paint_groups", "merge_groups",
+           "opaque", "svg_paint_attributes"]
 
 #: SVG's initial fill: opaque black
 DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
@@ -334,13 +334,27 @@ def drawn_groups(shape, joined=()):
     if not joined or not shape.regions:
         return groups
     into = joined_groups([g[0] for g, _ in groups], shape.regions, [shape.paint], joined)
-    out = []
-    for k, (g, p) in enumerate(groups):
-        if into.get(k, k) != k:
-            out[-1] = (out[-1][0] + g, out[-1][1])
+    merged, kept = merge_groups([g for g, _ in groups], into)
+    return [(g, groups[k][1]) for g, k in zip(merged, kept, strict=True)]
+
+
+def merge_groups(groups, into):
+    """``groups`` (lists) with every group ``g`` in ``into`` appended to the one before it (`joined_groups`).
+
+    Returns
+    -------
+    merged : list of list
+    kept : list of int
+        The index in ``groups`` of the first group of each merged one.
+    """
+    merged, kept = [], []
+    for g, group in enumerate(groups):
+        if g in into:
+            merged[-1] = merged[-1] + list(group)
         else:
-            out.append((list(g), p))
-    return out
+            merged.append(list(group))
+            kept.append(g)
+    return merged, kept
 
 
 def opaque(paint):

@@ -13,7 +13,7 @@ from .._text import document_text
 from ..errors import FileFormatError
 from ..io import atomic_path
 from ..io._json import dumps_finite
-from ..paint import joined_groups, paint_groups, sequence_paint
+from ..paint import joined_groups, merge_groups, paint_groups, sequence_paint
 from ._frames import sequence_frames
 from ._framestats import frame_stats
 from ._view import bbox_of
@@ -65,12 +65,11 @@ def paint_data(seq):
     first = shape.with_vertices(shape.vertices)
     first.regions, first.paint = regions, paints[0]
     groups = [group for group, _ in paint_groups(first)]
-    into = joined_groups([g[0] for g in groups], regions or [], paints, seq.info.get("joined") or [])
+    # the parts of a cut region drawn as one group (`isotween.paint.joined_groups`)
+    groups, _ = merge_groups(groups, joined_groups([g[0] for g in groups], regions or [], paints,
+                                                   seq.info.get("joined") or []))
     out = []
-    for g, group in enumerate(groups):
-        if g in into:  # the part of a cut region drawn with the one before (`isotween.paint.joined_groups`)
-            out[-1]["paths"] += [[shape.paths[i][0].tolist(), bool(shape.paths[i][1])] for i in group]
-            continue
+    for group in groups:
         track = [frame[group[0]] for frame in paints]
         out.append({
             "paths": [[shape.paths[i][0].tolist(), bool(shape.paths[i][1])] for i in group],

@@ -15,7 +15,7 @@ from xml.sax.saxutils import escape
 import numpy as np
 
 from ..errors import ParameterError
-from ..paint import joined_groups, paint_groups, sequence_paint, svg_paint_attributes
+from ..paint import joined_groups, merge_groups, paint_groups, sequence_paint, svg_paint_attributes
 from ._frames import sequence_frames
 from ._view import PAD, bbox_of
 from .curves import CORNER, fit_curves
@@ -331,15 +331,8 @@ class PathData:
 
 def _merge_joined(groups, first, regions, paints, joined):
     """Groups and their first paths with the parts of a cut region made one group (`paint.joined_groups`)."""
-    into = joined_groups(first, regions, paints, joined)
-    out_groups, out_first = [], []
-    for g, group in enumerate(groups):
-        if into.get(g, g) != g:
-            out_groups[-1] = out_groups[-1] + group
-            continue
-        out_groups.append(list(group))
-        out_first.append(first[g])
-    return out_groups, out_first
+    merged, kept = merge_groups(groups, joined_groups(first, regions, paints, joined))
+    return merged, [first[k] for k in kept]
 
 
 def _paint_at(seq, t):
