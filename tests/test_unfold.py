@@ -153,3 +153,36 @@ def test_where_the_first_iteration_folds_edges_are_flipped_there_and_aiap_stops_
                       fold="allow", max_iter=k, spans=spans)
     np.testing.assert_array_equal(own.frames, seq.frames)
     np.testing.assert_array_equal(seq.frames[-1], target.vertices)
+
+
+# DejaVu Sans 'N' and DejaVu Serif 'J' (Bitstream Vera licence), as matplotlib writes their outlines
+SANS_N = ("M 9.812 -72.906 L 23.094 -72.906 L 55.422 -11.922 L 55.422 -72.906 L 64.984 -72.906 L 64.984 -0.000 "
+          "L 51.703 -0.000 L 19.391 -60.984 L 19.391 -0.000 L 9.812 -0.000 L 9.812 -72.906 Z")
+SERIF_J = ("M -8.406 17.484 L -8.406 6.000 L -2.828 6.000 Q -2.688 10.844 -0.531 13.203 Q 1.609 15.578 5.906 15.578 "
+           "Q 11.719 15.578 14.016 11.906 Q 16.312 8.250 16.312 -2.391 L 16.312 -67.672 L 4.984 -67.672 "
+           "L 4.984 -72.906 L 35.500 -72.906 L 35.500 -67.672 L 26.219 -67.672 L 26.219 -2.000 "
+           "Q 26.219 10.062 21.375 15.422 Q 16.547 20.797 5.812 20.797 Q 2.344 20.797 -1.234 19.969 "
+           "Q -4.828 19.141 -8.406 17.484 Z")
+
+
+def test_where_aiap_on_flipped_edges_lets_outlines_cross_it_stops_at_the_most_iterations_that_do_not(tmp_path):
+    files = []
+    for name, d in (("n", SANS_N), ("j", SERIF_J)):
+        files.append(tmp_path / f"{name}.svg")
+        files[-1].write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="-10 -110 120 140"><path d="{d}"/></svg>')
+    prepared = prepare_pair(*files)
+    source, target = prepared.source, prepared.target
+    first = interpolate(source, target, frames=21, fold="allow", max_iter=1)
+    assert 0 < len(folding(first)) <= MOST  # the initialisation folds a few faces
+    seq = interpolate(source, target, frames=21, fold="fallback")
+    assert seq.method == "aiap" and "fallback" not in seq.info and "unfolded" in seq.info
+    assert seq.info["stopped"]["why"] == "outlines cross"
+    assert metrics.flipped_faces(seq) == 0 and metrics.outline_crossings(seq).sum() == 0
+    # one iteration more, on the same triangles, lets the outline cross itself
+    k = seq.info["stopped"]["iteration"]
+    more = interpolate(source.with_faces(seq.shape.faces), target.with_faces(seq.shape.faces), frames=21,
+                       fold="allow", max_iter=k + 1)
+    assert metrics.outline_crossings(more).sum() > 0
+    own = interpolate(source.with_faces(seq.shape.faces), target.with_faces(seq.shape.faces), frames=21,
+                      fold="allow", max_iter=k)
+    np.testing.assert_array_equal(own.frames, seq.frames)

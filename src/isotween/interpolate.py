@@ -305,7 +305,9 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     most j AIAP iterations (on other faces); where outlines cross but no face
     folds, the most iterations whose outlines do not are looked for first
     (`_fewer_iterations`); where the first iteration folds, edges are first
-    flipped where it does (`unfold`, judged on first iterations).
+    flipped where it does (`unfold`, judged on first iterations), and AIAP
+    on those faces is stopped before a fold, or where its outlines cross,
+    at the most iterations whose outlines do not.
     """
     from . import metrics
     from .foldfree.scaffold import Around
@@ -321,23 +323,31 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
         x = _complex_frames(s.frames)[1:-1]
         return metrics.flipped_faces(s, None)[1:-1], within(inner, x), across(inner, x)
 
+    def clean(s):
+        return not any(x.any() for x in folds(s))
+
+    def fewest(s, faces=None):  # s, or where its outlines cross but no face folds, the most iterations that do not
+        if fewer is None or s.iterations < 2 or clean(s) or folds(s)[0].any():
+            return s
+        return _fewer_iterations(s.iterations, lambda j: fewer(j, faces), clean) or s
+
     flips, crossings, collisions = folds(seq)
     if not (flips.any() or crossings.any() or collisions.any()):
         return seq
-    if fewer is not None and not flips.any() and seq.iterations > 1:  # outlines cross, no face folds
-        done = _fewer_iterations(seq.iterations, fewer, lambda s: not any(x.any() for x in folds(s)))
-        if done is not None:
+    if not flips.any():  # outlines cross, no face folds
+        done = fewest(seq)
+        if done is not seq:
             return done
     if resolve is not None and flips.any():  # a few faces fold: AIAP again with edges flipped there
         from .foldfree.unfold import unfold
 
         if fewer is not None and "stopped" not in seq.info and seq.iterations > 1:
             # the first iteration folds already: edges flipped where it folds (judged on first iterations,
-            # `fewer(1, faces)`), then AIAP on those faces, stopped before a fold again
+            # `fewer(1, faces)`), then AIAP on those faces, stopped before a fold again (or a crossing)
             first = unfold(fewer(1), lambda faces: fewer(1, faces))
             if "unfolded" in first.info and not metrics.flipped_faces(first):
-                again = resolve(first.shape.faces)
-                if not any(x.any() for x in folds(again)):
+                again = fewest(resolve(first.shape.faces), first.shape.faces)
+                if clean(again):
                     again.info["unfolded"] = first.info["unfolded"]
                     return again
         seq = unfold(seq, resolve)
