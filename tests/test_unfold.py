@@ -169,7 +169,8 @@ def test_where_aiap_on_flipped_edges_lets_outlines_cross_it_stops_at_the_most_it
     files = []
     for name, d in (("n", SANS_N), ("j", SERIF_J)):
         files.append(tmp_path / f"{name}.svg")
-        files[-1].write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="-10 -110 120 140"><path d="{d}"/></svg>')
+        files[-1].write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="-10 -110 120 140">'
+                             f'<path d="{d}"/></svg>')
     prepared = prepare_pair(*files)
     source, target = prepared.source, prepared.target
     first = interpolate(source, target, frames=21, fold="allow", max_iter=1)
