@@ -272,9 +272,21 @@ def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
     order = np.argsort(d[hi, bi], kind="stable")
     hi, bi = hi[order], bi[order]
     hv, bv = hole[hi], base[bi]
-    ok = ~np.isin(bv, list(used)) & ~np.isin(hv, list(used))
-    for z, poly in zip((zs, zt), polys, strict=False):
-        ok[ok] = _inside(z, poly, np.c_[bv[ok], hv[ok]])
+    cand = np.flatnonzero(~np.isin(bv, list(used)) & ~np.isin(hv, list(used)))
+    inside = np.zeros(len(cand), dtype=bool)
+    tested = 0  # the inside test (the costly part) runs on a growing prefix of the candidates, nearest first:
+
+    def valid(n):  # candidate n lies inside both polygons (the same cuts as testing all of them at once)
+        nonlocal tested
+        while n >= tested:
+            c = cand[tested:tested + max(64, tested)]
+            ok = np.ones(len(c), dtype=bool)
+            for z, poly in zip((zs, zt), polys, strict=False):
+                ok[ok] = _inside(z, poly, np.c_[bv[c[ok]], hv[c[ok]]])
+            inside[tested:tested + len(c)] = ok
+            tested += len(c)
+        return inside[n]
+
     def clear(c, picks):
         """Cut c crosses no chosen cut (nor the picks) in either shape."""
         return not any(np.any(shapely.intersects(
@@ -282,8 +294,7 @@ def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
             t + [shapely.linestrings(np.c_[z[[bv[p], hv[p]]].real, z[[bv[p], hv[p]]].imag]) for p in picks]))
             for z, t in zip((zs, zt), taken, strict=False) if len(t) or picks)
 
-    cand = np.flatnonzero(ok)
-    first = next((c for c in cand if clear(c, [])), None)
+    first = next((c for n, c in enumerate(cand) if valid(n) and clear(c, [])), None)
     if first is None:
         return None
     # the second cut: another vertex on both rings, a quarter of the hole away from the first if possible
@@ -291,7 +302,8 @@ def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
     gap = np.minimum(gap, len(hole) - gap)
     other = (hv[cand] != hv[first]) & (bv[cand] != bv[first])
     for want in (max(1, len(hole) // 4), 1):
-        second = next((c for c in cand[other & (gap >= want)] if clear(c, [first])), None)
+        second = next((c for n, c in enumerate(cand) if other[n] and gap[n] >= want and valid(n)
+                       and clear(c, [first])), None)
         if second is not None:
             return float(d[hi[first], bi[first]]), tuple((int(bv[c]), int(hv[c])) for c in (first, second))
     return None
