@@ -187,3 +187,47 @@ def test_where_aiap_on_flipped_edges_lets_outlines_cross_it_stops_at_the_most_it
     own = interpolate(source.with_faces(seq.shape.faces), target.with_faces(seq.shape.faces), frames=21,
                       fold="allow", max_iter=k)
     np.testing.assert_array_equal(own.frames, seq.frames)
+
+
+# DejaVu Sans '2' and '3' (Bitstream Vera licence), as matplotlib writes their outlines
+SANS_2 = ("M 19.188 -8.297 L 53.609 -8.297 L 53.609 -0.000 L 7.328 -0.000 L 7.328 -8.297 Q 12.938 -14.109 22.625 "
+          "-23.891 Q 32.328 -33.688 34.812 -36.531 Q 39.547 -41.844 41.422 -45.531 Q 43.312 -49.219 43.312 -52.781 "
+          "Q 43.312 -58.594 39.234 -62.250 Q 35.156 -65.922 28.609 -65.922 Q 23.969 -65.922 18.812 -64.312 Q 13.672 "
+          "-62.703 7.812 -59.422 L 7.812 -69.391 Q 13.766 -71.781 18.938 -73.000 Q 24.125 -74.219 28.422 -74.219 "
+          "Q 39.750 -74.219 46.484 -68.547 Q 53.219 -62.891 53.219 -53.422 Q 53.219 -48.922 51.531 -44.891 Q 49.859 "
+          "-40.875 45.406 -35.406 Q 44.188 -33.984 37.641 -27.219 Q 31.109 -20.453 19.188 -8.297 Z")
+SANS_3 = ("M 40.578 -39.312 Q 47.656 -37.797 51.625 -33.000 Q 55.609 -28.219 55.609 -21.188 Q 55.609 -10.406 48.188 "
+          "-4.484 Q 40.766 1.422 27.094 1.422 Q 22.516 1.422 17.656 0.516 Q 12.797 -0.391 7.625 -2.203 L 7.625 "
+          "-11.719 Q 11.719 -9.328 16.594 -8.109 Q 21.484 -6.891 26.812 -6.891 Q 36.078 -6.891 40.938 -10.547 Q "
+          "45.797 -14.203 45.797 -21.188 Q 45.797 -27.641 41.281 -31.266 Q 36.766 -34.906 28.719 -34.906 L 20.219 "
+          "-34.906 L 20.219 -43.016 L 29.109 -43.016 Q 36.375 -43.016 40.234 -45.922 Q 44.094 -48.828 44.094 -54.297 "
+          "Q 44.094 -59.906 40.109 -62.906 Q 36.141 -65.922 28.719 -65.922 Q 24.656 -65.922 20.016 -65.031 Q 15.375 "
+          "-64.156 9.812 -62.312 L 9.812 -71.094 Q 15.438 -72.656 20.344 -73.438 Q 25.250 -74.219 29.594 -74.219 Q "
+          "40.828 -74.219 47.359 -69.109 Q 53.906 -64.016 53.906 -55.328 Q 53.906 -49.266 50.438 -45.094 Q 46.969 "
+          "-40.922 40.578 -39.312 Z")
+
+
+def test_where_later_iterations_fold_more_than_the_first_the_first_is_repaired(tmp_path):
+    files = []
+    for name, d in (("two", SANS_2), ("three", SANS_3)):
+        files.append(tmp_path / f"{name}.svg")
+        files[-1].write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="-10 -110 120 140">'
+                             f'<path d="{d}"/></svg>')
+    prepared = prepare_pair(*files)
+    source, target = prepared.source, prepared.target
+    first = interpolate(source, target, frames=21, fold="allow", max_iter=1)
+    last = interpolate(source, target, frames=21, fold="allow")
+    assert 0 < len(folding(first)) < len(folding(last))  # the iterations fold more faces than the first
+    seq = interpolate(source, target, frames=21, fold="fallback")
+    assert seq.method == "aiap" and f"folded at iteration 1 of {last.iterations}" in seq.info["fallback"]
+    assert metrics.flipped_faces(seq) == 0
+    np.testing.assert_array_equal(seq.frames[0], source.vertices)
+    np.testing.assert_array_equal(seq.frames[-1], target.vertices)
+    # the frames the repair left alone are AIAP's first iteration on the same triangles, bit for bit
+    own = interpolate(source.with_faces(seq.shape.faces), target.with_faces(seq.shape.faces), frames=21,
+                      fold="allow", max_iter=1)
+    kept = np.setdiff1d(np.arange(21), seq.info["repair"]["frames"])
+    assert 0 < len(kept) < 21
+    np.testing.assert_array_equal(seq.frames[kept], own.frames[kept])
+    # and the repaired frames stay within 2 % of the diagonal of its own (those of the last iteration: 4.9 %)
+    assert seq.info["repair"]["deviation"] < 0.02 * source.bbox_diagonal()

@@ -307,7 +307,10 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     (`_fewer_iterations`); where the first iteration folds, edges are first
     flipped where it does (`unfold`, judged on first iterations), and AIAP
     on those faces is stopped before a fold, or where its outlines cross,
-    at the most iterations whose outlines do not.
+    at the most iterations whose outlines do not; where that still folds
+    and the first iteration (on the flipped faces) folds fewer triangles
+    than the last, the first is what is repaired (``info['fallback']``
+    says 'at iteration 1').
     """
     from . import metrics
     from .foldfree.scaffold import Around
@@ -338,9 +341,11 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
         done = fewest(seq)
         if done is not seq:
             return done
+    at = ""  # where the repaired frames come from, where not the last iteration
     if resolve is not None and flips.any():  # a few faces fold: AIAP again with edges flipped there
         from .foldfree.unfold import unfold
 
+        first = None
         if fewer is not None and "stopped" not in seq.info and seq.iterations > 1:
             # the first iteration folds already: edges flipped where it folds (judged on first iterations,
             # `fewer(1, faces)`), then AIAP on those faces, stopped before a fold again (or a crossing)
@@ -350,14 +355,21 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
                 if clean(again):
                     again.info["unfolded"] = first.info["unfolded"]
                     return again
-        seq = unfold(seq, resolve)
-        if "unfolded" in seq.info:
-            z = _complex_frames(seq.frames)
+        if first is not None and 0 < folds(first)[0].sum() < flips.sum():
+            # the later iterations fold more than the first (a few faces, flipped where they fold): the first
+            # is repaired, with fewer frames and vertices to move, so the outlines stay smooth
+            at = f" at iteration 1 of {seq.iterations}"
+            seq, z = first, _complex_frames(first.frames)
             flips, crossings, collisions = folds(seq)
-            if not (flips.any() or crossings.any() or collisions.any()):
-                return seq
+        else:
+            seq = unfold(seq, resolve)
+            if "unfolded" in seq.info:
+                z = _complex_frames(seq.frames)
+                flips, crossings, collisions = folds(seq)
+                if not (flips.any() or crossings.any() or collisions.any()):
+                    return seq
     bad = flips | crossings | collisions
-    folded = (f"{seq.method} folded in {int(np.count_nonzero(bad))} of {len(t) - 2} in-between frames "
+    folded = (f"{seq.method} folded{at} in {int(np.count_nonzero(bad))} of {len(t) - 2} in-between frames "
               f"({int(flips.sum())} flipped triangles, {int(crossings.sum() + collisions.sum())} outline crossings)")
     apart = []  # (scaffold, accept) of the repairs that keep pieces apart: the regions alone, then the scaffold
     both = lambda k, x: not (within(k, x) or across(k, x))  # noqa: E731
