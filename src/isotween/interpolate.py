@@ -329,8 +329,9 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     def clean(s):
         return not any(x.any() for x in folds(s))
 
-    def fewest(s, faces=None):  # s, or where its outlines cross but no face folds, the most iterations that do not
-        if fewer is None or s.iterations < 2 or clean(s) or folds(s)[0].any():
+    def fewest(s, faces=None, found=None):  # s, or where outlines cross, no face folds: most iterations that do not
+        flipped, *crossed = folds(s) if found is None else found
+        if fewer is None or s.iterations < 2 or flipped.any() or not any(x.any() for x in crossed):
             return s
         return _fewer_iterations(s.iterations, lambda j: fewer(j, faces), clean) or s
 
@@ -338,7 +339,7 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     if not (flips.any() or crossings.any() or collisions.any()):
         return seq
     if not flips.any():  # outlines cross, no face folds
-        done = fewest(seq)
+        done = fewest(seq, found=(flips, crossings, collisions))
         if done is not seq:
             return done
     at = ""  # where the repaired frames come from, where not the last iteration
@@ -355,12 +356,13 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
                 if clean(again):
                     again.info["unfolded"] = first.info["unfolded"]
                     return again
-        if first is not None and 0 < folds(first)[0].sum() < flips.sum():
+        found = None if first is None else folds(first)
+        if found is not None and 0 < found[0].sum() < flips.sum():
             # the later iterations fold more than the first (a few faces, flipped where they fold): the first
             # is repaired, with fewer frames and vertices to move, so the outlines stay smooth
             at = f" at iteration 1 of {seq.iterations}"
             seq, z = first, _complex_frames(first.frames)
-            flips, crossings, collisions = folds(seq)
+            flips, crossings, collisions = found
         else:
             seq = unfold(seq, resolve)
             if "unfolded" in seq.info:

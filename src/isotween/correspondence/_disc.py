@@ -274,9 +274,9 @@ def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
     hv, bv = hole[hi], base[bi]
     cand = np.flatnonzero(~np.isin(bv, list(used)) & ~np.isin(hv, list(used)))
     inside = np.zeros(len(cand), dtype=bool)
-    tested = 0  # the inside test (the costly part) runs on a growing prefix of the candidates, nearest first:
+    tested = 0  # the inside test (the costly part) runs on a growing prefix of the candidates, nearest first
 
-    def valid(n):  # candidate n lies inside both polygons (the same cuts as testing all of them at once)
+    def valid(n):  # candidate n lies inside both polygons (the same cuts as testing every candidate at once)
         nonlocal tested
         while n >= tested:
             c = cand[tested:tested + max(64, tested)]
