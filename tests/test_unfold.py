@@ -165,14 +165,17 @@ SERIF_J = ("M -8.406 17.484 L -8.406 6.000 L -2.828 6.000 Q -2.688 10.844 -0.531
            "Q -4.828 19.141 -8.406 17.484 Z")
 
 
-def test_where_aiap_on_flipped_edges_lets_outlines_cross_it_stops_at_the_most_iterations_that_do_not(tmp_path):
-    files = []
-    for name, d in (("n", SANS_N), ("j", SERIF_J)):
-        files.append(tmp_path / f"{name}.svg")
-        files[-1].write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="-10 -110 120 140">'
-                             f'<path d="{d}"/></svg>')
+def glyphs(tmp_path, a, b):
+    """The compatible pair `prepare_pair` makes of two glyph outlines (SVG path data, matplotlib's em box)."""
+    files = [tmp_path / "a.svg", tmp_path / "b.svg"]
+    for file, d in zip(files, (a, b), strict=True):
+        file.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="-10 -110 120 140"><path d="{d}"/></svg>')
     prepared = prepare_pair(*files)
-    source, target = prepared.source, prepared.target
+    return prepared.source, prepared.target
+
+
+def test_where_aiap_on_flipped_edges_lets_outlines_cross_it_stops_at_the_most_iterations_that_do_not(tmp_path):
+    source, target = glyphs(tmp_path, SANS_N, SERIF_J)
     first = interpolate(source, target, frames=21, fold="allow", max_iter=1)
     assert 0 < len(folding(first)) <= MOST  # the initialisation folds a few faces
     seq = interpolate(source, target, frames=21, fold="fallback")
@@ -208,13 +211,7 @@ SANS_3 = ("M 40.578 -39.312 Q 47.656 -37.797 51.625 -33.000 Q 55.609 -28.219 55.
 
 
 def test_where_later_iterations_fold_more_than_the_first_the_first_is_repaired(tmp_path):
-    files = []
-    for name, d in (("two", SANS_2), ("three", SANS_3)):
-        files.append(tmp_path / f"{name}.svg")
-        files[-1].write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="-10 -110 120 140">'
-                             f'<path d="{d}"/></svg>')
-    prepared = prepare_pair(*files)
-    source, target = prepared.source, prepared.target
+    source, target = glyphs(tmp_path, SANS_2, SANS_3)
     first = interpolate(source, target, frames=21, fold="allow", max_iter=1)
     last = interpolate(source, target, frames=21, fold="allow")
     assert 0 < len(folding(first)) < len(folding(last))  # the iterations fold more faces than the first
