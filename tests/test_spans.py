@@ -113,12 +113,15 @@ def test_a_vanishing_piece_is_gone_by_half_time(tmp_path):
     for spans, share in zip(alternatives[1:], isotween.pipeline.QUICK_STAGGERS, strict=True):
         np.testing.assert_array_equal(np.flatnonzero(spans[:, 1] < 1), gone)
         assert np.all(spans[gone] == (0.0, share))
+    # morph gives it its own span: it leaves before the square that stays comes to its place (t = 0.45)
+    own = isotween.pipeline.unmatched_spans(prepared.source, prepared.report, target=prepared.target)[0]
+    assert np.all(own[gone] == (0.0, 0.4))
     _, paints = sequence_paint(seq)
     path = next(k for k, (idx, _) in enumerate(seq.shape.paths) if idx[0] in gone)
-    # shrunk and faded out by t = 0.5, then still until the last frame collapses it to a point
-    assert [p[path].opacity for p in paints[5:]] == [0.0] * 6 and paints[4][path].opacity > 0
-    for k in range(6, 10):
-        np.testing.assert_allclose(seq.frames[k, gone], seq.frames[5, gone], atol=1e-9)
+    # shrunk and faded out by t = 0.4, then still until the last frame collapses it to a point
+    assert [p[path].opacity for p in paints[4:]] == [0.0] * 7 and paints[3][path].opacity > 0
+    for k in range(5, 10):
+        np.testing.assert_allclose(seq.frames[k, gone], seq.frames[4, gone], atol=1e-9)
     # the piece that stays moves over the whole morph, as without staggering
     whole = isotween.morph(a, b, frames=11, stagger=1.0)
     stay = np.flatnonzero(spans[:, 1] == 1)
@@ -267,3 +270,25 @@ def test_a_hole_that_no_own_point_can_close_closes_inside_the_kernel_of_its_star
     p = _kernel_point(z, around, hole)
     assert 0 < p.real < 1 and 0 < p.imag < 1
     assert np.all(closed_at(p) > 0)
+
+
+def test_a_piece_that_comes_where_another_still_passes_comes_once_it_has_passed(tmp_path):
+    pytest.importorskip("svgelements")
+    # a bar slides from the left to the right edge; a dot comes in the middle, which the bar covers
+    # (blended linearly) from t = 0.25 to t = 0.75: it grows from t = 0.8 on, not from half time
+    a = drawing(tmp_path / "a.svg", '<path fill="#036" d="M0 1h4v14h-4z"/>')
+    b = drawing(tmp_path / "b.svg", '<path fill="#036" d="M12 1h4v14h-4z"/><path fill="#036" d="M7 7h2v2h-2z"/>')
+    prepared = isotween.prepare_pair(a, b)
+    dot = prepared.source.paths[prepared.source.regions[1][0]][0]
+    shared = isotween.pipeline.unmatched_spans(prepared.source, prepared.report)
+    own = isotween.pipeline.unmatched_spans(prepared.source, prepared.report, target=prepared.target)
+    np.testing.assert_allclose(shared[0][dot], [[0.5, 1.0]] * len(dot))
+    np.testing.assert_allclose(own[0][dot], [[0.8, 1.0]] * len(dot))
+    np.testing.assert_array_equal(own[1:], shared[1:])  # the shorter alternatives stay shared
+    bar = prepared.source.paths[prepared.source.regions[0][0]][0]
+    np.testing.assert_array_equal(own[0][bar], shared[0][bar])
+    seq = isotween.morph(a, b, frames=21)
+    # held as its small copy (frame 0: that copy collapsed to a point) until t = 0.8, then grown
+    np.testing.assert_array_equal(seq.frames[1:17, dot], seq.frames[1:2, dot].repeat(16, axis=0))
+    assert np.abs(seq.frames[17, dot] - seq.frames[16, dot]).max() > 1.0
+    assert not metrics.outline_crossings(seq, visible=True).any()

@@ -552,7 +552,7 @@ def stagger_shares(stagger):
     return shares if len(shares) > 1 else [stagger, 1.0]  # short already: the whole morph is the alternative
 
 
-def unmatched_spans(shape, report, stagger=STAGGER):
+def unmatched_spans(shape, report, stagger=STAGGER, target=None):
     """Spans of time (`isotween.interpolate`'s ``spans``) that stagger the pieces with no partner.
 
     A filled piece (a connected part of ``shape`` with a region) that is
@@ -567,7 +567,13 @@ def unmatched_spans(shape, report, stagger=STAGGER):
     where the fold check cannot keep the pieces apart with the first:
     `QUICK_STAGGERS` below ``stagger`` (a piece that comes in later finds
     the others gone from its place), or where ``stagger`` is that short
-    already, the whole morph.
+    already, the whole morph. With ``target``, the first alternative gives
+    each piece its own span: one that grows into a place that the pieces
+    which stay still pass over (their outlines blended linearly from the
+    source to the target) starts once they have passed, one that shrinks
+    from such a place ends before they come (each within the last or
+    first `FREE_UNTIL` of the morph; where that is not enough, the
+    shared span).
 
     Parameters
     ----------
@@ -577,6 +583,8 @@ def unmatched_spans(shape, report, stagger=STAGGER):
         Its ``vanishing`` rings: per drawing, the rings that are small copies there.
     stagger : float
         In (0, 1]; 1 leaves every piece on the whole morph.
+    target : Shape, optional
+        The corresponded target: the pieces' own spans (above).
 
     Returns
     -------
@@ -606,7 +614,52 @@ def unmatched_spans(shape, report, stagger=STAGGER):
         for spans_m, share in zip(spans, shares, strict=True):
             if share < 1.0:
                 spans_m[whole] = (1.0 - share, 1.0) if end == 0 else (0.0, share)
+        if target is not None and shares[0] < 1.0:
+            for c in np.unique(component[whole]):
+                free = _free_time(shape, target, component == c, end, shares[0])
+                if free is not None:
+                    spans[0][component == c] = (free, 1.0) if end == 0 else (0.0, free)
     return None if np.all(spans[0] == (0.0, 1.0)) else spans
+
+
+FREE_UNTIL = 0.1  # a staggered piece's own span lasts at least this share of the morph
+
+
+def _free_time(shape, target, piece, end, share, steps=20):
+    """When a staggered piece's place is free of the pieces that stay, or None where it always is, or never.
+
+    The place: the piece's outer ring where it is whole (the target for one
+    that grows, ``end`` 0; the source for one that shrinks); the pieces that
+    stay: the other filled regions whose outline has no vertex in ``piece``
+    (N,) bool, their outlines blended linearly over ``steps`` steps. Returns
+    the start (growing) after the last step that meets the place, or the
+    end (shrinking) before the first, where that is later (earlier) than
+    the shared span's and leaves at least `FREE_UNTIL` of the morph.
+    """
+    import numpy as np
+    import shapely
+
+    zs = shape.vertices[:, 0] + 1j * shape.vertices[:, 1]
+    zt = target.vertices[:, 0] + 1j * target.vertices[:, 1]
+    rings = [shape.paths[r[0]][0] for r in shape.regions]
+    mine = [r for r in rings if piece[r].all()]
+    others = [r for r in rings if not piece[r].any()]
+    if len(mine) != 1 or not others:
+        return None
+    at = zt if end == 0 else zs
+    place = shapely.Polygon(np.c_[at[mine[0]].real, at[mine[0]].imag])
+    t = np.linspace(0.0, 1.0, steps + 1)
+    meets = np.zeros(len(t), dtype=bool)
+    for k, tk in enumerate(t):
+        z = (1 - tk) * zs + tk * zt
+        meets[k] = any(place.intersects(shapely.Polygon(np.c_[z[r].real, z[r].imag])) for r in others)
+    if not place.is_valid or not meets.any():
+        return None
+    if end == 0:
+        start = t[min(np.flatnonzero(meets)[-1] + 1, steps)]
+        return float(start) if 1.0 - share < start <= 1.0 - FREE_UNTIL else None
+    stop = t[max(np.flatnonzero(meets)[0] - 1, 0)]
+    return float(stop) if FREE_UNTIL <= stop < share else None
 
 
 def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=None, correspond_options=None,
@@ -667,7 +720,7 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
     prepared = prepare_pair(source, target, correspondence=correspondence, **(correspond_options or {}))
     if fold is None:
         fold = "fallback" if prepared.built_meshes else "allow"
-    spans = unmatched_spans(prepared.source, prepared.report, stagger)
+    spans = unmatched_spans(prepared.source, prepared.report, stagger, prepared.target)
     seq = interpolate(prepared.source, prepared.target, frames=frames, fold=fold, correspondence="never",
                       spans=spans, **options)
     seq.info["correspondence"] = prepared.summary()

@@ -61,7 +61,7 @@ def interpolate_command(source, target, output, fmt, texture, plot, quiet, stagg
     kwargs = solver_kwargs(params)
     if prepared.built_meshes:  # meshes built here: a folding result falls back to the fold-free morph
         kwargs.setdefault("fold", "fallback")
-    spans = unmatched_spans(prepared.source, prepared.report, stagger)
+    spans = unmatched_spans(prepared.source, prepared.report, stagger, prepared.target)
     with progress(quiet) as callback:
         seq = interpolate(prepared.source, prepared.target, callback=callback, correspondence="never", spans=spans,
                           **kwargs)

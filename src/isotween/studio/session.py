@@ -490,7 +490,7 @@ class Session:
         kwargs: dict[str, Any] = {"method": options["method"], "times": times}
         if prepared.built_meshes:  # meshes built here: as the command line does
             kwargs["fold"] = "fallback"
-        spans = unmatched_spans(prepared.source, prepared.report)  # pieces with no partner staggered, as morph does
+        spans = unmatched_spans(prepared.source, prepared.report, target=prepared.target)  # as morph staggers
         if spans is not None:
             kwargs["spans"] = spans
         bkey = ("base", which, ids, tag, frames, json.dumps(curves), options["method"])
