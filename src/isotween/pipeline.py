@@ -604,19 +604,22 @@ def unmatched_spans(shape, report, stagger=STAGGER, target=None):
     filled = np.unique(component[np.concatenate([shape.paths[r[0]][0] for r in shape.regions])])
     shares = stagger_shares(stagger)
     spans = np.tile([0.0, 1.0], (len(shares), shape.n_vertices, 1))
-    for end, rings in enumerate(vanishing[:2]):
+    wholes = []
+    for rings in vanishing[:2]:
         small = np.zeros(shape.n_vertices, dtype=bool)
         for idx in rings:
             small[idx] = True
         # filled pieces whose every outline vertex is a small copy at this end
-        whole = np.isin(component, np.setdiff1d(np.intersect1d(component[small], filled),
-                                                component[on_path & ~small]))
+        wholes.append(np.isin(component, np.setdiff1d(np.intersect1d(component[small], filled),
+                                                      component[on_path & ~small])))
+    stay = ~np.any(wholes, axis=0)
+    for end, whole in enumerate(wholes):
         for spans_m, share in zip(spans, shares, strict=True):
             if share < 1.0:
                 spans_m[whole] = (1.0 - share, 1.0) if end == 0 else (0.0, share)
         if target is not None and shares[0] < 1.0:
             for c in np.unique(component[whole]):
-                free = _free_time(shape, target, component == c, end, shares[0])
+                free = _free_time(shape, target, component == c, stay, end, shares[0])
                 if free is not None:
                     spans[0][component == c] = (free, 1.0) if end == 0 else (0.0, free)
     return None if np.all(spans[0] == (0.0, 1.0)) else spans
@@ -625,16 +628,17 @@ def unmatched_spans(shape, report, stagger=STAGGER, target=None):
 FREE_UNTIL = 0.1  # a staggered piece's own span lasts at least this share of the morph
 
 
-def _free_time(shape, target, piece, end, share, steps=20):
+def _free_time(shape, target, piece, stay, end, share, steps=20):
     """When a staggered piece's place is free of the pieces that stay, or None where it always is, or never.
 
-    The place: the piece's outer ring where it is whole (the target for one
-    that grows, ``end`` 0; the source for one that shrinks); the pieces that
-    stay: the other filled regions whose outline has no vertex in ``piece``
-    (N,) bool, their outlines blended linearly over ``steps`` steps. Returns
-    the start (growing) after the last step that meets the place, or the
-    end (shrinking) before the first, where that is later (earlier) than
-    the shared span's and leaves at least `FREE_UNTIL` of the morph.
+    The place: the outer ring of ``piece`` ((N,) bool, its vertices) where
+    it is whole (the target for one that grows, ``end`` 0; the source for one
+    that shrinks); the pieces that stay: the filled regions whose outline
+    lies in ``stay`` (N,) bool, their outlines blended linearly over
+    ``steps`` steps. Returns the start (growing) after the last step that
+    meets the place, or the end (shrinking) before the first, where that is
+    later (earlier) than the shared span's and leaves at least `FREE_UNTIL`
+    of the morph.
     """
     import numpy as np
     import shapely
@@ -643,7 +647,7 @@ def _free_time(shape, target, piece, end, share, steps=20):
     zt = target.vertices[:, 0] + 1j * target.vertices[:, 1]
     rings = [shape.paths[r[0]][0] for r in shape.regions]
     mine = [r for r in rings if piece[r].all()]
-    others = [r for r in rings if not piece[r].any()]
+    others = [r for r in rings if stay[r].all()]
     if len(mine) != 1 or not others:
         return None
     at = zt if end == 0 else zs
