@@ -67,6 +67,7 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
     edge_pass = backend.current().edge_pass(shape.topology, t, problem.scheme, fixed, smooth)
     edge_pass.reuse(edges)
     energies, converged, move, info = [], False, np.inf, {}
+    kept = None if keep is None else np.empty_like(z)  # the last iterate that passed (one buffer, reused)
     timing = {"assemble": 0.0, "edges": 0.0}
     for it in range(1, problem.max_iter + 1):
         t0 = time.perf_counter()
@@ -83,9 +84,9 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
         timing["assemble"] += time.perf_counter() - t0
         if keep is not None:
             if keep(z):
-                kept = (it, z.copy())
-            elif it > 1:  # the last iterate that passed, and no further
-                z, info = kept[1], {"stopped": {"iteration": kept[0], "of": it}}
+                np.copyto(kept, z)
+            elif it > 1:  # the last iterate that passed (the one before), and no further
+                z, info = kept, {"stopped": {"iteration": it - 1, "of": it}}
                 it -= 1
                 break
             else:
