@@ -612,55 +612,64 @@ def unmatched_spans(shape, report, stagger=STAGGER, target=None):
         # filled pieces whose every outline vertex is a small copy at this end
         wholes.append(np.isin(component, np.setdiff1d(np.intersect1d(component[small], filled),
                                                       component[on_path & ~small])))
-    stay = ~np.any(wholes, axis=0)
+    passing = None if target is None or shares[0] == 1.0 else _passing(shape, target, ~np.any(wholes, axis=0))
     for end, whole in enumerate(wholes):
         for spans_m, share in zip(spans, shares, strict=True):
             if share < 1.0:
                 spans_m[whole] = (1.0 - share, 1.0) if end == 0 else (0.0, share)
-        if target is not None and shares[0] < 1.0:
-            for c in np.unique(component[whole]):
-                free = _free_time(shape, target, component == c, stay, end, shares[0])
-                if free is not None:
-                    spans[0][component == c] = (free, 1.0) if end == 0 else (0.0, free)
+        for c in [] if passing is None else np.unique(component[whole]):
+            free = _free_time(shape, target, component == c, passing, end, shares[0])
+            if free is not None:
+                spans[0][component == c] = (free, 1.0) if end == 0 else (0.0, free)
     return None if np.all(spans[0] == (0.0, 1.0)) else spans
 
 
 FREE_UNTIL = 0.1  # a staggered piece's own span lasts at least this share of the morph
+FREE_STEPS = 20  # steps of the linear blend at which a staggered piece's place is tried
 
 
-def _free_time(shape, target, piece, stay, end, share, steps=20):
-    """When a staggered piece's place is free of the pieces that stay, or None where it always is, or never.
+def _passing(shape, target, stay):
+    """The pieces that stay, blended linearly from ``shape`` to ``target``; None where there are none.
 
-    The place: the outer ring of ``piece`` ((N,) bool, its vertices) where
-    it is whole (the target for one that grows, ``end`` 0; the source for one
-    that shrinks); the pieces that stay: the filled regions whose outline
-    lies in ``stay`` (N,) bool, their outlines blended linearly over
-    ``steps`` steps. Returns the start (growing) after the last step that
-    meets the place, or the end (shrinking) before the first, where that is
-    later (earlier) than the shared span's and leaves at least `FREE_UNTIL`
-    of the morph.
+    Returns
+    -------
+    (FREE_STEPS + 1, R) array of shapely Polygon, or None
+        The filled regions whose outline lies in ``stay`` (N,) bool, at
+        times 0 .. 1 (rows).
     """
     import numpy as np
     import shapely
 
-    zs = shape.vertices[:, 0] + 1j * shape.vertices[:, 1]
-    zt = target.vertices[:, 0] + 1j * target.vertices[:, 1]
-    rings = [shape.paths[r[0]][0] for r in shape.regions]
-    mine = [r for r in rings if piece[r].all()]
-    others = [r for r in rings if stay[r].all()]
-    if len(mine) != 1 or not others:
+    rings = [shape.paths[r[0]][0] for r in shape.regions if stay[shape.paths[r[0]][0]].all()]
+    if not rings:
         return None
-    at = zt if end == 0 else zs
-    place = shapely.Polygon(np.c_[at[mine[0]].real, at[mine[0]].imag])
-    t = np.linspace(0.0, 1.0, steps + 1)
-    meets = np.zeros(len(t), dtype=bool)
-    for k, tk in enumerate(t):
-        z = (1 - tk) * zs + tk * zt
-        meets[k] = any(place.intersects(shapely.Polygon(np.c_[z[r].real, z[r].imag])) for r in others)
+    t = np.linspace(0.0, 1.0, FREE_STEPS + 1)[:, None, None]
+    return np.stack([shapely.polygons((1 - t) * shape.vertices[r] + t * target.vertices[r]) for r in rings], axis=1)
+
+
+def _free_time(shape, target, piece, passing, end, share):
+    """When a staggered piece's place is free of the pieces that stay, or None where it always is, or never.
+
+    The place: the outer ring of ``piece`` ((N,) bool, its vertices) where
+    it is whole (the target for one that grows, ``end`` 0; the source for one
+    that shrinks); the pieces that stay: ``passing`` (`_passing`). Returns
+    the start (growing) after the last step that meets the place, or the end
+    (shrinking) before the first, where that is later (earlier) than the
+    shared span's and leaves at least `FREE_UNTIL` of the morph.
+    """
+    import numpy as np
+    import shapely
+
+    mine = [shape.paths[r[0]][0] for r in shape.regions if piece[shape.paths[r[0]][0]].all()]
+    if len(mine) != 1:
+        return None
+    place = shapely.Polygon((target if end == 0 else shape).vertices[mine[0]])
+    meets = shapely.intersects(place, passing).any(axis=1)
     if not place.is_valid or not meets.any():
         return None
+    t = np.linspace(0.0, 1.0, FREE_STEPS + 1)
     if end == 0:
-        start = t[min(np.flatnonzero(meets)[-1] + 1, steps)]
+        start = t[min(np.flatnonzero(meets)[-1] + 1, FREE_STEPS)]
         return float(start) if 1.0 - share < start <= 1.0 - FREE_UNTIL else None
     stop = t[max(np.flatnonzero(meets)[0] - 1, 0)]
     return float(stop) if FREE_UNTIL <= stop < share else None
