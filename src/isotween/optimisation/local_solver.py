@@ -19,9 +19,10 @@ from .problem import Result
 __all__ = ["ASSEMBLY", "local_solve"]
 
 ASSEMBLY = ("shared", "per-frame")
+GROW = 2.0  # a solve whose first iterate folds stops once its iterates fold more than this many times as often
 
 
-def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto", callback=None, keep=None):
+def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto", callback=None, folds=None):
     """Run Algorithm 2.
 
     Parameters
@@ -40,13 +41,16 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
     factorisation : {'auto', 'banded', 'cholmod', 'splu'}
         Factorisation of the shared Eq. (10) Laplacian (see `FrameAssembler`).
     callback : callable(iteration, energy, max_move), optional
-    keep : callable(z) -> bool, optional
-        Judges every iterate's frames ``z`` (n, m+1) complex (e.g. that no
-        triangle flips). Where the first passes, the solve stops before the
-        first iterate that does not and returns the one before it (its
-        iteration the result's ``iterations``; ``info['stopped']``:
-        ``{'iteration': it, 'of': the one refused}``); where the first does
-        not pass, every iterate is kept.
+    folds : callable(z) -> int, optional
+        Counts the folds of every iterate's frames ``z`` (n, m+1) complex
+        (e.g. flipped triangles over all frames). Where the first iterate has
+        none, the solve stops before the first that has some and returns the
+        one before it (its iteration the result's ``iterations``;
+        ``info['stopped']``: ``{'iteration': it, 'of': the one refused}``);
+        where the first folds, it stops at the first iterate with more than
+        `GROW` times the first's folds (``info['spread']``: ``{'iteration':
+        it, 'first': count, 'now': count}``): there the folds spread with
+        every iteration, and a fold-free repair works on what is left.
 
     Returns
     -------
@@ -67,7 +71,8 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
     edge_pass = backend.current().edge_pass(shape.topology, t, problem.scheme, fixed, smooth)
     edge_pass.reuse(edges)
     energies, converged, move, info = [], False, np.inf, {}
-    kept = None if keep is None else np.empty_like(z)  # the last iterate that passed (one buffer, reused)
+    kept = None if folds is None else np.empty_like(z)  # the last iterate with no fold (one buffer, reused)
+    first = 0  # the first iterate's folds
     timing = {"assemble": 0.0, "edges": 0.0}
     for it in range(1, problem.max_iter + 1):
         t0 = time.perf_counter()
@@ -82,15 +87,19 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
             step = float(np.max(np.abs(new - z[:, free]), initial=0.0))  # Eq. (11)
             z[:, free] = new
         timing["assemble"] += time.perf_counter() - t0
-        if keep is not None:
-            if keep(z):
+        if folds is not None:
+            count = folds(z)
+            if it == 1:
+                first = count
+            if not first and not count:
                 np.copyto(kept, z)
-            elif it > 1:  # the last iterate that passed (the one before), and no further
+            elif not first:  # the last iterate with no fold (the one before), and no further
                 z, info = kept, {"stopped": {"iteration": it - 1, "of": it}}
                 it -= 1
                 break
-            else:
-                keep = None
+            elif count > GROW * first:  # the folds spread: the iterations stop here
+                info = {"spread": {"iteration": it, "first": first, "now": count}}
+                break
         t0 = time.perf_counter()
         if it > 1:
             move = step

@@ -25,7 +25,7 @@ SOLVERS = ("local", "global")
 def solve(problem: Problem, *, solver: str = "local", assembly: str = "shared", linear_solver: str = "cg",
           smooth: float = 1.0, factorisation: str = "auto",
           callback: Callable[[int, float, float], object] | None = None,
-          keep: Callable[[np.ndarray], bool] | None = None) -> Result:
+          folds: Callable[[np.ndarray], int] | None = None) -> Result:
     """Solve a :class:`Problem` with Algorithm 2 ('local') or Algorithm 1 ('global').
 
     Parameters
@@ -43,9 +43,10 @@ def solve(problem: Problem, *, solver: str = "local", assembly: str = "shared", 
     factorisation : {'auto', 'banded', 'cholmod', 'splu'}
         Local solver: factorisation of the shared Eq. (10) Laplacian.
     callback : callable(iteration, energy, max_move), optional
-    keep : callable(z) -> bool, optional
-        Local solver: stop before the first iterate it refuses, where it
-        passes the first (see :func:`~isotween.optimisation.local_solver.local_solve`).
+    folds : callable(z) -> int, optional
+        Local solver: stop before the first iterate that folds where the
+        first does not, and where the first does, once the folds spread (see
+        :func:`~isotween.optimisation.local_solver.local_solve`).
 
     Returns
     -------
@@ -58,7 +59,7 @@ def solve(problem: Problem, *, solver: str = "local", assembly: str = "shared", 
         raise ParameterError("the solvers start from initial edges; build the problem with init='edge' or 'linear'")
     if solver == "local":
         result = local_solve(problem, assembly=assembly, smooth=smooth, factorisation=factorisation,
-                             callback=callback, keep=keep)
+                             callback=callback, folds=folds)
     elif solver == "global":
         if problem.held[1:-1].any() or not (problem.held[0] and problem.held[-1]):
             raise ParameterError("the global solver holds only the first and the last frame")
