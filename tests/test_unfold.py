@@ -249,6 +249,6 @@ def test_where_the_first_iteration_folds_the_iterations_stop_once_the_folds_spre
                             max_iter=100)
     result = solve(problem, folds=count)
     assert result.info["spread"] == {"iteration": spread, "first": after[0], "now": after[spread - 1]}
-    assert result.iterations == spread
+    assert result.iterations == len(result.energy) == spread and not result.converged
     np.testing.assert_allclose(result.z.T, interpolate(source, target, frames=21, fold="allow",
                                                        max_iter=spread).frames.view(complex)[..., 0])

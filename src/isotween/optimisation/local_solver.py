@@ -97,19 +97,18 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
                 z, info = kept, {"stopped": {"iteration": it - 1, "of": it}}
                 it -= 1
                 break
-            elif count > GROW * first:  # the folds spread: the iterations stop here
+            elif count > GROW * first:  # the folds spread: the iterations stop after this one
                 info = {"spread": {"iteration": it, "first": first, "now": count}}
-                break
         t0 = time.perf_counter()
         if it > 1:
             move = step
         converged = move < problem.tol
-        edges, energy = edge_pass(z, not converged)  # Eqs. (8), (6) and, unless converged, (9)
+        edges, energy = edge_pass(z, not (converged or info))  # Eqs. (8), (6) and, unless it stops, (9)
         energies.append(max(energy, 0.0) / norm)  # the expanded Eq. (6) can round below 0 at a rigid optimum
         timing["edges"] += time.perf_counter() - t0
         if callback is not None:
             callback(it, energies[-1], move)
-        if converged:
+        if converged or info:
             break
     edge_pass.close()
     return Result(z, energies, it, converged, move, timing, info)
