@@ -238,17 +238,17 @@ def test_where_the_first_iteration_folds_the_iterations_stop_once_the_folds_spre
     from isotween.problems import keyed_problem
 
     source, target = glyphs(tmp_path, SANS_2, SANS_3)
-    t = np.linspace(0, 1, 21)
     count = _flips(source)
-    # the folds after j iterations, each run on its own: the first j iterations of any longer run
-    after = [count(interpolate(source, target, frames=21, fold="allow", max_iter=j).frames.view(complex)[..., 0].T)
-             for j in range(1, 40)]
-    assert 0 < after[0] and max(after) > GROW * after[0]  # the first folds, and the folds spread
-    spread = next(j for j, n in enumerate(after, 1) if n > GROW * after[0])
-    problem = keyed_problem([source, target], t, np.array([0, 20]), init="edge", scheme="midpoint", tol=DEFAULT_TOL,
-                            max_iter=100)
+
+    def run(j):  # j iterations on their own: the first j iterations of any longer run, (21, n) complex
+        return interpolate(source, target, frames=21, fold="allow", max_iter=j).frames.view(complex)[..., 0]
+
+    first = count(run(1).T)
+    assert first > 0  # the first iteration folds
+    spread, now = next((j, n) for j in range(2, 40) if (n := count(run(j).T)) > GROW * first)  # and the folds spread
+    problem = keyed_problem([source, target], np.linspace(0, 1, 21), np.array([0, 20]), init="edge",
+                            scheme="midpoint", tol=DEFAULT_TOL, max_iter=100)
     result = solve(problem, folds=count)
-    assert result.info["spread"] == {"iteration": spread, "first": after[0], "now": after[spread - 1]}
+    assert result.info["spread"] == {"iteration": spread, "first": first, "now": now}
     assert result.iterations == len(result.energy) == spread and not result.converged
-    np.testing.assert_allclose(result.z.T, interpolate(source, target, frames=21, fold="allow",
-                                                       max_iter=spread).frames.view(complex)[..., 0])
+    np.testing.assert_allclose(result.z.T, run(spread))
