@@ -155,14 +155,16 @@ def test_where_the_first_iteration_folds_edges_are_flipped_there_and_aiap_stops_
     np.testing.assert_array_equal(seq.frames[-1], target.vertices)
 
 
-# DejaVu Sans 'N' and DejaVu Serif 'J' (Bitstream Vera licence), as matplotlib writes their outlines
-SANS_N = ("M 9.812 -72.906 L 23.094 -72.906 L 55.422 -11.922 L 55.422 -72.906 L 64.984 -72.906 L 64.984 -0.000 "
-          "L 51.703 -0.000 L 19.391 -60.984 L 19.391 -0.000 L 9.812 -0.000 L 9.812 -72.906 Z")
-SERIF_J = ("M -8.406 17.484 L -8.406 6.000 L -2.828 6.000 Q -2.688 10.844 -0.531 13.203 Q 1.609 15.578 5.906 15.578 "
-           "Q 11.719 15.578 14.016 11.906 Q 16.312 8.250 16.312 -2.391 L 16.312 -67.672 L 4.984 -67.672 "
-           "L 4.984 -72.906 L 35.500 -72.906 L 35.500 -67.672 L 26.219 -67.672 L 26.219 -2.000 "
-           "Q 26.219 10.062 21.375 15.422 Q 16.547 20.797 5.812 20.797 Q 2.344 20.797 -1.234 19.969 "
-           "Q -4.828 19.141 -8.406 17.484 Z")
+# DejaVu Sans 'M' and DejaVu Serif 'h' (Bitstream Vera licence), as matplotlib writes their outlines
+SANS_M = ("M 9.812 -72.906 L 24.516 -72.906 L 43.109 -23.297 L 61.812 -72.906 L 76.516 -72.906 L 76.516 -0.000 "
+          "L 66.891 -0.000 L 66.891 -64.016 L 48.094 -14.016 L 38.188 -14.016 L 19.391 -64.016 L 19.391 -0.000 "
+          "L 9.812 -0.000 L 9.812 -72.906 Z")
+SERIF_H = ("M 4.109 -0.000 L 4.109 -5.172 L 12.203 -5.172 L 12.203 -70.797 L 3.609 -70.797 L 3.609 -75.984 "
+           "L 21.188 -75.984 L 21.188 -42.672 Q 23.688 -47.953 27.656 -50.641 Q 31.641 -53.328 36.922 -53.328 "
+           "Q 45.516 -53.328 49.562 -48.391 Q 53.609 -43.453 53.609 -33.016 L 53.609 -5.172 L 61.625 -5.172 "
+           "L 61.625 -0.000 L 36.812 -0.000 L 36.812 -5.172 L 44.578 -5.172 L 44.578 -30.172 Q 44.578 -39.703 "
+           "42.250 -43.188 Q 39.938 -46.688 33.984 -46.688 Q 27.734 -46.688 24.453 -42.141 Q 21.188 -37.594 "
+           "21.188 -28.906 L 21.188 -5.172 L 29.000 -5.172 L 29.000 -0.000 L 4.109 -0.000 Z")
 
 
 def glyphs(tmp_path, a, b):
@@ -175,7 +177,7 @@ def glyphs(tmp_path, a, b):
 
 
 def test_where_aiap_on_flipped_edges_lets_outlines_cross_it_stops_at_the_most_iterations_that_do_not(tmp_path):
-    source, target = glyphs(tmp_path, SANS_N, SERIF_J)
+    source, target = glyphs(tmp_path, SANS_M, SERIF_H)
     first = interpolate(source, target, frames=21, fold="allow", max_iter=1)
     assert 0 < len(folding(first)) <= MOST  # the initialisation folds a few faces
     seq = interpolate(source, target, frames=21, fold="fallback")

@@ -10,7 +10,7 @@ from ..geometry import edge_table, triangle_areas
 from ._disc import _flip, _independent, _scale2
 
 STALL_SINE = 0.0005  # the quality step stops after three rounds that raise the smallest angle's sine less
-STALL_FACES = 0.002  # and free fewer than this fraction of the faces from below the angle limit
+STALL_FACES = 0.002  # and lower the share of faces below the angle limit by less than this
 
 
 # ---------------------------------------------------------------- joint quality improvement
@@ -376,7 +376,7 @@ def _improve(z, w, f, K, joint, rounds=40, limit=20.0):
     sin_limit = np.sin(np.radians(limit))
     f = f.copy()
     q = _quality(z, w, f)
-    worst, bad, stalled = q.min(), np.count_nonzero(q < sin_limit), 0
+    worst, bad, stalled = q.min(), np.mean(q < sin_limit), 0
     for _ in range(rounds):
         f, collapsed = _collapse(z, w, f, K, eps, sin_limit)
         flips = _joint_flips(z, w, f, eps)
@@ -384,10 +384,12 @@ def _improve(z, w, f, K, joint, rounds=40, limit=20.0):
         if not (collapsed or flips) and moved <= 0.01 * (len(z) - K):
             break
         # effort in proportion to the gain: stop after three rounds that raised neither the smallest
-        # angle's sine (by STALL_SINE) nor the count of faces above the limit (by STALL_FACES of the faces)
+        # angle's sine (by STALL_SINE) nor lowered the share of faces below the limit (by STALL_FACES); a share,
+        # not a count: collapses remove faces, which in a mesh bad all over lowers the count, not the share
         q = _quality(z, w, f)
-        gain = (q.min() > worst + STALL_SINE) or np.count_nonzero(q < sin_limit) < bad - STALL_FACES * len(f)
-        worst, bad = max(worst, q.min()), min(bad, np.count_nonzero(q < sin_limit))
+        share = np.mean(q < sin_limit)
+        gain = (q.min() > worst + STALL_SINE) or share < bad - STALL_FACES
+        worst, bad = max(worst, q.min()), min(bad, share)
         stalled = 0 if gain else stalled + 1
         if stalled == 3:
             break

@@ -37,7 +37,7 @@ The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
    one colour class of vertices, an independent set, at a time), every
    change accepted only when every triangle keeps a positive area and the
    smallest angle around it grows. Rounds stop when three in a row gained
-   neither smallest angle nor faces above the angle limit. The overlay's map
+   neither smallest angle nor share of faces above the angle limit. The overlay's map
    is not made least distorted after (as step 2's is): between unlike
    outlines that squeezes thin triangles into the target, on which AIAP
    folds more often.
