@@ -349,3 +349,34 @@ def test_the_overlay_is_coarsened_and_stays_valid():
     check(dense, src, tgt)
     assert coarse.info["vertices"] < 0.75 * dense.info["vertices"]  # the quality step's collapses alone leave more
     assert coarse.info["vertices"] < sum(len(r) for r in src) + coarse.info["crossings"] / 2
+
+
+# DejaVu Serif 'W' and 'V' (Bitstream Vera licence), as matplotlib writes their outlines
+SERIF_W = ("M 76.219 -0.000 L 68.219 -0.000 L 51.516 -59.281 L 34.812 -0.000 L 26.812 -0.000 L 7.719 -67.672 "
+           "L 0.484 -67.672 L 0.484 -72.906 L 27.094 -72.906 L 27.094 -67.672 L 18.016 -67.672 L 33.203 -13.812 "
+           "L 49.812 -72.906 L 57.719 -72.906 L 74.609 -13.188 L 89.891 -67.672 L 81.500 -67.672 L 81.500 -72.906 "
+           "L 102.484 -72.906 L 102.484 -67.672 L 95.312 -67.672 L 76.219 -0.000 Z")
+SERIF_V = ("M 17.484 -67.672 L 39.016 -11.719 L 60.500 -67.672 L 52.297 -67.672 L 52.297 -72.906 L 73.688 -72.906 "
+           "L 73.688 -67.672 L 66.609 -67.672 L 40.578 -0.000 L 32.172 -0.000 L 6.297 -67.672 L -0.984 -67.672 "
+           "L -0.984 -72.906 L 25.594 -72.906 L 25.594 -67.672 L 17.484 -67.672 Z")
+
+
+def test_a_pull_stuck_near_the_outline_flips_edges_on_the_way_instead_of_overlaying(tmp_path, monkeypatch):
+    # a serif W pulled onto a V: with the source's connectivity the arms squeeze triangles flat before the
+    # ring reaches the outline; flipping their edges between the pull's weights lets it through
+    import isotween.correspondence.compatible_mesh as cm
+    from isotween.pipeline import prepare_pair
+
+    files = [tmp_path / "w.svg", tmp_path / "v.svg"]
+    for file, d in zip(files, (SERIF_W, SERIF_V), strict=True):
+        file.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="-10 -110 120 140"><path d="{d}"/></svg>')
+    prepared = prepare_pair(*files)
+    rings = [[shape.vertices[shape.paths[0][0]]] for shape in (prepared.source, prepared.target)]
+    K = len(rings[0][0])
+    monkeypatch.setattr(cm, "PULL_RETRY", -1.0)  # no second pull: the overlay
+    assert compatible_meshes(*rings).info["overlay"]
+    monkeypatch.undo()
+    s, t, info = compatible_meshes(*rings)
+    assert not info["overlay"]
+    assert np.all(s.face_areas() > 0) and np.all(t.face_areas() > 0)
+    assert np.array_equal(t.vertices[:K], rings[1][0])  # the ring exactly where it was asked

@@ -17,7 +17,9 @@ The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
    over there) cut at their midpoints, mapped onto the target outline by
    mean-value weights (which reproduce affine maps). If no target triangle is
    flipped, that is the result; else the mesh is pulled onto the target
-   outline with no flip (`_pulled`), and the map made least distorted.
+   outline with no flip (`_pulled`), and the map made least distorted
+   (where the pull gets stuck near the outline, it runs again with edges
+   flipped on the way, and the result gets step 4's quality pass).
 3. Otherwise both triangulations are mapped onto the unit circle with their
    boundary vertices at the same places (the mean of the two normalised arc
    lengths); interior vertices (``refine_first=True`` only) by mean-value
@@ -83,7 +85,7 @@ from ._disc import (
     _triangulate,
 )
 from ._overlay import _overlay
-from ._quality import _coarsen, _improve, _joint_refine, _smooth
+from ._quality import _coarsen, _improve, _joint_flips, _joint_refine, _smooth
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
 
@@ -94,6 +96,8 @@ PULL_WEIGHTS = (0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4, 1e5)  # the ring's pull, 
 COARSEN = True  # the overlay's intersection vertices merged away where both meshes stay valid (`_coarsen`)
 COARSE_ANGLE = 15.0  # the overlay's collapses keep the smallest angle above this (degrees) or make it no smaller
 SMOOTH_ROUNDS = 3  # smoothing rounds of the source mesh after its chords are cut
+PULL_FLIPS = 5  # rounds of joint edge flips after every pull weight at most (`_pull` with flips)
+PULL_RETRY = 2.5  # a pull stuck this far (in mean edges) from the outline or nearer is tried again with flips
 PULL_GIVE_UP = (1e3, 0.5)  # a ring still this far (in mean edges) from the target at this weight is stuck
 SNAP_ROUNDS = 12  # rounds that move the pulled ring onto the target outline
 SNAP_STALL = 1e-3  # three rounds in a row that move the ring less than this fraction of the way: stuck
@@ -215,13 +219,16 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     # first try: the source mesh mapped by mean-value weights (reproduces affine maps); if a triangle
     # flips, the source mesh pulled onto the target outline with no flip; then the map made least distorted
     w_tgt = convex_map(z1, f1, np.arange(K), zt)
+    flipped = False
     if not np.all(triangle_areas(w_tgt, f1) > 1e-12 * _scale2(zt)):
-        z1, f1, w_tgt = _pulled(z1, f1, K, zt) if pull else (z1, f1, None)
+        z1, f1, w_tgt, flipped = _pulled(z1, f1, K, zt) if pull else (z1, f1, None, False)
     overlay = w_tgt is None
     crossings = 0
     if not overlay:
         before = (_min_angle(z1, f1), _min_angle(w_tgt, f1))
         w_tgt = _least_distorted(z1, w_tgt, f1, K)
+        if flipped:  # connectivity changed on the way: the quality pass, as after an overlay
+            z1, w_tgt, f1 = _improve(z1, w_tgt, f1, K, False)
     else:  # the two triangulations overlaid, then refined in both at once
         # the target keeps every source diagonal that is a diagonal of the target too: fewer crossings
         shared = _shared_diagonals(f_src, zt, _polygon(zt, rings), cut_edges)
@@ -276,6 +283,21 @@ def _misfits(f, K, zt, rings):
     return chords[bad]
 
 
+def _reflip(z, w, f, rounds=PULL_FLIPS):
+    """Flip edges (in place in ``f``) that raise the smallest angle of their two faces over both meshes.
+
+    At most ``rounds`` rounds of `_quality._joint_flips`; returns the number of flips.
+    """
+    eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
+    done = 0
+    for _ in range(rounds):
+        n = _joint_flips(z, w, f, eps)
+        if not n:
+            break
+        done += n
+    return done
+
+
 def _least_distorted(z, w, f, K):
     """Interior target positions (N,) complex that make the map ``z -> w`` least distorted, no triangle flipped.
 
@@ -301,21 +323,47 @@ def _least_distorted(z, w, f, K):
 def _pulled(z, f, K, zt):
     """The source mesh deformed with no flipped triangle until its ring vertices reach ``zt``.
 
+    `_pull` with the source's connectivity; where that gets stuck near the
+    outline (the ring held at most `PULL_RETRY` mean edges off, or stopped
+    while snapping), again with edges flipped between the pull's weights.
+
+    Returns
+    -------
+    z : (N',) complex, f : (F', 3) int, w : (N',) complex or None, flipped : bool
+        The (refined) source mesh and its deformed copy (``w`` None when
+        stuck), and whether the mesh is the one with edges flipped.
+    """
+    z1, f1, w, gap = _pull(z, f, K, zt)
+    if w is not None or gap > PULL_RETRY:
+        return z1, f1, w, False
+    z1, f1, w, _ = _pull(z, f, K, zt, flips=True)
+    return z1, f1, w, w is not None
+
+
+def _pull(z, f, K, zt, flips=False):
+    """The source mesh deformed with no flipped triangle until its ring vertices reach ``zt``.
+
     Start: the best similarity of the rings onto ``zt`` applied to the whole
     mesh (every triangle positive). Every vertex is then free, the ring
     vertices pulled towards ``zt`` by a penalty of growing weight
     (`PULL_WEIGHTS`) while the symmetric Dirichlet energy against the source
-    triangles keeps the mesh from folding. Last, the ring vertices are moved
-    onto ``zt`` in rounds (`SNAP_ROUNDS`): as far as no triangle flips, then
-    the interior relaxed with the ring held; a triangle that blocks the move
-    gets its sides cut at their midpoints (in the source mesh and in the
-    deformed one alike), which frees room around it.
+    triangles keeps the mesh from folding; with ``flips``, edges are flipped
+    after every weight where that raises the smallest angle of their faces
+    (`_reflip`: a mesh pulled far from the source squeezes triangles that
+    the other diagonals of the same quads avoid). Last, the ring vertices
+    are moved onto ``zt`` in rounds (`SNAP_ROUNDS`): as far as no triangle
+    flips, then the interior relaxed with the ring held; a triangle that
+    blocks the move gets its sides cut at their midpoints (in the source
+    mesh and in the deformed one alike), which frees room around it.
 
     Returns
     -------
-    z : (N',) complex, f : (F', 3) int, w : (N',) complex or None
-        The (refined) source mesh and its deformed copy; ``w`` None when stuck.
+    z : (N',) complex, f : (F', 3) int, w : (N',) complex or None, gap : float
+        The (refined) source mesh and its deformed copy; ``w`` None when
+        stuck, ``gap`` then how far (in mean target edges) the ring was held
+        off the outline where the pull gave up (0 where the snap did).
     """
+    f = f.copy()
     zk = z[:K] - z[:K].mean()
     a = np.vdot(zk, zt - zt.mean()) / np.vdot(zk, zk)
     w = zt.mean() + a * (z - z[:K].mean())
@@ -332,7 +380,11 @@ def _pulled(z, f, K, zt):
             if gap < 1e-9:
                 break
             if mu >= PULL_GIVE_UP[0] and gap > PULL_GIVE_UP[1]:  # held far off: no snap will reach the outline
-                return z, f, None
+                return z, f, None, gap
+            if flips and _reflip(z, w, f):  # the energy on the new faces
+                energy = SymmetricDirichlet(z, w, f, np.zeros(len(z), dtype=bool))
+                energy.rest(0.0)
+                energy.pull_towards(ring, zt, mu * unit)
         stalled = 0
         for _ in range(SNAP_ROUNDS):
             step = np.zeros_like(w)
@@ -341,7 +393,7 @@ def _pulled(z, f, K, zt):
             if s > 1.0:
                 w = w + step
                 w[:K] = zt
-                return z, f, w
+                return z, f, w, 0.0
             stalled = stalled + 1 if s < SNAP_STALL else 0
             if stalled == 3:  # cutting does not free the ring: the overlay it is
                 break
@@ -359,4 +411,4 @@ def _pulled(z, f, K, zt):
             w, _ = minimise(relax, w, PULL_ITER, tol=1e-3)
     except MethodError:
         pass
-    return z, f, None
+    return z, f, None, 0.0
