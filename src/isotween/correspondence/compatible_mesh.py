@@ -283,14 +283,14 @@ def _misfits(f, K, zt, rings):
     return chords[bad]
 
 
-def _reflip(z, w, f, rounds=PULL_FLIPS):
+def _reflip(z, w, f):
     """Flip edges (in place in ``f``) that raise the smallest angle of their two faces over both meshes.
 
-    At most ``rounds`` rounds of `_quality._joint_flips`; returns the number of flips.
+    At most `PULL_FLIPS` rounds of `_quality._joint_flips`; returns the number of flips.
     """
     eps = (1e-14 * _scale2(z), 1e-14 * _scale2(w))
     done = 0
-    for _ in range(rounds):
+    for _ in range(PULL_FLIPS):
         n = _joint_flips(z, w, f, eps)
         if not n:
             break
@@ -325,7 +325,8 @@ def _pulled(z, f, K, zt):
 
     `_pull` with the source's connectivity; where that gets stuck near the
     outline (the ring held at most `PULL_RETRY` mean edges off, or stopped
-    while snapping), again with edges flipped between the pull's weights.
+    while snapping or by a singular Newton system), again with edges flipped
+    between the pull's weights.
 
     Returns
     -------
@@ -361,7 +362,8 @@ def _pull(z, f, K, zt, flips=False):
     z : (N',) complex, f : (F', 3) int, w : (N',) complex or None, gap : float
         The (refined) source mesh and its deformed copy; ``w`` None when
         stuck, ``gap`` then how far (in mean target edges) the ring was held
-        off the outline where the pull gave up (0 where the snap did).
+        off the outline where the pull gave up (0 where the snap or a Newton
+        system did).
     """
     f = f.copy()
     zk = z[:K] - z[:K].mean()
