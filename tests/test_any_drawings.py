@@ -218,3 +218,50 @@ def test_loaded_drawings_with_matching_counts_are_still_corresponded(tmp_path):
     assert r.max() < 5.05 and r.min() > 2.95
     plain = Shape.from_polygon(ring)
     assert not plain.drawing
+
+
+# ---------------------------------------------------------------- drawings in different units (--fit)
+def stroked_svg(path, points, width):
+    text = " ".join(f"{x:.12g},{y:.12g}" for x, y in points)
+    path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg"><polygon points="{text}" fill="black"/>'
+                    f'<polygon points="{text}" fill="none" stroke="black" stroke-width="{width}"/></svg>')
+    return path
+
+
+def test_fit_scales_a_drawing_in_other_units_onto_the_source(tmp_path):
+    # the same drawing in a 32 times larger set of units, elsewhere, written from another start: fitted into the
+    # source's box it is the source, its stroke as wide, so the morph stands still
+    small = stroked_svg(tmp_path / "small.svg", outline(60), 1.5)
+    large = stroked_svg(tmp_path / "large.svg", np.roll(outline(60, scale=32.0, shift=(9000.0, -700.0)), 17, axis=0),
+                        48.0)
+    seq = isotween.morph(small, large, frames=5, fit=True)
+    assert "notes" not in seq.info
+    for frame in seq.frames:
+        np.testing.assert_allclose(frame, seq.frames[0], atol=1e-6 * seq.shape.bbox_diagonal())
+    stroke = isotween.pipeline.fitted(isotween.load(large), isotween.load(small)).paint[1]
+    assert stroke.stroke is not None and np.isclose(stroke.stroke_width, 48.0 / 32)
+    # unfitted, each keeps its own units, and a note says how to fit them
+    seq = isotween.morph(small, large, frames=5)
+    assert np.ptp(seq.frames[-1], axis=0).max() > 30 * np.ptp(seq.frames[0], axis=0).max()
+    assert len(seq.info["notes"]) == 1 and "32 times" in seq.info["notes"][0] and "fit" in seq.info["notes"][0]
+
+
+def test_no_size_hint_within_the_similarities_a_morph_recovers(tmp_path):
+    a = write_svg(tmp_path / "a.svg", outline(60))
+    b = write_svg(tmp_path / "b.svg", outline(70, turn_deg=30, scale=2.0))
+    assert "notes" not in isotween.morph(a, b, frames=3).info
+
+
+def test_fit_on_the_command_line(tmp_path):
+    small = write_svg(tmp_path / "small.svg", outline(60))
+    large = write_svg(tmp_path / "large.svg", outline(60, scale=40.0))
+    out = tmp_path / "out.npz"
+    plain = CliRunner().invoke(main, ["interpolate", str(small), str(large), "-o", str(out), "-n", "3"])
+    assert plain.exit_code == 0 and "40 times" in plain.output and "--fit" in plain.output
+    fit = CliRunner().invoke(main, ["interpolate", str(small), str(large), "-o", str(out), "-n", "3", "--fit"])
+    assert fit.exit_code == 0 and "times the size" not in fit.output
+    np.testing.assert_allclose(np.ptp(isotween.load_sequence(out).frames[-1], axis=0), np.ptp(outline(60), axis=0),
+                               rtol=1e-9)
+    wrong = CliRunner().invoke(main, ["interpolate", str(small), str(large), "-o", str(tmp_path / "x.npz"),
+                                      "--fit", "--resample", "40"])
+    assert wrong.exit_code == 2 and "--fit" in wrong.output and not (tmp_path / "x.npz").exists()

@@ -17,9 +17,12 @@ from typing import TypeGuard
 from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
 __all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_steps", "mesh_prepared", "prepare_keys", "morph",
-           "collapse_vanishing", "finish", "unmatched_spans", "stagger_shares", "check_stagger", "needs_correspondence",
-           "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES", "STAGGER", "QUICK_STAGGERS", "STROKES"]
+           "fitted", "collapse_vanishing", "finish", "unmatched_spans", "stagger_shares", "check_stagger",
+           "needs_correspondence", "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES", "FIT_HINT", "STAGGER",
+           "QUICK_STAGGERS", "STROKES"]
 
+#: two inputs whose bounding boxes differ in size (diagonal) by this factor or more get a hint to fit them
+FIT_HINT = 8.0
 #: correspondence policies: 'auto' (drawings always, other compatible inputs kept), 'always', 'never'
 CORRESPONDENCE = ("auto", "always", "never")
 #: file kinds whose point order means nothing: correspondence always runs on them under 'auto'
@@ -151,7 +154,57 @@ def _load(item, name):
     return load(item) if _is_path(item) else as_shape(item, name)
 
 
-def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=False, **options):
+def fitted(shape, into):
+    """``shape`` scaled (strokes too) and moved so that its bounding box sits centred in ``into``'s, as large as fits.
+
+    Parameters
+    ----------
+    shape, into : Shape
+
+    Returns
+    -------
+    Shape
+        ``shape`` under ``p -> s (p - c) + c'``, ``c`` and ``c'`` the two
+        bounding-box centres and ``s`` the largest uniform scale that keeps
+        the box inside ``into``'s (their diagonals' ratio where a box is flat
+        along the axis that limits it, 1 for a single point); stroke widths
+        times ``s``.
+
+    Examples
+    --------
+    >>> from isotween import Shape
+    >>> big = Shape.from_polygon([[0, 0], [32, 0], [32, 32], [0, 32]])
+    >>> fitted(big, Shape.from_polygon([[0, 0], [1, 0], [1, 1], [0, 1]])).vertices.tolist()
+    [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+    """
+    import dataclasses
+
+    import numpy as np
+
+    lo, hi = shape.vertices.min(axis=0), shape.vertices.max(axis=0)
+    lo_to, hi_to = into.vertices.min(axis=0), into.vertices.max(axis=0)
+    size, room = hi - lo, hi_to - lo_to
+    both = (size > 0) & (room > 0)
+    flat = np.hypot(*size) > 0 and np.hypot(*room) > 0
+    scale = float(np.min(room[both] / size[both])) if both.any() else \
+        float(np.hypot(*room) / np.hypot(*size)) if flat else 1.0  # a single point: moved only
+    out = shape.with_vertices(scale * (shape.vertices - 0.5 * (lo + hi)) + 0.5 * (lo_to + hi_to))
+    if shape.paint is not None:
+        out.paint = [dataclasses.replace(p, stroke_width=p.stroke_width * scale) for p in shape.paint]
+    return out
+
+
+def _size_hint(a, b):
+    """A line for the user where ``a`` and ``b`` differ in size by `FIT_HINT` or more, else None."""
+    da, db = a.bbox_diagonal(), b.bbox_diagonal()
+    if not (da > 0 and db > 0) or max(db / da, da / db) < FIT_HINT:  # a single point is refused later
+        return None
+    ratio = db / da
+    return (f"hint: the target is {ratio:.3g} times the size of the source (bounding-box diagonals; each drawing "
+            "keeps its own units); fit=True (--fit) scales it into the source's box")
+
+
+def prepare_pair(source, target, *, correspondence="auto", names=None, fit=False, _drawing=False, **options):
     """Two inputs made compatible.
 
     Parameters
@@ -168,6 +221,11 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
     names : (str, str), optional
         How to call the inputs in messages (default: their paths, or
         'source' and 'target').
+    fit : bool
+        Scale and move the target into the source's bounding box first
+        (`fitted`): drawings from sets drawn in different units (a 16-unit
+        icon and a 512-unit one) then morph at one size. Without it, inputs
+        that differ in size by `FIT_HINT` or more get a hint in ``notes``.
     **options
         Options of `isotween.correspond` (``points``, ``segment``,
         ``rotation``, ``outline``, ``mesh_size``, ``unmatched``, ``pairs``,
@@ -191,6 +249,9 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
     if names is None:
         names = [str(x) if _is_path(x) else role for x, role in ((source, "source"), (target, "target"))]
     a, b = _load(source, "source"), _load(target, "target")
+    notes = [] if fit or (hint := _size_hint(a, b)) is None else [hint]
+    if fit:
+        b = fitted(b, a)
     hints = {k for k in options if k != "meshes"}  # a mesh cache asks for nothing
     if correspondence == "never" or (correspondence == "auto" and not drawing and not hints):
         try:
@@ -201,12 +262,12 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, _drawing=
                     f"{names[0]} and {names[1]} are not compatible ({exc}); let correspondence run "
                     "(correspondence='auto')") from None
         else:
-            return Prepared(a, b)
+            return Prepared(a, b, notes=notes)
     try:
         src, tgt, report = correspond(a, b, always=True, **options)
     except (ShapeError, IncompatibleShapesError) as exc:
         raise type(exc)(f"{names[0]} (source) and {names[1]} (target): {exc}") from None
-    return Prepared(src, tgt, report, built_meshes=not a.n_faces and src.n_faces > 0)
+    return Prepared(src, tgt, report, built_meshes=not a.n_faces and src.n_faces > 0, notes=notes)
 
 
 def prepare_steps(source, target, *, resample=None, mesh=None, rotation=False):
@@ -675,8 +736,8 @@ def _free_time(shape, target, piece, passing, end, share):
     return float(stop) if FREE_UNTIL <= stop < share else None
 
 
-def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=None, correspond_options=None,
-          render_options=None, stagger=STAGGER, strokes="untangle", **options):
+def morph(source, target, output=None, *, frames=9, correspondence="auto", fit=False, fold=None,
+          correspond_options=None, render_options=None, stagger=STAGGER, strokes="untangle", **options):
     """Any two inputs to an in-between sequence (and an output file).
 
     Parameters
@@ -688,6 +749,9 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
         Frames, both inputs included.
     correspondence : {'auto', 'always', 'never'}
         See `prepare_pair`.
+    fit : bool
+        Scale and move the target into the source's bounding box first
+        (`prepare_pair`).
     fold : {'allow', 'fallback'}, optional
         Default: ``'fallback'`` when correspondence built the meshes (an
         in-between that folds is replaced by the fold-free morph, and
@@ -713,7 +777,8 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
     -------
     Sequence
         ``info['correspondence']``: the correspondence's one-line summary
-        ('' when none ran).
+        ('' when none ran); ``info['notes']``: `prepare_pair`'s notes for
+        the user (e.g. the size hint), where there are any.
 
     Examples
     --------
@@ -730,13 +795,15 @@ def morph(source, target, output=None, *, frames=9, correspondence="auto", fold=
 
     stagger = check_stagger(stagger)  # before any work
     check_choice("strokes", strokes, STROKES)
-    prepared = prepare_pair(source, target, correspondence=correspondence, **(correspond_options or {}))
+    prepared = prepare_pair(source, target, correspondence=correspondence, fit=fit, **(correspond_options or {}))
     if fold is None:
         fold = "fallback" if prepared.built_meshes else "allow"
     spans = unmatched_spans(prepared.source, prepared.report, stagger, prepared.target)
     seq = interpolate(prepared.source, prepared.target, frames=frames, fold=fold, correspondence="never",
                       spans=spans, **options)
     seq.info["correspondence"] = prepared.summary()
+    if prepared.notes:
+        seq.info["notes"] = list(prepared.notes)
     finish(seq, prepared.report, stagger, strokes)
     if output is not None:
         from .outputs import write_output

@@ -13,7 +13,7 @@ __all__ = ["correspondence_options", "outline_correspondence_options", "correspo
 
 #: names of the correspondence options among a command's parameters
 CORRESPONDENCE_KEYS = ("points", "segment", "rotation", "outline", "mesh_size", "unmatched",
-                       "resample_points", "mesh_area", "correspondence", "landmarks")
+                       "resample_points", "mesh_area", "correspondence", "landmarks", "fit")
 
 
 def _landmark(ctx, param, values):
@@ -54,6 +54,10 @@ _outline_options = (
 outline_correspondence_options = _compose(*_outline_options)
 
 correspondence_options = _compose(*_outline_options, click.option(
+    "--fit", is_flag=True,
+    help="Scale and move the target into the source's bounding box first (drawings from icon sets drawn in "
+         "different units then morph at one size).",
+), click.option(
     "--outline", is_flag=True, help="Morph outlines only (no triangle meshes for filled regions).",
 ), click.option(
     "--mesh-size", type=float, default=None, metavar="LENGTH",
@@ -84,7 +88,7 @@ def _drawing_paths(*paths):
 def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None, segment=None,
                     rotation=False, outline=False, mesh_size=None, unmatched="grow",
                     resample_points=None, mesh_area=None, correspondence="auto", landmarks=None,
-                    prepared=False):
+                    fit=False, prepared=False):
     """A loaded pair made compatible by the library as the options ask; its report printed, then checked.
 
     Without ``--resample``/``--mesh``: `isotween.pipeline.prepare_pair`
@@ -108,11 +112,13 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
                    if v not in (None, False)}
         if unmatched != "grow":
             options["unmatched"] = unmatched
-        result = prepare_pair(src, tgt, correspondence=correspondence, **options,
+        result = prepare_pair(src, tgt, correspondence=correspondence, fit=fit, **options,
                               names=(source_path, target_path), _drawing=_drawing_paths(source_path, target_path))
         if result.report is not None and not quiet:
             click.echo(result.summary())
     else:
+        if fit:
+            raise ParameterError("--fit goes with correspondence, not with --resample or --mesh")
         if resample_points is None:
             ensure_compatible(src, tgt, source_path, target_path)
         result = prepare_steps(src, tgt, resample=resample_points, mesh=mesh_area, rotation=rotation)
@@ -168,9 +174,9 @@ def prepare_command(source, target, outdir, fmt, quiet, **params):
     options = correspondence_kwargs(params)
     defaults = {"points": None, "segment": None, "rotation": False, "outline": False, "mesh_size": None,
                 "unmatched": "grow", "resample_points": None, "mesh_area": None, "correspondence": "auto",
-                "landmarks": None}
+                "landmarks": None, "fit": False}
     if options == defaults:
-        raise ParameterError("nothing to prepare: give --points N, --segment, --outline or --mesh-size "
+        raise ParameterError("nothing to prepare: give --points N, --segment, --outline, --mesh-size or --fit "
                              "(correspondence), or give --resample N and/or --mesh")
     src, tgt = make_compatible(load(source), load(target), source, target, quiet=quiet, **options)
     with atomic_dir(outdir) as tmp:
