@@ -794,3 +794,21 @@ def test_a_long_solve_shows_progress_and_is_superseded(drawings, monkeypatch):
         assert server.session.doc["options"]["frames"] == 9 and call("/api/progress")["stage"] == "idle"
     finally:
         server.stop()
+
+
+def test_drawings_in_other_units_get_a_hint_and_fit_puts_them_in_one_box(tmp_path):
+    # a square and the star in 20 times larger units: a hint names the Fit switch; with it, the last frame is
+    # the star in the square's box and the hint is gone
+    a, b = tmp_path / "square.svg", tmp_path / "star.svg"
+    isotween.save(isotween.Shape.from_polygon([[0, 0], [2, 0], [2, 2], [0, 2]]), a)
+    isotween.save(star().scale(20).translate([300, 0]), b)
+    session = Session([a, b])
+    client = client_for(session)
+    state = client.post("/api/open", json={"paths": [str(a), str(b)]}, headers=H).json()
+    assert any("times the size" in n and "Fit" in n for n in state["notes"]), state["notes"]
+    state = client.post("/api/options", json={"fit": True}, headers=H).json()
+    assert not any("times the size" in n for n in state["notes"])
+    last = session.solved.base.frames[-1]
+    lo, hi = last.min(axis=0), last.max(axis=0)
+    np.testing.assert_allclose(lo + hi, [2, 2], atol=1e-9)  # centred in the square's box
+    assert np.all(lo >= -1e-9) and np.all(hi <= 2 + 1e-9) and np.isclose(np.max(hi - lo), 2)  # as large as fits

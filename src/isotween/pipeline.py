@@ -17,7 +17,7 @@ from typing import TypeGuard
 from .errors import IncompatibleShapesError, ParameterError, ShapeError
 
 __all__ = ["Prepared", "PreparedKeys", "prepare_pair", "prepare_steps", "mesh_prepared", "prepare_keys", "morph",
-           "fitted", "collapse_vanishing", "finish", "unmatched_spans", "stagger_shares", "check_stagger",
+           "fitted", "size_hint", "collapse_vanishing", "finish", "unmatched_spans", "stagger_shares", "check_stagger",
            "needs_correspondence", "onto_connectivity", "CORRESPONDENCE", "DRAWING_SUFFIXES", "FIT_HINT", "STAGGER",
            "QUICK_STAGGERS", "STROKES"]
 
@@ -194,14 +194,16 @@ def fitted(shape, into):
     return out
 
 
-def _size_hint(a, b):
-    """A line for the user where ``a`` and ``b`` differ in size by `FIT_HINT` or more, else None."""
+def size_hint(a, b, switch="fit=True (--fit)"):
+    """A line for the user where shapes ``a`` and ``b`` differ in size by `FIT_HINT` or more, else None.
+
+    ``switch``: how the user asks for `fitted` where the line is read.
+    """
     da, db = a.bbox_diagonal(), b.bbox_diagonal()
     if not (da > 0 and db > 0) or max(db / da, da / db) < FIT_HINT:  # a single point is refused later
         return None
-    ratio = db / da
-    return (f"hint: the target is {ratio:.3g} times the size of the source (bounding-box diagonals; each drawing "
-            "keeps its own units); fit=True (--fit) scales it into the source's box")
+    return (f"hint: the target is {db / da:.3g} times the size of the source (bounding-box diagonals; each drawing "
+            f"keeps its own units); {switch} scales it into the source's box")
 
 
 def prepare_pair(source, target, *, correspondence="auto", names=None, fit=False, _drawing=False, **options):
@@ -249,7 +251,7 @@ def prepare_pair(source, target, *, correspondence="auto", names=None, fit=False
     if names is None:
         names = [str(x) if _is_path(x) else role for x, role in ((source, "source"), (target, "target"))]
     a, b = _load(source, "source"), _load(target, "target")
-    notes = [] if fit or (hint := _size_hint(a, b)) is None else [hint]
+    notes = [] if fit or (hint := size_hint(a, b)) is None else [hint]
     if fit:
         b = fitted(b, a)
     hints = {k for k in options if k != "meshes"}  # a mesh cache asks for nothing

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import FileFormatError, IsotweenError, ParameterError
 from ..interpolate import fold_notes
-from ..pipeline import STROKES
+from ..pipeline import STROKES, size_hint
 from ..shape import Shape
 
 __all__ = ["Session", "Superseded", "PROJECT_FORMAT", "DEFAULT_OPTIONS", "METHODS"]
@@ -42,13 +42,13 @@ METHODS = ("aiap", "linear", "intrinsic", "arap", "arap-baxter", "shapespace", "
 #: options of a new session
 DEFAULT_OPTIONS: dict[str, Any] = {
     "frames": 13, "method": "aiap", "easing": [0.0, 0.0, 1.0, 1.0], "points": None, "rotation": False,
-    "outline": False, "unmatched": "grow", "roi": 0.35, "strokes": "untangle",
+    "outline": False, "unmatched": "grow", "roi": 0.35, "strokes": "untangle", "fit": False,
 }
 #: input file endings the studio opens
 SUFFIXES = (".svg", ".obj", ".off", ".json", ".npz")
 _CACHE = 24
 #: `isotween.correspond`'s defaults of the options the studio sets: only the others are passed on
-CORRESPOND_DEFAULTS = {"points": None, "rotation": False, "outline": False, "unmatched": "grow"}
+CORRESPOND_DEFAULTS = {"points": None, "rotation": False, "outline": False, "unmatched": "grow", "fit": False}
 #: seconds from a hint to its meshed morph, solved on the server, within which a quick hint is answered
 #: with the meshes at once (else by an outline preview first)
 LIVE_BUDGET = 0.06
@@ -353,7 +353,8 @@ class Session:
         inputs = [self._shape(k) for k in doc["inputs"]]
         notes: list[str] = []
         corr_kw: dict[str, Any] = {"points": options["points"], "rotation": bool(options["rotation"]),
-                                   "outline": bool(options["outline"]), "unmatched": options["unmatched"]}
+                                   "outline": bool(options["outline"]), "unmatched": options["unmatched"],
+                                   "fit": bool(options["fit"])}
         if doc.get("pairs"):
             corr_kw["pairs"] = [tuple(int(v) for v in p) for p in doc["pairs"]]
         if doc.get("landmarks"):  # checked by `correspond` (a point off the drawing: its one-line message)
@@ -369,6 +370,8 @@ class Session:
         if len(inputs) == 1:
             morph = self._solve_saved(doc, inputs[0], options, curves, notes)
         elif len(inputs) == 2:
+            if not corr_kw["fit"] and (hint := size_hint(inputs[0], inputs[1], switch="Fit")) is not None:
+                notes.append(hint)
             morph = self._solve_pair(doc, inputs, options, curves, corr_kw, quick, hooks, started)
         else:
             morph = self._solve_keys(doc, inputs, options, curves, notes, hooks)
@@ -610,7 +613,8 @@ class Session:
             raise ParameterError(f"unknown option {unknown[0]!r}; use {', '.join(DEFAULT_OPTIONS)}")
         merged = {**self.doc["options"], **options}
         edits = self.doc["edits"]
-        if any(merged[k] != self.doc["options"][k] for k in ("frames", "points", "rotation", "outline", "unmatched")):
+        if any(merged[k] != self.doc["options"][k]
+               for k in ("frames", "points", "rotation", "outline", "unmatched", "fit")):
             edits = {}
         return self.change(options=merged, edits=edits)
 

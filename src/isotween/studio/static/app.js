@@ -86,6 +86,7 @@ function syncControls() {
   $("frames").value = doc.options.frames;
   $("method").value = doc.options.method;
   $("strokes").value = doc.options.strokes;
+  $("fit").checked = !!doc.options.fit;
   $("points").value = doc.options.points ?? "";
   $("roi").value = doc.options.roi;
   const curves = segmentCurves();
@@ -478,6 +479,7 @@ $("easing-segment").onchange = () => { if (S.state?.document) setState(S.state);
 $("frames").onchange = (e) => setOptions({ frames: Math.round(Number(e.target.value)) });
 $("method").onchange = (e) => setOptions({ method: e.target.value });
 $("strokes").onchange = (e) => setOptions({ strokes: e.target.value });
+$("fit").onchange = (e) => setOptions({ fit: e.target.checked });
 $("points").onchange = (e) => setOptions({ points: e.target.value === "" ? null : Math.round(Number(e.target.value)) });
 $("roi").onchange = (e) => setOptions({ roi: Number(e.target.value) });
 $("undo").onclick = () => act("api/undo");
