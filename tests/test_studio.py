@@ -812,3 +812,7 @@ def test_drawings_in_other_units_get_a_hint_and_fit_puts_them_in_one_box(tmp_pat
     lo, hi = last.min(axis=0), last.max(axis=0)
     np.testing.assert_allclose(lo + hi, [2, 2], atol=1e-9)  # centred in the square's box
     assert np.all(lo >= -1e-9) and np.all(hi <= 2 + 1e-9) and np.isclose(np.max(hi - lo), 2)  # as large as fits
+    # the correspondence panel draws the fitted target, where its matched points are
+    drawn = np.vstack([r for item in state["correspondence"]["inputs"][1]["items"] for r in item["rings"]])
+    matched = np.vstack([r["target"] for r in state["correspondence"]["rings"]])
+    assert drawn.min() >= -1e-9 and drawn.max() <= 2 + 1e-9 and matched.max() <= 2 + 1e-9

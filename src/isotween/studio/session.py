@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import FileFormatError, IsotweenError, ParameterError
 from ..interpolate import fold_notes
-from ..pipeline import STROKES, size_hint
+from ..pipeline import STROKES, fitted, size_hint
 from ..shape import Shape
 
 __all__ = ["Session", "Superseded", "PROJECT_FORMAT", "DEFAULT_OPTIONS", "METHODS"]
@@ -370,8 +370,11 @@ class Session:
         if len(inputs) == 1:
             morph = self._solve_saved(doc, inputs[0], options, curves, notes)
         elif len(inputs) == 2:
-            if not corr_kw["fit"] and (hint := size_hint(inputs[0], inputs[1], switch="Fit")) is not None:
-                notes.append(hint)
+            if all(isinstance(x, Shape) for x in inputs):
+                if corr_kw["fit"]:  # fitted here, so that the correspondence panel and its hints see the same
+                    inputs = [inputs[0], fitted(inputs[1], inputs[0])]
+                elif (hint := size_hint(inputs[0], inputs[1], switch="Fit")) is not None:
+                    notes.append(hint)
             morph = self._solve_pair(doc, inputs, options, curves, corr_kw, quick, hooks, started)
         else:
             morph = self._solve_keys(doc, inputs, options, curves, notes, hooks)

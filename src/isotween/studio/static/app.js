@@ -578,6 +578,7 @@ async function start() {
   resize();
   setState(state);
   if (state.document) setPlaying(true);
+  if (state.document && state.notes?.length) message(state.notes.join("; "));  // files named on the command line
   requestAnimationFrame(tick);
   S.ready = true;
 }
