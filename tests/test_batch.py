@@ -256,3 +256,21 @@ def test_a_job_sets_the_stagger_and_the_strokes_as_morph_does(tmp_path):
         np.testing.assert_array_equal(io.load_sequence(tmp_path / "out" / f"{name}.npz").frames, expected.frames)
     failed = [r for r in records(tmp_path / "out" / "batch-report.jsonl") if r["status"] == "failed"]
     assert "strokes" in failed[0]["error"] and not (tmp_path / "out" / "bad.npz").exists()
+
+
+def test_a_manifest_fits_the_target_where_it_says_so(tmp_path):
+    """``fit`` (a yes/no column): the target scaled into the source's box; a value that is not yes or no fails alone."""
+    small, large = tmp_path / "small.json", tmp_path / "large.json"
+    io.save(curl(12, 0.5), small)
+    io.save(curl(12, 0.5).scale(40.0).translate([500.0, 0.0]), large)
+    manifest = tmp_path / "jobs.csv"
+    manifest.write_text("source,target,output,frames,fit\n"
+                        "small.json,large.json,fit.npz,3,yes\n"
+                        "small.json,large.json,plain.npz,3,\n"
+                        "small.json,large.json,bad.npz,3,maybe\n")
+    result = CliRunner().invoke(main, ["batch", str(manifest), "-o", str(tmp_path / "out"), "-j", "1", "-q"])
+    assert "jobs=3 done=2 skipped=0 failed=1" in result.stdout, result.stderr
+    assert "bad value 'maybe' for option fit" in result.stderr
+    box = np.ptp(curl(12, 0.5).vertices, axis=0)
+    np.testing.assert_allclose(np.ptp(io.load_sequence(tmp_path / "out" / "fit.npz").frames[-1], axis=0), box)
+    np.testing.assert_allclose(np.ptp(io.load_sequence(tmp_path / "out" / "plain.npz").frames[-1], axis=0), 40 * box)

@@ -28,6 +28,18 @@ from .errors import FileFormatError, IsotweenError, ParameterError
 __all__ = ["batch", "read_manifest", "check_jobs", "output_path", "run_job", "run_jobs", "run_jobs_one_thread",
            "single_threaded", "threads_in_use", "JOB_OPTIONS"]
 
+def _flag(value):
+    """A yes/no option from a CSV cell ('true', '1', 'yes' or 'false', '0', 'no') or a JSON boolean."""
+    if isinstance(value, bool):
+        return value
+    text = str(value).strip().lower()
+    if text in ("true", "1", "yes"):
+        return True
+    if text in ("false", "0", "no"):
+        return False
+    raise ValueError(value)
+
+
 #: per-job options and how a text value (a CSV cell) becomes one
 JOB_OPTIONS = {
     "frames": int,
@@ -43,6 +55,7 @@ JOB_OPTIONS = {
     "correspondence": str,
     "stagger": float,
     "strokes": str,
+    "fit": _flag,
 }
 _FIELDS = ("source", "target", "output")
 _SHAPE_EXTS = (".obj", ".off", ".svg", ".json", ".npz")
@@ -270,6 +283,8 @@ def run_job(job):
             correspondence = opts.pop("correspondence", "auto")
             seq = morph(job["source"], job["target"], correspondence=correspondence, **opts)
         else:  # the older explicit steps (no correspondence: nothing to stagger or untangle)
+            if opts.pop("fit", False):
+                raise ParameterError("fit goes with correspondence, not with resample or mesh")
             for key in ("correspondence", "stagger", "strokes"):
                 opts.pop(key, None)
             src, tgt = load(job["source"]), load(job["target"])
@@ -688,6 +703,8 @@ def _option_types(options, where):
             ok = isinstance(value, int | float) and not isinstance(value, bool)
         elif kind is str:
             ok = isinstance(value, str)
+        elif kind is _flag:
+            ok = isinstance(value, bool)
         else:  # mesh: 'auto' or a number
             ok = value == "auto" or isinstance(value, int | float) and not isinstance(value, bool)
         if not ok:
