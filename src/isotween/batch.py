@@ -28,6 +28,7 @@ from .errors import FileFormatError, IsotweenError, ParameterError
 __all__ = ["batch", "read_manifest", "check_jobs", "output_path", "run_job", "run_jobs", "run_jobs_one_thread",
            "single_threaded", "threads_in_use", "JOB_OPTIONS"]
 
+
 def _flag(value):
     """A yes/no option from a CSV cell ('true', '1', 'yes' or 'false', '0', 'no') or a JSON boolean."""
     if isinstance(value, bool):

@@ -372,6 +372,7 @@ class Session:
         elif len(inputs) == 2:
             if all(isinstance(x, Shape) for x in inputs):
                 if corr_kw["fit"]:  # fitted here, so that the correspondence panel and its hints see the same
+                    # (`prepare_pair`'s fit then leaves it as it is; in ``corr_kw`` it keeps the caches apart)
                     inputs = [inputs[0], fitted(inputs[1], inputs[0])]
                 elif (hint := size_hint(inputs[0], inputs[1], switch="Fit")) is not None:
                     notes.append(hint)
