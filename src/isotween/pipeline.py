@@ -188,7 +188,8 @@ def fitted(shape, into):
     flat = np.hypot(*size) > 0 and np.hypot(*room) > 0
     scale = float(np.min(room[both] / size[both])) if both.any() else \
         float(np.hypot(*room) / np.hypot(*size)) if flat else 1.0  # a single point: moved only
-    out = shape.with_vertices(scale * (shape.vertices - 0.5 * (lo + hi)) + 0.5 * (lo_to + hi_to))
+    shift = 0.5 * (lo_to + hi_to) - scale * 0.5 * (lo + hi)
+    out = shape.transform([[scale, 0.0, shift[0]], [0.0, scale, shift[1]], [0.0, 0.0, 1.0]])
     if shape.paint is not None:
         out.paint = [dataclasses.replace(p, stroke_width=p.stroke_width * scale) for p in shape.paint]
     return out

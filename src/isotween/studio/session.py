@@ -372,8 +372,7 @@ class Session:
         elif len(inputs) == 2:
             if all(isinstance(x, Shape) for x in inputs):
                 if corr_kw["fit"]:  # fitted here, so that the correspondence panel and its hints see the same
-                    # (`prepare_pair`'s fit then leaves it as it is; in ``corr_kw`` it keeps the caches apart)
-                    inputs = [inputs[0], fitted(inputs[1], inputs[0])]
+                    inputs = [inputs[0], fitted(inputs[1], inputs[0])]  # (in ``corr_kw``: the caches kept apart)
                 elif (hint := size_hint(inputs[0], inputs[1], switch="Fit")) is not None:
                     notes.append(hint)
             morph = self._solve_pair(doc, inputs, options, curves, corr_kw, quick, hooks, started)
@@ -469,7 +468,8 @@ class Session:
         else:
             def correspond_outlines() -> Any:
                 stage("correspondence")
-                return prepare_pair(a, b, correspondence="always", names=names, **{**kw, "outline": True})
+                given = {k: v for k, v in kw.items() if k != "fit"}  # b is fitted already (`solve`)
+                return prepare_pair(a, b, correspondence="always", names=names, **{**given, "outline": True})
 
             outline = self._cached(("outline", ids, tag), correspond_outlines)
             check()
