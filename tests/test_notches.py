@@ -117,3 +117,24 @@ def test_a_lock_opens_its_shackle_as_one_piece(tmp_path, closed_svg, open_svg):
     assert flipped_faces(seq) == 0 and not outline_crossings(seq, visible=True).any()
     # lengths and area kept: a hole that shrank away would fill the shackle (area up by the hole's)
     assert edge_length_deviation(seq) < 0.1 and area_deviation(seq) < 2.0
+
+
+def test_a_ring_into_a_crescent_ring_pairs_the_holes(tmp_path):
+    # the ring's hole lies in the crescent's bay, but the crescent has a hole of its own to pair it with: no
+    # slit opens (a slit opened in both would part the outline in the in-betweens)
+    shapely = pytest.importorskip("shapely")
+
+    def svg(poly, name):
+        rings = [poly.exterior, *poly.interiors]
+        d = " ".join("M " + " L ".join(f"{x:.4f} {y:.4f}" for x, y in r.coords[:-1]) + " Z" for r in rings)
+        svg = f'<svg xmlns="http://www.w3.org/2000/svg"><path fill-rule="evenodd" d="{d}"/></svg>'
+        (tmp_path / name).write_text(svg)
+        return str(tmp_path / name)
+
+    disc = shapely.Point(0, 0).buffer(4, 32)
+    ring = disc.difference(shapely.Point(0, 0).buffer(3.4, 32))
+    crescent = disc.difference(shapely.Point(1.5, -1).buffer(3.6, 32))
+    outline = crescent.difference(crescent.buffer(-0.5, 32))
+    seq = isotween.morph(svg(ring, "ring.svg"), svg(outline, "crescent.svg"), frames=9)
+    assert "holes 1 paired" in seq.info["correspondence"] and "notch" not in seq.info["correspondence"]
+    assert len(seq.shape.paths) == 2

@@ -7,7 +7,9 @@ the hole opening where the other drawing has a gap. So, before regions are
 paired, a hole of one drawing whose area lies mostly (`OPEN`) in a notch of
 the other drawing (inside its convex hull, outside its outlines, once the
 two are aligned: `alignment.align`) not much larger than the hole (`ROOM`)
-is joined to its region's outer ring by a slit of width `SLIT`, across the
+is joined to its region's outer ring by a slit of width `SLIT` (only as many
+holes as the other drawing's overlapping region lacks: a ring into a
+crescent ring pairs their holes instead), across the
 region's material where the other drawing is empty (the gap). Failing
 that, a notch of the paired region of about the hole's size, moved onto
 the hole by at most `MOVE` of the diagonal (an open lock's hook beside
@@ -61,9 +63,10 @@ def open_holes(items, frames):
     out, slits = [list(items[0]), list(items[1])], [[], []]
     for k in (0, 1):
         other = 1 - k
-        outlines = [frames[other].to(frames[k], it.rings[0]) for it in items[other] if it.kind == "region"]
-        if not outlines:
+        theirs = [it for it in items[other] if it.kind == "region"]
+        if not theirs:
             continue
+        outlines = [frames[other].to(frames[k], it.rings[0]) for it in theirs]
         shapes = [_polygon(z) for z in outlines]
         filled = shapely.unary_union(shapes)  # inside the other drawing's outer rings
         notches = filled.convex_hull.difference(filled)  # its gaps: inside its hull, outside its outlines
@@ -77,8 +80,9 @@ def open_holes(items, frames):
             region = _polygon(rings[0])
             best = int(np.argmax([region.intersection(p).area for p in shapes]))
             partner = outlines[best]
+            spare = len(rings) - len(theirs[best].rings)  # holes the partner region lacks: only so many open
             h = 1
-            while h < len(rings):
+            while h < len(rings) and spare > 0:
                 hole = _polygon(rings[h])
                 shift = 0.0 if hole.area > 0 and _opens(hole, notches) else _moved_notch(hole, shapes[best], diagonal)
                 if shift is not None:  # the other drawing moved by ``shift`` has the notch where the hole is
@@ -89,6 +93,7 @@ def open_holes(items, frames):
                         rings[0], corners = cut
                         slits[k].append(corners)
                         del rings[h], paint[h]
+                        spare -= 1
                         continue
                 h += 1
             out[k][i] = Item(it.kind, rings, paint, it.index)
