@@ -127,8 +127,8 @@ def test_a_ring_into_a_crescent_ring_pairs_the_holes(tmp_path):
     def svg(poly, name):
         rings = [poly.exterior, *poly.interiors]
         d = " ".join("M " + " L ".join(f"{x:.4f} {y:.4f}" for x, y in r.coords[:-1]) + " Z" for r in rings)
-        svg = f'<svg xmlns="http://www.w3.org/2000/svg"><path fill-rule="evenodd" d="{d}"/></svg>'
-        (tmp_path / name).write_text(svg)
+        text = f'<svg xmlns="http://www.w3.org/2000/svg"><path fill-rule="evenodd" d="{d}"/></svg>'
+        (tmp_path / name).write_text(text)
         return str(tmp_path / name)
 
     disc = shapely.Point(0, 0).buffer(4, 32)
