@@ -68,6 +68,20 @@ def test_a_region_is_cut_only_where_the_other_drawing_fills_most_of_it(tmp_path,
     assert report.cut == ([1, 0] if across else [0, 0])
 
 
+@pytest.mark.parametrize("shift", [0.0, 0.6])
+def test_a_thin_outline_is_cut_where_its_struck_through_copy_parts_though_drawn_apart(tmp_path, shift):
+    # a square outline 1 wide, and the same outline parted along x = 10 with a bar in the gap (a bell and the bell
+    # struck through): the parted copy drawn 0.6 lower still lies within the outline's width of it, so the outline
+    # is cut where the copy parts (about 70 % of each part lies inside the outline itself, short of `INSIDE`)
+    outline = '<path fill-rule="evenodd" d="M2 2h16v16h-16Z M3 3v14h14v-14Z"/>'
+    top, low = 2 + shift, 18 + shift
+    parted = (f'<path d="M2 {top}h7v1h-6v14h6v1h-7Z"/><path d="M11 {top}h7v{low - top}h-7v-1h6v-14h-6Z"/>'
+              f'<path d="M9.5 0h1v20h-1Z"/>')
+    a, b = _pair(tmp_path, outline, parted)
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.cut == [1, 0] and report.regions == {"paired": 2, "grown": 1, "shrunk": 0}
+
+
 def test_the_struck_through_eye_parts_where_it_is_drawn():
     from isotween import examples
 

@@ -10,8 +10,10 @@ aligned: `alignment.align`), each mostly inside it (`INSIDE`) and filled
 alike, that together cover most of it (`COVER`) and with the other
 drawing's other regions (the stroke across) more still (`FILLED`: not a
 cart's body and wheels inside a bag), where no region of the other drawing
-overlaps R as a whole (`WHOLE`), is cut among them: every
-point of R goes to the nearest of them (the Voronoi zones of their
+overlaps R as a whole (`WHOLE`), is cut among them (a thin R, an
+outline drawing's at most `NEAR` of the diagonal wide, holds what lies
+within its width of it: a bell's outline and the struck-through bell's,
+drawn a little apart): every point of R goes to the nearest of them (the Voronoi zones of their
 outlines, `STEP` apart). The parts touch along the cuts, so the end still
 draws R (the cuts are seams of no width, which a fill does not draw), and
 each then pairs with its piece like any region. Regions with a stroke,
@@ -23,13 +25,14 @@ import numpy as np
 from ..geometry import bbox_diagonal, ring_area
 from .regions import Item, region_polygon
 
-__all__ = ["split_regions", "INSIDE", "COVER", "FILLED", "WHOLE", "LEAST", "STEP"]
+__all__ = ["split_regions", "INSIDE", "COVER", "FILLED", "WHOLE", "LEAST", "NEAR", "STEP"]
 
 INSIDE = 0.8  # a piece of the other drawing lies at least this share of its area inside the region
 COVER = 0.6  # the pieces together cover at least this share of the region
 FILLED = 0.7  # and the other drawing's regions, the pieces and others (a slash across), this share of it
 WHOLE = 0.9  # a region of the other drawing overlapping the region this much (intersection over union) keeps it whole
 LEAST = 0.05  # pieces smaller than this share of the region do not count
+NEAR = 0.08  # a region at most this wide (share of the drawing's diagonal) holds what lies within its width of it
 STEP = 0.005  # the pieces' outlines are sampled this far apart (share of the drawing's diagonal) for their zones
 CRUMB = 1e-3  # a part of a zone's cut smaller than this share of the region joins the part it touches most
 HAIR = np.deg2rad(2.0)  # a cut's vertex where the outline turns back within this angle is a hair of no width
@@ -92,10 +95,17 @@ def _parts(region, paint, theirs, filled, step):
     union = area + shapely.area(polys) - inter
     if np.any(inter >= WHOLE * union):
         return None
+    inside = cover = inter
+    width = 2 * area / region.length
+    if width <= NEAR * step / STEP:  # a thin region (an outline's) holds what lies within its width of it
+        inside = shapely.area(shapely.intersection(region.buffer(width), polys))
+        cover = shapely.area(shapely.intersection(region, shapely.buffer(polys, width)))
+        filled = filled.buffer(width)
     fill = getattr(paint, "fill", None)
-    held = [i for i, (p, q) in enumerate(theirs) if p.area >= LEAST * area and inter[i] >= INSIDE * p.area
+    held = [i for i, (p, q) in enumerate(theirs) if p.area >= LEAST * area and inside[i] >= INSIDE * p.area
             and getattr(q, "fill", None) == fill]
-    if len(held) < 2 or inter[held].sum() < COVER * area or shapely.intersection(region, filled).area < FILLED * area:
+    if (len(held) < 2 or cover[held].sum() < COVER * area
+            or shapely.intersection(region, filled).area < FILLED * area):
         return None
     # every piece's outline sampled; each point's Voronoi cell goes to its piece
     points, owner = [], []
