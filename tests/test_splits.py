@@ -131,3 +131,39 @@ def test_svg_frames_draw_the_parts_of_a_cut_region_as_one_element_and_no_triangl
         assert len(back.regions) == 2
         for (idx, _), (back_idx, _) in zip(seq.shape.paths, back.paths, strict=True):
             np.testing.assert_allclose(back.vertices[back_idx], seq.frames[k][idx], atol=1e-12)
+
+
+STROKE = 'fill="none" stroke="black" stroke-width="1" stroke-linecap="round"'
+
+
+@pytest.mark.parametrize("close", ["Z", "V2"])  # a ring, or a line that ends where it starts (drawn without Z)
+def test_a_stroke_the_other_drawing_parts_is_cut_where_they_part(tmp_path, close):
+    # a square outline, and the square struck through: drawn as two strokes, top and right, bottom and left,
+    # parted by gaps of 2 at the corners the slash crosses (Lucide's bell and bell-off)
+    square = f'<path {STROKE} d="M2 2H18V18H2{close}"/>'
+    parted = f'<path {STROKE} d="M4 2H18V16"/><path {STROKE} d="M16 18H2V4"/><path {STROKE} d="M1 1L19 19"/>'
+    a, b = _pair(tmp_path, square, parted)
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.strokes_cut == [1, 0] and report.lines == {"paired": 2, "grown": 1, "shrunk": 0}
+    seq = isotween.morph(a, b, frames=9)
+    z = seq.z
+    parts = sorted((idx for idx, _ in seq.shape.paths), key=lambda idx: -np.ptp(z[0, idx].real))[:2]
+    ends = np.concatenate([z[0, idx] for idx in parts])
+    # at the square's end the two parts are the square: on its outline, every corner a vertex of one of them
+    on = np.minimum(np.minimum(abs(ends.real - 2), abs(ends.real - 18)), np.minimum(abs(ends.imag - 2),
+                                                                                     abs(ends.imag - 18)))
+    assert on.max() < 1e-9
+    assert all(np.abs(ends - c).min() < 1e-9 for c in (2 + 2j, 18 + 2j, 18 + 18j, 2 + 18j))
+    # each part keeps to its half, cut at the middle of the gaps (the corners): its ends move 2, along the gap,
+    # and nothing travels round the square
+    for idx in parts:
+        assert np.abs(z[:, idx] - z[0, idx]).max() <= 2.1
+
+
+def test_a_stroke_the_other_drawing_draws_nearly_whole_is_not_cut(tmp_path):
+    # the square with a gap at a corner, a small corner piece drawn in it: the square has its partner, whole
+    square = f'<path {STROKE} d="M2 2H18V18H2Z"/>'
+    other = f'<path {STROKE} d="M5 2H18V18H2V5"/><path {STROKE} d="M2 3V2H3"/>'
+    a, b = _pair(tmp_path, square, other)
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.strokes_cut == [0, 0]

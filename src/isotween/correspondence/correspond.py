@@ -27,7 +27,7 @@ from .compatibility import as_shape, check_compatible
 from .matching import match_rings, project
 from .notches import open_holes
 from .resample import _counts, _Ring, resample
-from .splits import split_regions
+from .splits import split_regions, split_strokes
 
 __all__ = ["Correspondence", "CorrespondenceReport", "correspond", "correspond_keys", "mesh_outlines", "region_key",
            "MAX_TRIANGLES"]
@@ -88,6 +88,9 @@ class CorrespondenceReport:
     cut : list of int
         Per drawing, the regions cut among the pieces the other drawing
         shows them in (`splits.split_regions`).
+    strokes_cut : list of int
+        Per drawing, the strokes cut among the pieces the other drawing
+        shows them in (`splits.split_strokes`).
     joined : list of list of int
         The output regions that are the parts of one cut region (they meet
         along the cut at that end, and outputs draw them as one path there).
@@ -110,6 +113,7 @@ class CorrespondenceReport:
     hinted: bool = False
     slid: int = 0
     cut: list = field(default_factory=list)
+    strokes_cut: list = field(default_factory=list)
     joined: list = field(default_factory=list)
 
     def summary(self):
@@ -131,6 +135,9 @@ class CorrespondenceReport:
                 parts.append(f"{len(self.slits[k])} {side} hole(s) opened into notches")
             if len(self.cut) > k and self.cut[k]:
                 parts.append(f"{self.cut[k]} {side} region(s) cut where the {('target', 'source')[k]} parts them")
+            if len(self.strokes_cut) > k and self.strokes_cut[k]:
+                parts.append(f"{self.strokes_cut[k]} {side} stroke(s) cut where the {('target', 'source')[k]} "
+                             "parts them")
         pts = np.asarray(self.points)
         parts.append(f"{int(pts.sum())} points on {len(pts)} ring(s) ({int(pts.min())}-{int(pts.max())} each)")
         if self.meshes:
@@ -333,11 +340,12 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs, la
     frames = _regions.frames_of(items)
     if pairs is not None and len(shapes) != 2:
         raise ParameterError("pairs are for two drawings")
-    turn, slits, cut = None, [], []
+    turn, slits, cut, strokes_cut = None, [], [], []
     if len(shapes) == 2:
         frames, turn = align(items, frames)
         if pairs is None:  # region pairs given by index: the regions stay as drawn
             items, cut = split_regions(items, frames)
+            items, strokes_cut = split_strokes(items, frames)
         items, slits = open_holes(items, frames)
     slots = _regions.plan(items, frames, pairs)
     per_key, closed, paint, layout, tiny = _fill_slots(items, frames, slots, unmatched)
@@ -367,6 +375,7 @@ def _compatible_outlines(shapes, points, segment, rotation, unmatched, pairs, la
     report.vanishing = [[result[k].paths[r][0] for r in rings_k] for k, rings_k in enumerate(tiny)]
     report.slits = slits
     report.cut = cut
+    report.strokes_cut = strokes_cut
     report.joined = _joined(items, slots, cut)
     return result, report
 

@@ -18,6 +18,16 @@ outlines, `STEP` apart). The parts touch along the cuts, so the end still
 draws R (the cuts are seams of no width, which a fill does not draw), and
 each then pairs with its piece like any region. Regions with a stroke,
 which would draw the seams, stay whole.
+
+Strokes alike (`split_strokes`): a bell's outline, and the struck-through
+bell's drawn as two strokes that part where the slash comes in (Lucide's
+``bell`` and ``bell-off``). A stroke of one drawing along which lie two or
+more strokes of the other (each mostly, `INSIDE`, within `REACH` of it: its
+stroke width, at least `REACH_LEAST` of the diagonal), that together run
+along most of it (`COVER`) and none along nearly all of it (`WHOLE`), is
+cut where they part: each point of it goes to the nearest of them, so
+that each of them has one stretch of it. The parts meet end to end, so the
+end still draws the stroke.
 """
 
 import numpy as np
@@ -25,7 +35,8 @@ import numpy as np
 from ..geometry import bbox_diagonal, ring_area
 from .regions import Item, region_polygon
 
-__all__ = ["split_regions", "INSIDE", "COVER", "FILLED", "WHOLE", "LEAST", "NEAR", "STEP"]
+__all__ = ["split_regions", "split_strokes", "INSIDE", "COVER", "FILLED", "WHOLE", "LEAST", "NEAR", "STEP",
+           "REACH_LEAST"]
 
 INSIDE = 0.8  # a piece of the other drawing lies at least this share of its area inside the region
 COVER = 0.6  # the pieces together cover at least this share of the region
@@ -34,6 +45,7 @@ WHOLE = 0.9  # a region of the other drawing overlapping the region this much (i
 LEAST = 0.05  # pieces smaller than this share of the region do not count
 NEAR = 0.08  # a region at most this wide (share of the drawing's diagonal) holds what lies within its width of it
 STEP = 0.005  # the pieces' outlines are sampled this far apart (share of the drawing's diagonal) for their zones
+REACH_LEAST = 0.01  # a stroke's pieces lie within its width of it, or this share of the diagonal if more
 CRUMB = 1e-3  # a part of a zone's cut smaller than this share of the region joins the part it touches most
 HAIR = np.deg2rad(2.0)  # a cut's vertex where the outline turns back within this angle is a hair of no width
 
@@ -212,3 +224,99 @@ def _rings(poly, outer):
         want = outer if n == 0 else -outer
         rings.append(z if np.sign(ring_area(z)) == want else z[::-1])
     return rings
+
+
+def split_strokes(items, frames):
+    """The drawings' items with every stroke that the other drawing shows in pieces cut among them.
+
+    Parameters
+    ----------
+    items : list (two drawings) of list of Item
+    frames : list of two `regions.Frame`
+        The drawings' aligned frames.
+
+    Returns
+    -------
+    items : list of list of Item
+        The same, a stroke cut in pieces replaced by its parts (open
+        strokes, in its place).
+    cut : list of int
+        Per drawing, the strokes cut.
+    """
+    out, cut = [list(items[0]), list(items[1])], [0, 0]
+    for k in (0, 1):
+        other = 1 - k
+        theirs = [frames[other].to(frames[k], it.rings[0]) for it in items[other] if it.kind in ("ring", "line")]
+        closed = [it.kind == "ring" for it in items[other] if it.kind in ("ring", "line")]
+        if len(theirs) < 2:
+            continue
+        step = STEP * bbox_diagonal(*[r for it in items[k] for r in it.rings])
+        new = []
+        for it in out[k]:
+            parts = None
+            if it.kind in ("ring", "line"):
+                width = getattr(it.paint[0], "stroke_width", 0.0) if getattr(it.paint[0], "stroke", None) else 0.0
+                reach = max(width, REACH_LEAST * step / STEP)
+                z = it.rings[0]
+                ends_meet = it.kind == "line" and len(z) > 3 and abs(z[-1] - z[0]) <= 1e-9 * step / STEP
+                parts = _stroke_parts(z[:-1] if ends_meet else z, it.kind == "ring" or ends_meet, theirs, closed,
+                                      reach, step)  # (a line that ends where it starts goes round as a ring)
+            if parts is None:
+                new.append(it)
+                continue
+            cut[k] += 1
+            new += [Item("line", [p], list(it.paint), it.index) for p in parts]
+        out[k] = new
+    return out, cut
+
+
+def _stroke_parts(z, closed, theirs, their_closed, reach, step):
+    """The stroke ``z`` (k,) complex cut among the strokes ``theirs`` that lie along it, or None.
+
+    Returns
+    -------
+    list of (m_i,) complex
+        Open polylines, in order along the stroke, meeting end to end.
+    """
+    import shapely
+
+    from .matching import arc_params, points_at
+
+    def outline(w, c):
+        xy = np.c_[w.real, w.imag]
+        return shapely.LinearRing(xy) if c else shapely.LineString(xy)
+
+    def samples(w, c, n):  # n points evenly along w by arc length
+        return points_at(w, c, np.arange(n) / n if c else np.linspace(0.0, 1.0, n))
+
+    line = outline(z, closed)
+    if line.length <= 0:
+        return None
+    held = []  # the strokes lying mostly along this one
+    for w, c in zip(theirs, their_closed, strict=True):
+        q = samples(w, c, max(int(outline(w, c).length / step), 8))
+        held.append(np.mean(shapely.distance(line, shapely.points(np.c_[q.real, q.imag])) <= reach) >= INSIDE)
+    held = np.flatnonzero(held)
+    if len(held) < 2:
+        return None
+    n = max(int(line.length / step), 8 * len(held))
+    u = np.arange(n) / n if closed else np.linspace(0.0, 1.0, n)
+    p = samples(z, closed, n)
+    d = shapely.distance(np.array([outline(theirs[i], their_closed[i]) for i in held])[:, None],
+                         shapely.points(np.c_[p.real, p.imag])[None, :])  # (h, n)
+    within = d <= reach
+    if within.any(axis=0).mean() < COVER or np.any(within.mean(axis=1) >= WHOLE):
+        return None
+    # every point of the stroke goes to the nearest stroke held: one stretch each (a closed stroke's wrap round)
+    owner = np.argmin(d, axis=0)
+    change = np.flatnonzero(owner != np.roll(owner, 1))
+    if not closed:
+        change = change[change > 0]
+    if len(change) + (not closed) != len(held):
+        return None
+    cut = np.sort((u[change] + u[change - 1] + (change == 0)) / 2 % 1.0)  # halfway between the samples
+    bounds = zip(cut, np.r_[cut[1:], cut[0] + 1.0], strict=True) if closed else \
+        zip(np.r_[0.0, cut], np.r_[cut, 1.0], strict=True)
+    params = arc_params(z, closed)[0]  # every vertex's share of the length along the stroke
+    s, v = (np.r_[params, params + 1.0], np.r_[z, z]) if closed else (params, z)
+    return [np.r_[points_at(z, closed, a), v[(s > a) & (s < b)], points_at(z, closed, b)] for a, b in bounds]
