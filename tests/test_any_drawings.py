@@ -122,6 +122,18 @@ def test_keyframes_of_three_drawings_pass_through_each(drawings):
     np.testing.assert_array_equal(isotween.load_sequence(tmp / "keys.npz").frames, seq.frames)
 
 
+def test_keyframes_of_drawings_with_equal_counts_are_corresponded(tmp_path):
+    # the same drawing written from another start: the point order means nothing, so correspondence runs (point
+    # by point in path order the outline would turn through itself) and the keys stand still
+    pa = write_svg(tmp_path / "a.svg", outline(60))
+    pb = write_svg(tmp_path / "b.svg", np.roll(outline(60), 17, axis=0))
+    seq = isotween.interpolate_keyframes([pa, pb, pa], frames=7)
+    assert seq.info["correspondence"].startswith("correspondence:")
+    np.testing.assert_allclose(seq.frames, np.broadcast_to(seq.frames[0], seq.frames.shape), atol=1e-9)
+    keys = [isotween.Shape.from_polygon(outline(60)), isotween.Shape.from_polygon(np.roll(outline(60), 17, axis=0))]
+    assert "correspondence" not in isotween.interpolate_keyframes(keys, frames=3).info  # shapes: as given
+
+
 def test_transfer_onto_a_drawing_moves_it_like_the_source(drawings):
     tmp, a, b, pa, pb = drawings
     small = outline(37, scale=0.5, shift=(0, 100))  # a similar copy with another point count
@@ -250,6 +262,27 @@ def test_no_size_hint_within_the_similarities_a_morph_recovers(tmp_path):
     a = write_svg(tmp_path / "a.svg", outline(60))
     b = write_svg(tmp_path / "b.svg", outline(70, turn_deg=30, scale=2.0))
     assert "notes" not in isotween.morph(a, b, frames=3).info
+
+
+def test_fit_keyframes_and_transfer(tmp_path):
+    # keyframes: the same drawing in 32 times larger units comes back fitted onto the first, so nothing moves;
+    # transfer: a drawing that stands still moves a large copy of itself not at all either (the test outline
+    # with a bump on one side: no half turn maps it onto itself)
+    th = np.linspace(0, 2 * np.pi, 60, endpoint=False)
+    bump = np.c_[40 * np.cos(th) + 6 * np.cos(2 * th), 20 * np.sin(th)]
+    small = write_svg(tmp_path / "small.svg", bump)
+    large = write_svg(tmp_path / "large.svg", np.roll(32 * bump + [900.0, -70.0], 17, axis=0))
+    seq = isotween.interpolate_keyframes([small, large, small], frames=7, fit=True)
+    np.testing.assert_allclose(seq.frames, np.broadcast_to(seq.frames[0], seq.frames.shape),
+                               atol=1e-6 * seq.shape.bbox_diagonal())
+    moved = isotween.transfer(small, large, large, frames=5, fit=True)
+    np.testing.assert_allclose(moved.frames[-1], moved.frames[0], atol=1e-6 * moved.shape.bbox_diagonal())
+    np.testing.assert_allclose(np.ptp(moved.frames[0], axis=0), np.ptp(bump, axis=0), rtol=1e-3)  # resampled
+    out = tmp_path / "keys.npz"
+    run = CliRunner().invoke(main, ["keyframes", str(small), str(large), "-o", str(out), "-n", "3", "--fit"])
+    assert run.exit_code == 0, run.output
+    np.testing.assert_allclose(np.ptp(isotween.load_sequence(out).frames[-1], axis=0), np.ptp(bump, axis=0),
+                               rtol=1e-3)
 
 
 def test_fit_on_the_command_line(tmp_path):

@@ -43,7 +43,7 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
                           callback: Callable[..., object] | None = None,
                           max_memory: float | None = None, solver: str = "local",
                           method: str = "aiap", correspondence: str = "auto",
-                          correspond_options: dict | None = None) -> Sequence:
+                          correspond_options: dict | None = None, fit: bool = False) -> Sequence:
     """One AIAP sequence through every keyframe.
 
     All in-between frames are solved together by the local solver with the
@@ -86,6 +86,10 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
     correspond_options : dict, optional
         Options of `isotween.correspondence.correspond_keys` (``points``,
         ``segment``, ``rotation``, ``unmatched``).
+    fit : bool
+        Every keyframe after the first scaled (strokes too) and moved into
+        the first's bounding box first (`isotween.pipeline.fitted`): drawings
+        from sets drawn in different units.
 
     Returns
     -------
@@ -119,11 +123,11 @@ def interpolate_keyframes(keyframes: Seq[ShapeLike], *, times: ArrayLike | None 
     check_number("smooth", smooth, strict=False)
     from .pipeline import needs_correspondence  # the pipeline is a layer above: reached at call time
 
-    if needs_correspondence(*keyframes, correspondence=correspondence, names=names,
-                            options=bool(correspond_options)):
+    if fit or needs_correspondence(*keyframes, correspondence=correspondence, names=names,
+                                   options=bool(correspond_options)):
         from .pipeline import prepare_keys
 
-        prepared = prepare_keys(keyframes, correspondence=correspondence, **(correspond_options or {}))
+        prepared = prepare_keys(keyframes, correspondence=correspondence, fit=fit, **(correspond_options or {}))
         keyframes, summary = prepared.shapes, prepared.summary()
     shapes = [as_shape(s, f"keyframe {i}") for i, s in enumerate(keyframes)]
     check_movable(shapes[0], "keyframe 0")

@@ -368,22 +368,26 @@ class PreparedKeys:
         return "" if self.report is None or self.report.unchanged else self.report.summary()
 
 
-def prepare_keys(items, *, correspondence="auto", names=None, role="keyframe", **options):
+def prepare_keys(items, *, correspondence="auto", names=None, role="keyframe", fit=False, **options):
     """Several inputs (keyframes, transfer inputs) made compatible together, as outlines.
 
     Parameters
     ----------
     items : list of Shape, (n, 2) array_like, or path
     correspondence : {'auto', 'always', 'never'}
-        As in `prepare_pair`; inputs that are not compatible go through
+        As in `prepare_pair`: drawings (SVG files, shapes read from them)
+        and inputs that are not compatible go through
         `isotween.correspondence.correspond_keys` (each paired with the first,
-        one point count per ring; an already compatible set comes back as it
-        is, also under ``'always'``).
+        one point count per ring), and under ``'always'`` any inputs; other
+        compatible sets come back as they are.
     names : list of str, optional
         How to call the inputs in messages (default: their paths, or
         ``'<role> k'``).
     role : str
         What the inputs are, for messages ('keyframe', 'input').
+    fit : bool
+        Every input after the first scaled (strokes too) and moved into the
+        first's bounding box first (`fitted`).
     **options
         Options of `correspond_keys` (``points``, ``segment``, ``rotation``,
         ``unmatched``).
@@ -406,6 +410,8 @@ def prepare_keys(items, *, correspondence="auto", names=None, role="keyframe", *
     if names is None:
         names = [str(x) if _is_path(x) else f"{role} {k}" for k, x in enumerate(items)]
     shapes = [_load(x, f"{role} {k}") for k, x in enumerate(items)]
+    if fit:
+        shapes = [shapes[0], *(fitted(s, shapes[0]) for s in shapes[1:])]
     if correspondence == "never":
         try:
             check_compatible(*shapes, names=list(names))
@@ -413,8 +419,9 @@ def prepare_keys(items, *, correspondence="auto", names=None, role="keyframe", *
             raise IncompatibleShapesError(f"{', '.join(map(str, names))} are not compatible: {exc}; "
                                           "let correspondence run (correspondence='auto')") from None
         return PreparedKeys(shapes)
-    try:
-        shapes, report = correspond_keys(shapes, **options)
+    try:  # drawings always (their point order means nothing), as a pair of drawings
+        drawing = any(_is_drawing(x) or _is_drawing(s) for x, s in zip(items, shapes, strict=True))
+        shapes, report = correspond_keys(shapes, always=correspondence == "always" or drawing, **options)
     except (ShapeError, IncompatibleShapesError) as exc:
         named = ", ".join(f"{n} ({role} {k})" if str(n) != f"{role} {k}" else str(n) for k, n in enumerate(names))
         raise type(exc)(f"{named}: {exc}") from None

@@ -50,7 +50,8 @@ def component_similarities(source: Shape, target: Shape) -> tuple[np.ndarray, np
 
 
 def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: ShapeLike, frames: int = 9, *,
-             correspondence: str = "auto", correspond_options: dict | None = None, **options: Any) -> Sequence:
+             correspondence: str = "auto", correspond_options: dict | None = None, fit: bool = False,
+             **options: Any) -> Sequence:
     """Transfer the AIAP motion from source_start -> source_end onto target_start.
 
     1. AIAP-interpolate the source pair (Algorithm 2, ``options`` as in
@@ -84,6 +85,11 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     correspond_options : dict, optional
         Options of `isotween.correspondence.correspond_keys` (``points``,
         ``segment``, ``rotation``, ``unmatched``).
+    fit : bool
+        ``source_end`` and ``target_start`` scaled (strokes too) and moved
+        into ``source_start``'s bounding box first
+        (`isotween.pipeline.fitted`): drawings from sets drawn in different
+        units.
     **options
         Passed to :func:`isotween.interpolate` for the source motion.
 
@@ -110,10 +116,11 @@ def transfer(source_start: ShapeLike, source_end: ShapeLike, target_start: Shape
     names = ["source_start", "source_end", "target_start"]
     inputs = [source_start, source_end, target_start]
     summary = None
-    if needs_correspondence(*inputs, correspondence=correspondence, names=names, options=bool(correspond_options)):
+    if fit or needs_correspondence(*inputs, correspondence=correspondence, names=names,
+                                   options=bool(correspond_options)):
         from .pipeline import _is_path, prepare_keys
 
-        prepared = prepare_keys(inputs, correspondence=correspondence, role="input",
+        prepared = prepare_keys(inputs, correspondence=correspondence, role="input", fit=fit,
                                 names=[str(x) if _is_path(x) else n
                                        for x, n in zip(inputs, names, strict=True)],
                                 **(correspond_options or {}))

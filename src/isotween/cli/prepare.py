@@ -51,7 +51,12 @@ _outline_options = (
                  help="A source point and the target point it must go to (repeatable), like shape hints."),
 )
 
-outline_correspondence_options = _compose(*_outline_options)
+#: keyframes and transfer: every input after the first fitted into the first's box
+outline_correspondence_options = _compose(*_outline_options, click.option(
+    "--fit", is_flag=True,
+    help="Scale and move every input after the first into the first's bounding box first (drawings from icon "
+         "sets drawn in different units then move at one size).",
+))
 
 correspondence_options = _compose(*_outline_options, click.option(
     "--fit", is_flag=True,
@@ -129,7 +134,7 @@ def make_compatible(src, tgt, source_path, target_path, quiet=False, points=None
 
 
 def keys_options(params):
-    """Pop a keyframes or transfer command's correspondence options: ``correspondence=``, ``correspond_options=``.
+    """Pop a keyframes or transfer command's options: ``correspondence``, ``correspond_options``, ``fit``.
 
     What `interpolate_keyframes` and `transfer` take; they run
     `isotween.pipeline.prepare_keys` themselves.
@@ -138,10 +143,11 @@ def keys_options(params):
     if options.pop("landmarks", None):
         raise ParameterError("--landmark is for two drawings (interpolate, prepare)")
     policy = options.pop("correspondence", "auto")
+    fit = bool(options.pop("fit", False))
     given = {k: v for k, v in options.items() if v not in (None, False) and not (k == "unmatched" and v == "grow")}
     if "unmatched" in given:
         given["unmatched"] = options["unmatched"]
-    return {"correspondence": policy, "correspond_options": given or None}
+    return {"correspondence": policy, "correspond_options": given or None, "fit": fit}
 
 
 def report_correspondence(seq, quiet=False):

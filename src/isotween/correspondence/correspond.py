@@ -291,18 +291,19 @@ def region_key(source_rings, target_rings, mesh_size):
     return digest.hexdigest(), None if mesh_size is None else float(mesh_size)
 
 
-def correspond_keys(shapes, *, points=None, segment=None, rotation=False, unmatched="grow"):
+def correspond_keys(shapes, *, points=None, segment=None, rotation=False, unmatched="grow", always=False):
     """Make several drawings (keyframes) compatible together, as outlines.
 
     Every drawing's items are paired with those of the first (an item of a
     later drawing with no partner is added to all others as a small copy),
     then all rings are resampled with one point count per ring. Options as
-    in `correspond`.
+    in `correspond`; ``always``: compatible shapes too (drawings, whose
+    point order means nothing), else they come back as they are.
 
     Returns
     -------
     shapes : list of Shape
-        Compatible outline shapes (unchanged if they were compatible).
+        Compatible outline shapes (unchanged if they were compatible and not ``always``).
     report : CorrespondenceReport
     """
     shapes = [as_shape(s, f"keyframe {k}") for k, s in enumerate(shapes)]
@@ -314,7 +315,8 @@ def correspond_keys(shapes, *, points=None, segment=None, rotation=False, unmatc
     except IsotweenError:
         pass
     else:
-        return shapes, CorrespondenceReport(unchanged=True, keys=len(shapes), unmatched=unmatched)
+        if not always:
+            return shapes, CorrespondenceReport(unchanged=True, keys=len(shapes), unmatched=unmatched)
     return _compatible_outlines(shapes, points, segment, rotation, unmatched, None)
 
 
