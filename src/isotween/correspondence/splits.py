@@ -243,14 +243,27 @@ def split_strokes(items, frames):
     cut : list of int
         Per drawing, the strokes cut.
     """
+    import shapely
+
+    from .matching import points_at
+
     out, cut = [list(items[0]), list(items[1])], [0, 0]
     for k in (0, 1):
         other = 1 - k
-        theirs = [frames[other].to(frames[k], it.rings[0]) for it in items[other] if it.kind in ("ring", "line")]
-        closed = [it.kind == "ring" for it in items[other] if it.kind in ("ring", "line")]
-        if len(theirs) < 2:
+        strokes = [it for it in items[other] if it.kind in ("ring", "line")]
+        if len(strokes) < 2:
             continue
         step = STEP * bbox_diagonal(*[r for it in items[k] for r in it.rings])
+        theirs = [frames[other].to(frames[k], it.rings[0]) for it in strokes]
+        closed = [it.kind == "ring" for it in strokes]
+        lines = np.array([_outline(w, c) for w, c in zip(theirs, closed, strict=True)])
+        # their samples, `step` apart (at least 8 each), once for every stroke of this drawing
+        counts = np.maximum((shapely.length(lines) / step).astype(int), 8)
+        q = np.concatenate([points_at(w, c, np.arange(n) / n if c else np.linspace(0.0, 1.0, n))
+                            for w, c, n in zip(theirs, closed, counts, strict=True)])
+        owner = np.repeat(np.arange(len(strokes)), counts)
+        samples = shapely.points(np.c_[q.real, q.imag])
+        box = shapely.bounds(lines)  # (m, 4)
         new = []
         for it in out[k]:
             parts = None
@@ -259,8 +272,18 @@ def split_strokes(items, frames):
                 reach = max(width, REACH_LEAST * step / STEP)
                 z = it.rings[0]
                 ends_meet = it.kind == "line" and len(z) > 3 and abs(z[-1] - z[0]) <= 1e-9 * step / STEP
-                parts = _stroke_parts(z[:-1] if ends_meet else z, it.kind == "ring" or ends_meet, theirs, closed,
-                                      reach, step)  # (a line that ends where it starts goes round as a ring)
+                if ends_meet:  # a line that ends where it starts goes round as a ring
+                    z = z[:-1]
+                line = _outline(z, it.kind == "ring" or ends_meet)
+                lo, hi = np.array(line.bounds[:2]) - reach, np.array(line.bounds[2:]) + reach
+                nearby = np.all((box[:, :2] <= hi) & (box[:, 2:] >= lo), axis=1)  # their boxes meet its own
+                held = []
+                if np.count_nonzero(nearby) >= 2:
+                    look = nearby[owner]
+                    near = np.bincount(owner[look], shapely.distance(line, samples[look]) <= reach, len(strokes))
+                    held = np.flatnonzero(near >= INSIDE * counts)  # the strokes lying mostly along this one
+                if len(held) >= 2:
+                    parts = _stroke_parts(z, it.kind == "ring" or ends_meet, lines[held], reach, step)
             if parts is None:
                 new.append(it)
                 continue
@@ -270,8 +293,16 @@ def split_strokes(items, frames):
     return out, cut
 
 
-def _stroke_parts(z, closed, theirs, their_closed, reach, step):
-    """The stroke ``z`` (k,) complex cut among the strokes ``theirs`` that lie along it, or None.
+def _outline(z, closed):
+    """The shapely ring or line string of the stroke ``z`` (k,) complex."""
+    import shapely
+
+    xy = np.c_[z.real, z.imag]
+    return shapely.LinearRing(xy) if closed else shapely.LineString(xy)
+
+
+def _stroke_parts(z, closed, held, reach, step):
+    """The stroke ``z`` (k,) complex cut among the strokes ``held`` (shapely) that lie along it, or None.
 
     Returns
     -------
@@ -282,28 +313,11 @@ def _stroke_parts(z, closed, theirs, their_closed, reach, step):
 
     from .matching import arc_params, points_at
 
-    def outline(w, c):
-        xy = np.c_[w.real, w.imag]
-        return shapely.LinearRing(xy) if c else shapely.LineString(xy)
-
-    def samples(w, c, n):  # n points evenly along w by arc length
-        return points_at(w, c, np.arange(n) / n if c else np.linspace(0.0, 1.0, n))
-
-    line = outline(z, closed)
-    if line.length <= 0:
-        return None
-    held = []  # the strokes lying mostly along this one
-    for w, c in zip(theirs, their_closed, strict=True):
-        q = samples(w, c, max(int(outline(w, c).length / step), 8))
-        held.append(np.mean(shapely.distance(line, shapely.points(np.c_[q.real, q.imag])) <= reach) >= INSIDE)
-    held = np.flatnonzero(held)
-    if len(held) < 2:
-        return None
-    n = max(int(line.length / step), 8 * len(held))
+    length = _outline(z, closed).length
+    n = max(int(length / step), 8 * len(held))
     u = np.arange(n) / n if closed else np.linspace(0.0, 1.0, n)
-    p = samples(z, closed, n)
-    d = shapely.distance(np.array([outline(theirs[i], their_closed[i]) for i in held])[:, None],
-                         shapely.points(np.c_[p.real, p.imag])[None, :])  # (h, n)
+    p = points_at(z, closed, u)
+    d = shapely.distance(held[:, None], shapely.points(np.c_[p.real, p.imag])[None, :])  # (h, n)
     within = d <= reach
     if within.any(axis=0).mean() < COVER or np.any(within.mean(axis=1) >= WHOLE):
         return None
