@@ -77,6 +77,26 @@ def test_outline_round_trip_is_exact(tmp_path, ext):
     assert_same_shape(back, shape)
 
 
+@pytest.mark.parametrize("ext", [".json", ".npz"])
+def test_regions_and_paint_round_trip(tmp_path, ext):
+    # a filled square with a hole, and an unfilled ring drawn with a stroke: saved without its regions the ring
+    # would read back as a filled region, without its paint in black
+    from isotween.paint import Paint
+
+    square = [[0, 0], [4, 0], [4, 4], [0, 4]]
+    hole = [[1, 1], [1, 3], [3, 3], [3, 1]]
+    ring = [[6, 0], [8, 0], [8, 2]]
+    paint = [Paint(fill=(0.8, 0.2, 0.1, 1.0)), Paint(fill=(0.8, 0.2, 0.1, 1.0)),
+             Paint(fill=None, stroke=(0.1, 0.1, 0.1, 0.5), stroke_width=0.3, opacity=0.75)]
+    for regions in ([[0, 1]], []):
+        shape = Shape.from_paths([square, hole, ring], closed=True, regions=regions,
+                                 paint=paint if regions else paint[2:] * 3)
+        io.save(shape, tmp_path / f"s{ext}")
+        back = io.load(tmp_path / f"s{ext}")
+        assert_same_shape(back, shape)
+        assert back.regions == shape.regions and back.paint == shape.paint
+
+
 @pytest.mark.parametrize("ext", [".obj", ".off", ".json", ".npz"])
 @pytest.mark.parametrize("make", [mesh_shape, lambda: mesh_shape("custom"), soup_shape],
                          ids=["mesh", "mesh-edge-order", "soup"])
@@ -314,6 +334,11 @@ def test_json_paths_only_give_the_edges(tmp_path):
         ('{"vertices": [[0, 0], [1, 0]],\n "paths": [\n {"indices": [0, 1], "closed": true}]}',
          "line 3: paths[0].indices: a closed path needs 3"),
         ("[1, 2]", "expected a JSON object"),
+        ('{"vertices": [[0, 0], [1, 0], [0, 1]],\n "paths": [{"indices": [0, 1, 2], "closed": true}],\n'
+         ' "paint": [{"fill": "pink"}]}', "paint"),
+        ('{"vertices": [[0, 0], [1, 0], [0, 1]],\n "paths": [{"indices": [0, 1, 2], "closed": true}],\n'
+         ' "regions": [[1]]}', "region 0 names path 1"),
+        ('{"vertices": [[0, 0], [1, 0], [0, 1]],\n "regions": "all"}', "regions: expected a list of lists"),
     ],
 )
 def test_json_errors_name_file_and_line(tmp_path, text, expected):
@@ -330,6 +355,10 @@ def test_npz_errors_name_the_array(tmp_path):
     np.savez(tmp_path / "b.npz", vertices=np.zeros((3, 3)))
     with pytest.raises(FileFormatError, match=r"array 'vertices' must hold numbers of shape \(k, 2\)"):
         io.load(tmp_path / "b.npz")
+    np.savez(tmp_path / "d.npz", vertices=np.eye(3, 2), path_indices=np.arange(3), path_sizes=[3],
+             path_closed=[True], paint=np.array("[1]"))
+    with pytest.raises(FileFormatError, match="d.npz: array 'paint' is not a list of paints"):
+        io.load(tmp_path / "d.npz")
     (tmp_path / "c.npz").write_text("not a zip")
     with pytest.raises(FileFormatError, match="c.npz: not a valid .npz"):
         io.load(tmp_path / "c.npz")

@@ -4,7 +4,7 @@ import json
 
 import numpy as np
 
-from ..errors import FileFormatError, ShapeError
+from ..errors import FileFormatError, IsotweenError, ShapeError
 from ..shape import Shape
 from ._files import write_text
 from ._json import JsonDocument, dumps_rows
@@ -75,7 +75,8 @@ def read_json(path):
 
     ``{"vertices": [[x, y], ...], "edges": [[i, j], ...], "faces": [[i, j, k], ...],
     "uv": [[u, v], ...], "paths": [{"indices": [...], "closed": true}, ...],
-    "y_down": false}``;
+    "y_down": false, "regions": [[0, 1], ...], "paint": [{"fill": [r, g, b, a], "stroke": null,
+    "stroke_width": 1.0, "opacity": 1.0}, ...]}``;
     only ``vertices`` is required, indices are 0-based. Without ``edges`` the
     edges follow the paths, else the face sides.
 
@@ -84,12 +85,32 @@ def read_json(path):
     FileFormatError
         Naming the file, the line and the element (e.g. ``vertices[3]``).
     """
+    from ..paint import Paint
+
     doc = JsonDocument(path)
     data = doc.require_object()
     if "frames" in data:
         raise FileFormatError(f"{path}: is a sequence file (it has 'frames'); read it with load_sequence")
     vertices = doc.array("vertices", 2, "float", required=True)
-    return shape_from_fields(doc, vertices, *shape_fields(doc))
+    shape = shape_from_fields(doc, vertices, *shape_fields(doc))
+    regions, paint = data.get("regions"), data.get("paint")
+    if regions is None and paint is None:
+        return shape
+    if regions is not None and not (isinstance(regions, list) and all(
+            isinstance(r, list) and all(isinstance(i, int) and not isinstance(i, bool) for i in r) for r in regions)):
+        raise doc.error("expected a list of lists of path indices", "regions")
+    if paint is not None:
+        if not (isinstance(paint, list) and all(isinstance(p, dict) for p in paint)):
+            raise doc.error("expected a list of paint objects", "paint")
+        try:
+            paint = [Paint.from_dict(p) for p in paint]
+        except (TypeError, ValueError, IsotweenError) as exc:
+            raise doc.error(str(exc)[:200], "paint") from None
+    try:
+        return Shape(shape.vertices, shape.edges, shape.faces, uv=shape.uv, paths=shape.paths, y_down=shape.y_down,
+                     regions=regions, paint=paint)
+    except ShapeError as exc:
+        raise FileFormatError(f"{path}: {exc}") from exc
 
 
 def fields_text(shape, indent="  "):
@@ -108,6 +129,10 @@ def fields_text(shape, indent="  "):
 
 
 def write_json(shape, path):
-    """Write a shape in the isotween JSON schema (exact round trip with `read_json`)."""
+    """Write a shape in the isotween JSON schema (exact round trip with `read_json`, regions and paint included)."""
     parts = [f'  "vertices": {dumps_rows(shape.vertices.tolist())}'] + fields_text(shape)
+    if shape.regions is not None:
+        parts.append(f'  "regions": {json.dumps(shape.regions)}')
+    if shape.paint is not None:
+        parts.append(f'  "paint": {dumps_rows([p.to_dict() for p in shape.paint], "  ")}')
     write_text(path, "{\n" + ",\n".join(parts) + "\n}\n")

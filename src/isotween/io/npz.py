@@ -6,7 +6,7 @@ import zlib
 
 import numpy as np
 
-from ..errors import FileFormatError, ShapeError
+from ..errors import FileFormatError, IsotweenError, ShapeError
 from ..resources import check_memory, format_size
 from ..shape import Shape
 from ._files import atomic_path, check_readable
@@ -130,23 +130,56 @@ def read_npz(path):
 
     The arrays are ``vertices`` (n, 2), ``edges`` (E, 2), and optional
     ``faces`` (F, 3), ``uv`` (n, 2), ``path_indices``, ``path_sizes``,
-    ``path_closed``.
+    ``path_closed``, ``region_paths`` with ``region_sizes`` (the filled
+    regions' path indices, region after region) and ``paint`` (a JSON
+    string: one `Paint.to_dict` per path).
 
     Raises
     ------
     FileFormatError
         Naming the file and the missing or malformed array.
     """
+    import json
+
+    from ..paint import Paint
+
     arrays = open_npz(path)
     if "frames" in arrays:
         raise FileFormatError(f"{path}: is a sequence file (it has 'frames'); read it with load_sequence")
     vertices = _get(path, arrays, "vertices", 2, 2, "f", required=True)
-    return connectivity_from(path, arrays, vertices)
+    shape = connectivity_from(path, arrays, vertices)
+    regions = paint = None
+    if "region_sizes" in arrays:
+        idx = _get(path, arrays, "region_paths", 1, kind="i", required=True)
+        sizes = _get(path, arrays, "region_sizes", 1, kind="i", required=True)
+        if sizes.sum() != len(idx) or np.any(sizes < 0):
+            raise FileFormatError(f"{path}: arrays 'region_paths' and 'region_sizes' disagree")
+        regions = [r.tolist() for r in np.split(idx, np.cumsum(sizes)[:-1])] if len(sizes) else []
+    if "paint" in arrays:
+        try:
+            paint = [Paint.from_dict(p) for p in json.loads(str(arrays["paint"][()]))]
+        except (ValueError, TypeError, AttributeError, IsotweenError) as exc:
+            raise FileFormatError(f"{path}: array 'paint' is not a list of paints ({str(exc)[:120]})") from None
+    if regions is None and paint is None:
+        return shape
+    try:
+        return Shape(shape.vertices, shape.edges, shape.faces, uv=shape.uv, paths=shape.paths, y_down=shape.y_down,
+                     regions=regions, paint=paint)
+    except ShapeError as exc:
+        raise FileFormatError(f"{path}: {exc}") from exc
 
 
 def write_npz(shape, path):
-    """Write a shape as ``.npz`` (exact round trip with `read_npz`)."""
-    save_arrays(path, {"vertices": shape.vertices, **connectivity_arrays(shape)})
+    """Write a shape as ``.npz`` (exact round trip with `read_npz`, regions and paint included)."""
+    import json
+
+    arrays = {"vertices": shape.vertices, **connectivity_arrays(shape)}
+    if shape.regions is not None:
+        arrays["region_paths"] = np.array([i for r in shape.regions for i in r], dtype=np.int64)
+        arrays["region_sizes"] = np.array([len(r) for r in shape.regions], dtype=np.int64)
+    if shape.paint is not None:
+        arrays["paint"] = np.array(json.dumps([p.to_dict() for p in shape.paint]))
+    save_arrays(path, arrays)
 
 
 def save_arrays(path, arrays):
