@@ -14,9 +14,9 @@ from browser import screenshot
 from isotween import Sequence, Shape, interpolate, render
 from isotween.examples import load_example
 from isotween.outputs import with_paint
-from isotween.paint import Paint
+from isotween.paint import Paint, sequence_paint
 from isotween.render._frames import SequenceRenderer
-from isotween.render._view import bbox_of, fit_view
+from isotween.render._view import bbox_of, fit_view, stroke_margin
 from isotween.render.curves import TOLERANCE
 from isotween.render.keys import TOLERANCE as KEY_TOLERANCE
 from isotween.render.lottie import lottie_data
@@ -98,7 +98,7 @@ def test_keyframes_are_the_frames_and_the_paint(morph):
     fill = next(it for it in group["it"] if it["ty"] == "fl")
     assert fill["r"] == 2
     # back from composition pixels to shape units: every tick is exactly its frame
-    box = bbox_of(morph.frames)
+    box = bbox_of(morph.frames, stroke_margin(sequence_paint(morph)[1]))  # strokes drawn whole
     x0, x1, y0, y1 = fit_view(box, data["w"], data["h"])
     for item, (idx, _) in zip(paths, morph.shape.paths, strict=False):
         px = keyframe_points(item)

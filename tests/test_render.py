@@ -92,6 +92,22 @@ def test_strip_size_and_ink_where_the_shape_is(tmp_path):
     assert np.all(np.diff(centres) > 5)  # common scale: the square slides across the cells
 
 
+def test_a_wide_stroke_is_drawn_whole(tmp_path):
+    # a ring drawn with a stroke half as wide as itself: the view grows by half the stroke, so no ink touches the
+    # image's edge (the frame is not cut off where the stroke reaches past the vertices)
+    from isotween.paint import Paint
+
+    ring = Shape.from_paths([[[0, 0], [4, 0], [4, 4], [0, 4]]], closed=True, regions=[],
+                            paint=[Paint(fill=None, stroke=(0, 0, 0, 1), stroke_width=2.0)])
+    seq = Sequence(frames=np.stack([ring.vertices] * 3), shape=ring, times=np.linspace(0, 1, 3))
+    render.write_gif(seq, tmp_path / "r.gif", size=120)
+    with Image.open(tmp_path / "r.gif") as im:
+        img = np.asarray(im.convert("RGB"))
+    mask = ink(img)
+    assert mask.sum() > 0.3 * mask.size
+    assert not (mask[0].any() or mask[-1].any() or mask[:, 0].any() or mask[:, -1].any())
+
+
 def test_strip_picks_frames_evenly(tmp_path, bent_bar):
     w, h = render.write_strip(bent_bar, tmp_path / "a.png", cell=100, frames=[0, -1])
     with Image.open(tmp_path / "a.png") as im:

@@ -4,7 +4,7 @@ import numpy as np
 
 from ..errors import ParameterError, ShapeError
 from ..paint import sequence_paint
-from ._view import bbox_of, check_frames, image_size
+from ._view import bbox_of, check_frames, image_size, stroke_margin
 from .frame import FramePainter
 from .texture import load_texture
 
@@ -56,7 +56,7 @@ class SequenceRenderer:
         self.seq = seq
         self.frames = sequence_frames(seq)
         self.regions, self.paints = sequence_paint(seq)
-        self.bbox = bbox_of(self.frames)
+        self.bbox = bbox_of(self.frames, stroke_margin(self.paints))  # strokes drawn whole
         self.width, self.height = image_size(self.bbox, size, even=even)
         check_output_memory(kind, self.width, self.height, len(self.frames) if kept is None else kept,
                             f"a {kind}" if kind != "image" else "an image")

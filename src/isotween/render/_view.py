@@ -28,12 +28,27 @@ def check_frames(frames):
     return f
 
 
-def bbox_of(points):
-    """Bounding box ``(x0, y0, x1, y1)`` of points of shape (..., 2)."""
+def bbox_of(points, margin=0.0):
+    """Bounding box ``(x0, y0, x1, y1)`` of points of shape (..., 2), grown by ``margin`` on every side.
+
+    The margin (half a stroke's width) is at most the box's longer side: a
+    stroke wider than the drawing leaves it in view, and the box finite.
+    """
     p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     if not len(p):
         raise ShapeError("cannot draw a shape with no vertices")
-    return (*p.min(axis=0), *p.max(axis=0))
+    lo, hi = p.min(axis=0), p.max(axis=0)
+    margin = min(float(margin), float(np.max(hi - lo)))
+    return (*(lo - margin), *(hi + margin))
+
+
+def stroke_margin(paints):
+    """Half the widest stroke in ``paints`` (Paint, or nested lists of them, or None): how far ink reaches out."""
+    if paints is None:
+        return 0.0
+    if isinstance(paints, (list, tuple)):
+        return max((stroke_margin(p) for p in paints), default=0.0)
+    return 0.5 * float(paints.stroke_width) if getattr(paints, "stroke", None) is not None else 0.0
 
 
 def _as_bbox(bbox):

@@ -8,7 +8,8 @@ from matplotlib.ticker import MaxNLocator
 from .. import metrics
 from ..errors import ParameterError
 from ..io import atomic_path
-from ._view import bbox_of, image_size
+from ..paint import sequence_paint
+from ._view import bbox_of, image_size, stroke_margin
 from .frame import FramePainter
 
 __all__ = ["compared_frames", "write_methods_figure", "write_metrics_figure", "metrics_figure"]
@@ -69,7 +70,8 @@ def write_methods_figure(sequences, path, columns=12, cell=160):
         Longest side of a cell in pixels.
     """
     seqs = list(sequences.values())
-    box = bbox_of(np.concatenate([s.frames.reshape(-1, 2) for s in seqs]))
+    box = bbox_of(np.concatenate([s.frames.reshape(-1, 2) for s in seqs]),
+                  stroke_margin([sequence_paint(s)[1] for s in seqs]))
     w, h = image_size(box, cell)
     painter = FramePainter(w, h, box, y_down=seqs[0].shape.y_down)
     picked = compared_frames(len(seqs[0]), columns)

@@ -10,7 +10,7 @@ from ..errors import ParameterError
 from ..geometry import ring_area
 from ..io import atomic_path
 from ..paint import opaque, paint_groups
-from ._view import bbox_of, check_frames, fit_view, image_size
+from ._view import bbox_of, check_frames, fit_view, image_size, stroke_margin
 from .texture import load_texture, render_texture, texture_uv
 
 __all__ = ["draw_frame", "write_frame_png", "FramePainter"]
@@ -286,7 +286,7 @@ def write_frame_png(shape, path, texture=None, size=None, bbox=None, *, dpi=100,
         See `draw_frame`.
     """
     v = check_frames(shape.vertices)
-    box = bbox_of(v) if bbox is None else bbox
+    box = bbox_of(v, stroke_margin(shape.paint)) if bbox is None else bbox
     w, h = image_size(box, 600 if size is None else size)
     tex = None if texture is None else load_texture(texture)
     painter = FramePainter(w, h, box, dpi=dpi, y_down=shape.y_down)

@@ -16,7 +16,7 @@ from ..io._json import dumps_finite
 from ..paint import joined_groups, merge_groups, paint_groups, sequence_paint
 from ._frames import sequence_frames
 from ._framestats import frame_stats
-from ._view import bbox_of
+from ._view import bbox_of, stroke_margin
 from .defaults import FPS
 from .frame import check_colour
 from .outline import mesh_boundary
@@ -169,7 +169,7 @@ def page_data(seq, texture=None, title=None, fps=FPS, bounce=False, background="
         "frames": encode_frames(frames),
         "keyframes": keyframes,
         "times": np.round(np.asarray(seq.times, dtype=np.float64), 6).tolist(),
-        "bbox": [float(x) for x in bbox_of(frames)],
+        "bbox": [float(x) for x in bbox_of(frames, stroke_margin(sequence_paint(seq)[1]))],
         "yDown": bool(getattr(shape, "y_down", False)),
         "edges": _indices(shape.edges),
         "faces": _indices(shape.faces if shape.n_faces else np.zeros((0, 3), np.int64)),

@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..paint import joined_groups, merge_groups, paint_groups, sequence_paint, svg_paint_attributes
 from ._frames import sequence_frames
-from ._view import PAD, bbox_of
+from ._view import PAD, bbox_of, stroke_margin
 from .curves import CORNER, fit_curves
 from .frame import FILL, FILL_EDGE, WIRE, check_colour
 from .outline import mesh_boundary
@@ -342,9 +342,9 @@ def _paint_at(seq, t):
     return None if paints is None else paints[0]
 
 
-def view_box(frames):
-    """``(x, y, width, height)`` of all frames (SVG units) with the outputs' margin."""
-    x0, y0, x1, y1 = bbox_of(frames)
+def view_box(frames, margin=0.0):
+    """``(x, y, width, height)`` of all frames (SVG units) with the outputs' margin, strokes' ``margin`` first."""
+    x0, y0, x1, y1 = bbox_of(frames, margin)
     pad = PAD * max(x1 - x0, y1 - y0, 1e-12)
     return (x0 - pad, y0 - pad, x1 - x0 + 2 * pad, y1 - y0 + 2 * pad)
 
@@ -404,7 +404,7 @@ def svg_document(seq, t, *, curves=True, precision=None, size=480, background=No
         line up.
     """
     data = data or PathData(seq, curves=curves, precision=precision)
-    box = view_box(svg_frames(seq))
+    box = view_box(svg_frames(seq), stroke_margin(sequence_paint(seq)[1]))
     width, height = pixel_size(box, size)
     styles = group_styles(data, _paint_at(seq, t))
     digits = data.digits

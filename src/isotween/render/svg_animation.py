@@ -16,7 +16,7 @@ from ..errors import ParameterError
 from ..geometry import bbox_diagonal
 from ..io import write_text
 from ..paint import sequence_paint, svg_paint_attributes
-from ._view import decimals
+from ._view import decimals, stroke_margin
 from .animation import FPS, playback_order
 from .curves import TOLERANCE, fit_curves
 from .frame import FILL, FILL_EDGE, WIRE
@@ -220,7 +220,7 @@ def svg_animation_text(seq, fps=FPS, bounce=False, *, hold=0.0, loop=True, size=
     shape = seq.shape
     check_output_memory("svg", 0, 0, len(order), "an animated SVG", vertices=shape.n_vertices)
     regions, paints = sequence_paint(seq)
-    box = view_box(frames)
+    box = view_box(frames, stroke_margin(paints))
     for name, value in (("tolerance", tolerance), ("key_tolerance", key_tolerance)):
         if value is not None and not (isinstance(value, (int, float, np.number)) and np.isfinite(value) and value > 0):
             raise ParameterError(f"{name} must be a positive number of shape units, got {value!r}")

@@ -18,7 +18,7 @@ import numpy as np
 from ..io import write_text
 from ..paint import sequence_paint
 from ._frames import sequence_frames
-from ._view import bbox_of, fit_view, image_size, to_pixels
+from ._view import bbox_of, fit_view, image_size, stroke_margin, to_pixels
 from .animation import FPS, SIZE, playback_order
 from .curves import TOLERANCE
 from .frame import FILL, FILL_EDGE, WIRE
@@ -50,7 +50,7 @@ def pixel_frames(seq, size):
         Pixels per shape unit.
     """
     frames = sequence_frames(seq)
-    box = bbox_of(frames)
+    box = bbox_of(frames, stroke_margin(sequence_paint(seq)[1]))
     w, h = image_size(box, size)
     x0, x1, _, _ = fit_view(box, w, h)
     return to_pixels(frames, box, w, h, seq.shape.y_down), int(w), int(h), w / (x1 - x0)
