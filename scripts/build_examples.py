@@ -201,6 +201,20 @@ def ex_strokes():
     return check, cross
 
 
+def ex_struck():
+    """Line icons: a ring, and the ring struck through, drawn as two arcs parted where the slash crosses."""
+    from isotween.paint import Paint
+
+    ink = Paint(fill=None, stroke=(0.11, 0.11, 0.11, 1.0), stroke_width=0.9)
+    th = np.deg2rad(np.arange(0, 360, 6))
+    ring = Shape.from_paths([np.c_[6 + 4 * np.cos(th), 6 + 4 * np.sin(th)]], closed=True, regions=[], paint=[ink])
+    arcs = [np.deg2rad(np.linspace(a, a + 140, 36)) for a in (65, 245)]  # gaps of 40 degrees round 45 and 225
+    ends = 6 + 5.2 * np.cos(np.deg2rad(45)) * np.array([-1, 1])
+    struck = Shape.from_paths([np.c_[6 + 4 * np.cos(a), 6 + 4 * np.sin(a)] for a in arcs] + [np.c_[ends, ends]],
+                              closed=False, regions=[], paint=[ink, ink, ink])
+    return ring, struck
+
+
 #: a padlock drawn as one filled outline with the shackle's hole, closed and open (shackle lifted, one leg free)
 LOCK_BODY = "L 12.5 7 A 1.5 1.5 0 0 1 14 8.5 L 14 13.5 A 1.5 1.5 0 0 1 12.5 15 L 3.5 15 A 1.5 1.5 0 0 1 2 13.5 Z"
 LOCK = {
@@ -310,6 +324,8 @@ EXAMPLES = [
              "in-between is the turned glyph", ex_turn, "correspond", {"frames": 13}),
     ("strokes", "line icons with no options: a check mark becomes a cross, its second stroke growing out of the first",
      ex_strokes, "correspond", {"frames": 13}),
+    ("struck", "a ring struck through with no options: the ring opens where the slash comes in, each arc staying "
+               "where it is drawn", ex_struck, "correspond", {"frames": 13}),
     ("lock", "a padlock opens with no options: the hole inside the shackle opens into the open lock's notch",
      ex_lock, "correspond", {"frames": 13}),
     ("slash", "an eye struck through with no options: the slash parts the eye, each half staying where it is drawn",
