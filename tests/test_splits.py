@@ -167,3 +167,17 @@ def test_a_stroke_the_other_drawing_draws_nearly_whole_is_not_cut(tmp_path):
     a, b = _pair(tmp_path, square, other)
     _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
     assert report.strokes_cut == [0, 0]
+
+
+def test_the_struck_ring_parts_and_the_slash_grows_from_its_middle():
+    from isotween import examples
+
+    seq = examples.interpolate_example("struck")
+    z = seq.z
+    arcs, slash = [idx for idx, _ in seq.shape.paths[:2]], seq.shape.paths[2][0]
+    # each arc stays where it is drawn: on the ring of radius 4 round (6, 6), give or take the gap it opens
+    for idx in arcs:
+        assert np.abs(np.abs(z[:, idx] - (6 + 6j)) - 4).max() < 0.05
+    # the slash (no partner) passes nowhere near the ring's outline from its middle: it grows from there, not
+    # out of the ring
+    assert np.abs(z[1, slash] - (6 + 6j)).max() < 0.2 * np.abs(z[-1, slash] - (6 + 6j)).max()

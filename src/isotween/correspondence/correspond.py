@@ -43,6 +43,9 @@ MIN_POINTS = 64
 #: default mesh size: at least this fraction of the drawings' bounding-box diagonal
 MESH_FRACTION = 1 / 30
 
+#: a stroke with no partner grows out of the nearest stroke within this share of its length, else from its middle
+GROW_REACH = 0.25
+
 
 @dataclass
 class CorrespondenceReport:
@@ -582,11 +585,20 @@ def _fill_slots(items, frames, slots, unmatched):
 
 
 def _grown_from(rings, closed, f_from, f_to, strokes):
-    """Small copy of a stroke's rings at the point of ``strokes`` (the other drawing's) nearest its centroid."""
+    """Small copy of a stroke's rings at the point of ``strokes`` (the other drawing's) nearest its centroid.
+
+    Where the strokes pass farther than `GROW_REACH` of the stroke's length
+    from its centroid (a slash across the middle of a ring), at the centroid:
+    it grows from its middle.
+    """
+    from .matching import project
+
     c = _regions.centroid(rings[0], closed)
     at = f_from.to(f_to, c)
     every = np.concatenate(strokes)
-    at = every[int(np.argmin(np.abs(every - at)))]
+    length = np.abs(np.diff(np.r_[rings[0], rings[0][:1]] if closed else rings[0])).sum()
+    if min(project(z, False, at)[0] for z in strokes) <= GROW_REACH * length * abs(f_from.factor(f_to)):
+        at = every[int(np.argmin(np.abs(every - at)))]
     scaled = [at + (z - c) * f_from.factor(f_to) for z in rings]
     return _regions.small_copy(scaled, closed, at)
 
