@@ -181,3 +181,35 @@ def test_the_struck_ring_parts_and_the_slash_grows_from_its_middle():
     # the slash (no partner) passes nowhere near the ring's outline from its middle: it grows from there, not
     # out of the ring
     assert np.abs(z[1, slash] - (6 + 6j)).max() < 0.2 * np.abs(z[-1, slash] - (6 + 6j)).max()
+
+
+PLUS = '<path d="M9 2h2v7h7v2h-7v7h-2v-7h-7v-2h7Z"/>'  # two bars 2 wide crossing at (10, 10)
+MINUS = '<path d="M2 9h16v2h-16Z"/>'  # the plus's cross bar
+
+
+@pytest.mark.parametrize("plus_first", [True, False])
+def test_a_plus_into_a_minus_retracts_its_arms_into_the_bar(tmp_path, plus_first):
+    a, b = _pair(tmp_path, *((PLUS, MINUS) if plus_first else (MINUS, PLUS)))
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.cut == ([1, 0] if plus_first else [0, 1])
+    assert report.regions == {"paired": 1, "grown": 0 if plus_first else 2, "shrunk": 2 if plus_first else 0}
+    seq = isotween.morph(a, b, frames=9)
+    z = seq.z
+    plus = 0 if plus_first else -1
+    rings = [idx for idx, closed in seq.shape.paths if closed]
+    bar = max(rings, key=lambda idx: np.ptp(z[plus, idx].real))
+    arms = [idx for idx in rings if idx is not bar]
+    assert np.abs(z[:, bar] - z[plus, bar]).max() < 1e-6  # the bar stays: no diamond squeezed out of the plus
+    for idx in arms:
+        # each arm (2 x 7) keeps to the vertical line of the plus and collapses onto the bar at the minus's end
+        assert np.abs(z[:, idx].real - 10).max() <= 1 + 1e-9
+        assert np.abs(z[-1 - plus, idx].imag - 10).max() <= 1 + 1e-9 and np.ptp(z[-1 - plus, idx].imag) < 0.1
+
+
+def test_a_triangle_round_its_inscribed_circle_keeps_its_corners(tmp_path):
+    # the circle lies within the triangle, but the corners left over are no bars: the triangle morphs whole
+    th = np.linspace(0, 2 * np.pi, 48, endpoint=False)
+    circle = "M" + " L".join(f"{10 + 4.6 * np.cos(t):.4f} {11.5 + 4.6 * np.sin(t):.4f}" for t in th) + "Z"
+    a, b = _pair(tmp_path, '<path d="M10 1.5 L18.66 16.5 L1.34 16.5Z"/>', f'<path d="{circle}"/>')
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.cut == [0, 0] and report.regions == {"paired": 1, "grown": 0, "shrunk": 0}

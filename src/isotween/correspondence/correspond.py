@@ -13,6 +13,7 @@ Stages (each swappable):
 import copy
 import hashlib
 import numbers
+from collections import Counter
 from dataclasses import dataclass, field, replace
 from typing import NamedTuple
 
@@ -508,6 +509,10 @@ def _fill_slots(items, frames, slots, unmatched):
     per_key = [[] for _ in range(K)]
     paints = [[] for _ in range(K)]
     closed, layout = [], []
+    # the parts of a region cut in a drawing (`splits`) share its index: one with no partner (a plus's arm) merges
+    # into the nearest region of the other drawing, as if it split off from it
+    counts = [Counter(it.index for it in key if it.kind == "region") for key in items]
+    parted = [{i for i, n in c.items() if n > 1} for c in counts]
     # regions first: small copies of other items may be placed inside them
     done, tiny_holes = {}, {}
     tiny = [[] for _ in range(K)]
@@ -573,7 +578,9 @@ def _fill_slots(items, frames, slots, unmatched):
                     rings = _grown_from(ref_rings, is_closed, frames[ref], frames[k], strokes)
                     paint = list(ref_paint)
                 else:
-                    rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k], unmatched)
+                    part = slot.kind == "region" and items[ref][slot.members[ref]].index in parted[ref]
+                    rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k],
+                                         "split" if part else unmatched)
                     # the small copy is also transparent: the item fades in (out) as it grows (shrinks)
                     paint = [None if p is None else replace(p, opacity=0.0) for p in ref_paint]
             per_key[k] += rings

@@ -35,14 +35,17 @@ import numpy as np
 from ..geometry import bbox_diagonal, ring_area
 from .regions import Item, region_polygon
 
-__all__ = ["split_regions", "split_strokes", "INSIDE", "COVER", "FILLED", "WHOLE", "LEAST", "NEAR", "STEP",
-           "REACH_LEAST"]
+__all__ = ["split_regions", "split_strokes", "INSIDE", "COVER", "FILLED", "WHOLE", "LEAST", "CORE", "ARM", "WITHIN",
+           "NEAR", "STEP", "REACH_LEAST"]
 
 INSIDE = 0.8  # a piece of the other drawing lies at least this share of its area inside the region
 COVER = 0.6  # the pieces together cover at least this share of the region
 FILLED = 0.7  # and the other drawing's regions, the pieces and others (a slash across), this share of it
 WHOLE = 0.9  # a region of the other drawing overlapping the region this much (intersection over union) keeps it whole
 LEAST = 0.05  # pieces smaller than this share of the region do not count
+CORE = (0.35, 0.7)  # one region of the other drawing covering this share of a region: its arms cut off (`_arms`)
+ARM = 2.5  # ... where each is a bar, this many times as long as it is wide
+WITHIN = 0.97  # ... and the other drawing's region lies within the region (a minus is the plus's bar)
 NEAR = 0.08  # a region at most this wide (share of the drawing's diagonal) holds what lies within its width of it
 STEP = 0.005  # the pieces' outlines are sampled this far apart (share of the drawing's diagonal) for their zones
 REACH_LEAST = 0.01  # a stroke's pieces lie within its width of it, or this share of the diagonal if more
@@ -73,7 +76,7 @@ def split_regions(items, frames):
         other = 1 - k
         theirs = [(region_polygon([frames[other].to(frames[k], r) for r in it.rings]), it.paint[0])
                   for it in items[other] if it.kind == "region"]
-        if len(theirs) < 2:
+        if not theirs:
             continue
         filled = shapely.union_all([p for p, _ in theirs])
         step = STEP * bbox_diagonal(*[r for it in items[k] for r in it.rings])
@@ -81,7 +84,9 @@ def split_regions(items, frames):
         for it in out[k]:
             parts = None
             if it.kind == "region" and not it.stroked:
-                parts = _parts(region_polygon(it.rings), it.paint[0], theirs, filled, step)
+                region = region_polygon(it.rings)
+                parts = (_parts(region, it.paint[0], theirs, filled, step) if len(theirs) >= 2 else None) \
+                    or _arms(region, it.paint[0], theirs)
             if parts is None:
                 new.append(it)
                 continue
@@ -143,6 +148,54 @@ def _parts(region, paint, theirs, filled, step):
         return _whole([*parts, rest], area, region)
     except shapely.errors.GEOSException:  # a cut GEOS cannot make: the region stays whole
         return None
+
+
+def _arms(region, paint, theirs):
+    """The region cut into the part one region of the other drawing covers and the arms it lacks, or None.
+
+    A plus and a minus: the minus is the plus's bar, the plus's other arms
+    have no counterpart. Cut off, each arm retracts on its own (a piece with
+    no partner) while the bar stays, where the whole plus matched to the
+    minus squeezes its arms into a diamond. Only where exactly one region of
+    the other drawing, filled alike, overlaps the region (more than `LEAST`
+    of it), lies within it (`WITHIN`), and covers between `CORE` of
+    it, and what is left is one to four arms of at least `LEAST` of it each,
+    bars (`ARM`; not a triangle's corners round the circle inside it).
+    """
+    import shapely
+
+    area = region.area
+    if area <= 0:
+        return None
+    polys = np.array([p for p, _ in theirs], dtype=object)
+    inter = shapely.area(shapely.intersection(region, polys))
+    over = np.flatnonzero(inter > LEAST * area)
+    if len(over) != 1:
+        return None
+    i = int(over[0])
+    piece, fill = polys[i], getattr(theirs[i][1], "fill", None)
+    if (inter[i] < WITHIN * piece.area or not CORE[0] * area <= inter[i] <= CORE[1] * area
+            or fill != getattr(paint, "fill", None)):
+        return None
+    try:
+        rest = shapely.difference(region, piece)
+        pieces = [g for g in getattr(rest, "geoms", [rest]) if g.geom_type == "Polygon"]
+        arms = [g for g in pieces if g.area >= LEAST * area]
+        if not 1 <= len(arms) <= 4 or min(_aspect(g) for g in arms) < ARM:
+            return None
+        core = shapely.union_all([shapely.intersection(region, piece), *(g for g in pieces if g.area < LEAST * area)])
+        return _whole([core, *arms], area, region)
+    except shapely.errors.GEOSException:
+        return None
+
+
+def _aspect(poly):
+    """Length over width of the smallest rectangle round ``poly`` (1 for a square, large for a bar)."""
+    import shapely
+
+    xy = np.asarray(shapely.minimum_rotated_rectangle(poly).exterior.coords)
+    sides = np.hypot(*np.diff(xy[:3], axis=0).T)
+    return float(sides.max() / max(sides.min(), 1e-300))
 
 
 def _voronoi(xy, bounds):
