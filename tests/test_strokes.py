@@ -151,6 +151,28 @@ def test_new_crossings_leave_out_those_the_drawings_have():
     assert metrics.new_crossings(seq)[1:-1].any()
 
 
+def test_paths_that_meet_at_an_end_count_as_crossing_there(tmp_path):
+    # a T: the upright's end lies on the bar. Counted only as touching, it crosses the bar "newly" as soon as
+    # it moves down through it; as the drawing has them meet, that is no new crossing
+    touch = np.array([0, 2, 1, 1 + 1j])
+    assert len(crossing_edges(touch, np.array([[0, 1], [2, 3]]))[0]) == 0
+    assert len(crossing_edges(touch, np.array([[0, 1], [2, 3]]), touch=True)[0]) == 1
+    from isotween import Sequence, Shape
+
+    t = Shape.from_paths([[[-2, 0], [2, 0]], [[0, 0], [0, 2]]], closed=[False, False])
+    dip = np.r_[t.vertices[:2], t.vertices[2:] - [0, 0.5]]  # the upright dips through the bar and back
+    seq = Sequence(frames=np.stack([t.vertices, dip, t.vertices]), shape=t, times=np.linspace(0, 1, 3))
+    assert metrics.outline_crossings(seq).tolist() == [0, 1, 0] and not metrics.new_crossings(seq).any()
+    # strokes of a plus, resampled with a vertex on the bar: the upright shrinks into the bar, drawn as it is
+    plus = HEAD + '<path d="M5 12h14"/><path d="M12 5v14"/></svg>'
+    (tmp_path / "plus.svg").write_text(plus)
+    (tmp_path / "minus.svg").write_text(HEAD + '<path d="M5 12h14"/></svg>')
+    seq = isotween.morph(tmp_path / "plus.svg", tmp_path / "minus.svg", frames=9)
+    assert "strokes" not in seq.info  # nothing drawn off and on
+    upright = seq.z[:, seq.shape.paths[1][0]]
+    assert np.abs(upright.real - 12).max() < 1e-9 and np.abs(upright[-1] - (12 + 12j)).max() < 1e-9
+
+
 def test_strokes_morph_keeps_every_stroke_morphing(bar_pair, tmp_path):
     a, b = bar_pair
     prepared = prepare_pair(a, b)

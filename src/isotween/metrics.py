@@ -208,13 +208,15 @@ def crossing_pairs(z, edges, group=None):
     return len(crossing_edges(z, edges, group)[0])
 
 
-def crossing_edges(z, edges, group=None, seen=None):
+def crossing_edges(z, edges, group=None, seen=None, touch=False):
     """The pairs of ``edges`` that cross properly at positions ``z``, in one frame or in each of several.
 
     Candidate pairs come from a sweep over x (intervals sorted by their left
     end; the frames side by side); edges that share a vertex, or have an end
     at the same place, are never counted, and touching or collinear overlaps
-    are not crossings.
+    are not crossings. With ``touch``, the pairs that meet at all: those that
+    touch, overlap or have an end at the same place count too (not those
+    that share a vertex).
 
     Parameters
     ----------
@@ -225,11 +227,13 @@ def crossing_edges(z, edges, group=None, seen=None):
         Only pairs within one group count.
     seen : (F, B) bool, optional
         The edges drawn in each frame (default all).
+    touch : bool
+        Count the pairs that meet, not only those that cross.
 
     Returns
     -------
     i, j : (C,) int arrays
-        Rows of ``edges``: edge ``i[c]`` crosses edge ``j[c]``.
+        Rows of ``edges``: edge ``i[c]`` crosses (meets) edge ``j[c]``.
     frame : (C,) int array
         Only for (F, n) ``z``: the frame of each crossing.
     """
@@ -259,11 +263,13 @@ def crossing_edges(z, edges, group=None, seen=None):
     # edges that share a vertex, or an end at the same place, only touch
     ei, ej = edges[e[i]], edges[e[j]]
     pi, pj = np.c_[a[i], b[i]], np.c_[a[j], b[j]]
-    keep = np.all(ei[:, :, None] != ej[:, None, :], axis=(1, 2)) & np.all(pi[:, :, None] != pj[:, None, :], axis=(1, 2))
+    keep = np.all(ei[:, :, None] != ej[:, None, :], axis=(1, 2))
+    if not touch:
+        keep &= np.all(pi[:, :, None] != pj[:, None, :], axis=(1, 2))
     i, j = i[keep], j[keep]
     d1, d2 = orient(a[i], b[i], a[j]), orient(a[i], b[i], b[j])
     d3, d4 = orient(a[j], b[j], a[i]), orient(a[j], b[j], b[i])
-    cross = (d1 * d2 < 0) & (d3 * d4 < 0)
+    cross = (d1 * d2 <= 0) & (d3 * d4 <= 0) if touch else (d1 * d2 < 0) & (d3 * d4 < 0)
     i, j = i[cross], j[cross]
     return (e[i], e[j]) if np.ndim(z) == 1 else (e[i], e[j], f[i])
 
@@ -307,7 +313,9 @@ def path_crossings(shape, z, hidden=None, new=False):
         Paths left out in each frame (`isotween.paint.out_of_sight`).
     new : bool
         Leave out the crossings between two paths (or within one) that cross
-        in the first or last frame: those the end drawings have themselves.
+        in the first or last frame, and between two paths that meet there
+        (touch: a vertex on the other's edge, as the strokes of a plus resampled
+        can): those the end drawings have themselves.
 
     Returns
     -------
@@ -322,7 +330,12 @@ def path_crossings(shape, z, hidden=None, new=False):
     if new:
         end = (frame == 0) | (frame == len(z) - 1)
         pair = p * len(shape.paths) + q
-        keep = ~np.isin(pair, pair[end])
+        ends = [0, len(z) - 1]
+        ti, tj, _ = crossing_edges(z[ends], edges, seen=None if hidden is None else ~hidden[ends][:, path_of],
+                                   touch=True)
+        tp, tq = np.minimum(path_of[ti], path_of[tj]), np.maximum(path_of[ti], path_of[tj])
+        met = (tp * len(shape.paths) + tq)[tp != tq]
+        keep = ~np.isin(pair, np.r_[pair[end], met])
         frame, p, q = frame[keep], p[keep], q[keep]
     return frame, p, q
 
@@ -331,7 +344,8 @@ def new_crossings(seq, visible=True):
     """(F,) int: crossings per frame between two paths (or within one) that do not cross in the first or last frame.
 
     What `outline_crossings` counts, less the crossings the end drawings have
-    themselves (two strokes of an 'x' cross in every frame of its morph).
+    themselves (two strokes of an 'x' cross in every frame of its morph; two
+    paths that meet at an end count as crossing there).
     A shape without paths: `outline_crossings`.
     """
     if not seq.shape.paths:

@@ -25,7 +25,7 @@ from ..shape import Shape
 from . import regions as _regions
 from .alignment import align
 from .compatibility import as_shape, check_compatible
-from .matching import match_rings, project
+from .matching import match_rings, points_at, project
 from .notches import open_holes
 from .resample import _counts, _Ring, resample
 from .splits import split_regions, split_strokes
@@ -598,14 +598,13 @@ def _grown_from(rings, closed, f_from, f_to, strokes):
     from its centroid (a slash across the middle of a ring), at the centroid:
     it grows from its middle.
     """
-    from .matching import project
-
     c = _regions.centroid(rings[0], closed)
     at = f_from.to(f_to, c)
-    every = np.concatenate(strokes)
     length = np.abs(np.diff(np.r_[rings[0], rings[0][:1]] if closed else rings[0])).sum()
-    if min(project(z, False, at)[0] for z in strokes) <= GROW_REACH * length * abs(f_from.factor(f_to)):
-        at = every[int(np.argmin(np.abs(every - at)))]
+    near = [project(z, False, at) for z in strokes]  # (distance, arc parameter) on each, as an open line
+    j = int(np.argmin([d for d, _ in near]))
+    if near[j][0] <= GROW_REACH * length * abs(f_from.factor(f_to)):
+        at = points_at(strokes[j], False, near[j][1])
     scaled = [at + (z - c) * f_from.factor(f_to) for z in rings]
     return _regions.small_copy(scaled, closed, at)
 
