@@ -152,17 +152,23 @@ def test_new_crossings_leave_out_those_the_drawings_have():
 
 
 def test_paths_that_meet_at_an_end_count_as_crossing_there(tmp_path):
-    # a T: the upright's end lies on the bar. Counted only as touching, it crosses the bar "newly" as soon as
-    # it moves down through it; as the drawing has them meet, that is no new crossing
+    # a plus whose upright has a vertex on the bar: no proper crossing at the ends, only touching; as the
+    # drawing has the two pass through each other there, their crossing in between is no new one. A T (the
+    # upright ends on the bar) only joins, a V's tip on the bar only touches it: dipping through the bar, each
+    # makes a new crossing
     touch = np.array([0, 2, 1, 1 + 1j])
     assert len(crossing_edges(touch, np.array([[0, 1], [2, 3]]))[0]) == 0
     assert len(crossing_edges(touch, np.array([[0, 1], [2, 3]]), touch=True)[0]) == 1
     from isotween import Sequence, Shape
 
-    t = Shape.from_paths([[[-2, 0], [2, 0]], [[0, 0], [0, 2]]], closed=[False, False])
-    dip = np.r_[t.vertices[:2], t.vertices[2:] - [0, 0.5]]  # the upright dips through the bar and back
-    seq = Sequence(frames=np.stack([t.vertices, dip, t.vertices]), shape=t, times=np.linspace(0, 1, 3))
-    assert metrics.outline_crossings(seq).tolist() == [0, 1, 0] and not metrics.new_crossings(seq).any()
+    for upright, through in (([[0, -2], [0, 0], [0, 2]], True), ([[0, 0], [0, 2]], False),
+                             ([[-1, 1], [0, 0], [1, 1]], False)):
+        s = Shape.from_paths([[[-2, 0], [2, 0]], upright], closed=[False, False])
+        tilted = np.r_[s.vertices[:2], s.vertices[2:] @ [[1, 0.1], [0, 1]] + [0, -0.5]]  # through the bar
+        seq = Sequence(frames=np.stack([s.vertices, tilted, s.vertices]), shape=s, times=np.linspace(0, 1, 3))
+        crossed = metrics.outline_crossings(seq)
+        assert crossed[[0, 2]].tolist() == [0, 0] and crossed[1] > 0
+        assert metrics.new_crossings(seq).tolist() == ([0, 0, 0] if through else crossed.tolist())
     # strokes of a plus, resampled with a vertex on the bar: the upright shrinks into the bar, drawn as it is
     plus = HEAD + '<path d="M5 12h14"/><path d="M12 5v14"/></svg>'
     (tmp_path / "plus.svg").write_text(plus)

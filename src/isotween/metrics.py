@@ -313,9 +313,10 @@ def path_crossings(shape, z, hidden=None, new=False):
         Paths left out in each frame (`isotween.paint.out_of_sight`).
     new : bool
         Leave out the crossings between two paths (or within one) that cross
-        in the first or last frame, and between two paths that meet there
-        (touch: a vertex on the other's edge, as the strokes of a plus resampled
-        can): those the end drawings have themselves.
+        in the first or last frame, or pass through each other at a vertex
+        there (a vertex on the other's edge, its neighbours on either side, as
+        the strokes of a plus resampled can; not a T, nor a V's tip on a line):
+        those the end drawings have themselves.
 
     Returns
     -------
@@ -330,22 +331,58 @@ def path_crossings(shape, z, hidden=None, new=False):
     if new:
         end = (frame == 0) | (frame == len(z) - 1)
         pair = p * len(shape.paths) + q
-        ends = [0, len(z) - 1]
-        ti, tj, _ = crossing_edges(z[ends], edges, seen=None if hidden is None else ~hidden[ends][:, path_of],
-                                   touch=True)
-        tp, tq = np.minimum(path_of[ti], path_of[tj]), np.maximum(path_of[ti], path_of[tj])
-        met = (tp * len(shape.paths) + tq)[tp != tq]
+        met = _met(shape, z[[0, -1]], edges, path_of, None if hidden is None else hidden[[0, -1]])
         keep = ~np.isin(pair, np.r_[pair[end], met])
         frame, p, q = frame[keep], p[keep], q[keep]
     return frame, p, q
+
+
+def _met(shape, z, edges, path_of, hidden):
+    """Pairs ``p * P + q`` of two paths that pass through each other at a point they share in frames ``z`` (F, n).
+
+    A vertex of one path on the other (a plus's upright resampled with a
+    vertex on the bar) is a crossing that `crossing_edges` does not see:
+    there the two arms of one path lie on either side of the other's (the
+    four arms round the point alternate). A path that ends on another (a T)
+    or touches it from one side (a V's tip on a line) only meets it.
+    """
+    i, j, f = crossing_edges(z, edges, seen=None if hidden is None else ~hidden[:, path_of], touch=True)
+    n = len(z[0])
+    before, after = np.full(n, -1), np.full(n, -1)
+    for idx, closed in shape.paths:
+        idx = np.asarray(idx)
+        before[idx], after[idx] = np.roll(idx, 1), np.roll(idx, -1)
+        if not closed and len(idx):
+            before[idx[0]], after[idx[-1]] = -1, -1
+    scale = max(float(np.ptp(z.real) + np.ptp(z.imag)), 1e-300)
+    through = np.zeros(len(i), dtype=bool)
+    for x, y in ((i, j), (j, i)):
+        a, b = z[f, edges[y, 0]], z[f, edges[y, 1]]
+        for end in (0, 1):
+            v = edges[x, end]
+            pt = z[f, v]
+            t = np.clip(((pt - a) * np.conj(b - a)).real / np.maximum(np.abs(b - a) ** 2, 1e-300), 0.0, 1.0)
+            on = np.abs(a + t * (b - a) - pt) <= 1e-9 * scale
+            # the other path's arms there: its edge's two ends, or at its vertex, that vertex's neighbours
+            w = np.where(t <= 0.5, edges[y, 0], edges[y, 1])
+            at = np.minimum(t, 1 - t) <= 1e-9
+            q1 = np.where(at, before[w], edges[y, 0])
+            q2 = np.where(at, after[w], edges[y, 1])
+            ok = on & (before[v] >= 0) & (after[v] >= 0) & (q1 >= 0) & (q2 >= 0)
+            arms = [z[f, np.maximum(k, 0)] - pt for k in (q1, q2, before[v], after[v])]
+            turn = [np.angle(u / np.where(arms[0] != 0, arms[0], 1)) % (2 * np.pi) for u in arms[1:]]
+            # the arms of v's path on either side of the other's two arms: exactly one within the angle q1 -> q2
+            through |= ok & ((turn[1] < turn[0]) != (turn[2] < turn[0])) & (turn[1] > 0) & (turn[2] > 0)
+    p, q = np.minimum(path_of[i], path_of[j]), np.maximum(path_of[i], path_of[j])
+    return (p * len(shape.paths) + q)[(p != q) & through]
 
 
 def new_crossings(seq, visible=True):
     """(F,) int: crossings per frame between two paths (or within one) that do not cross in the first or last frame.
 
     What `outline_crossings` counts, less the crossings the end drawings have
-    themselves (two strokes of an 'x' cross in every frame of its morph; two
-    paths that meet at an end count as crossing there).
+    themselves (two strokes of an 'x' cross in every frame of its morph, as
+    do two that pass through each other at a vertex at an end).
     A shape without paths: `outline_crossings`.
     """
     if not seq.shape.paths:
