@@ -13,21 +13,24 @@ cart's body and wheels inside a bag), where no region of the other drawing
 overlaps R as a whole (`WHOLE`), is cut among them (a thin R, an
 outline drawing's at most `NEAR` of the diagonal wide, holds what lies
 within its width of it: a bell's outline and the struck-through bell's,
-drawn a little apart): every point of R goes to the nearest of them (the Voronoi zones of their
-outlines, `STEP` apart). The parts touch along the cuts, so the end still
-draws R (the cuts are seams of no width, which a fill does not draw), and
-each then pairs with its piece like any region. Regions with a stroke,
-which would draw the seams, stay whole.
+drawn a little apart): every point of R goes to the nearest of them (the
+Voronoi zones of their outlines, `STEP` apart). The parts touch along the
+cuts, so the end still draws R (the cuts are seams of no width, which a
+fill does not draw), and each then pairs with its piece like any region.
+Regions with a stroke, which would draw the seams, stay whole.
+
+A plus and a minus (`_arms`): the minus is the plus's bar, so the plus is
+cut into the bar and the arms the minus lacks, which retract into it.
 
 Strokes alike (`split_strokes`): a bell's outline, and the struck-through
 bell's drawn as two strokes that part where the slash comes in (Lucide's
 ``bell`` and ``bell-off``). A stroke of one drawing along which lie two or
-more strokes of the other (each mostly, `INSIDE`, within `REACH` of it: its
-stroke width, at least `REACH_LEAST` of the diagonal), that together run
-along most of it (`COVER`) and none along nearly all of it (`WHOLE`), is
-cut where they part: each point of it goes to the nearest of them, so
-that each of them has one stretch of it. The parts meet end to end, so the
-end still draws the stroke.
+more strokes of the other (each mostly, `INSIDE`, within its stroke width
+of it, at least `REACH_LEAST` of the diagonal), that together run along
+most of it (`COVER`) and none along nearly all of it (`WHOLE`), is cut
+where they part: each point of it goes to the nearest of them, so that
+each of them has one stretch of it. The parts meet end to end, so the end
+still draws the stroke.
 """
 
 import numpy as np
