@@ -215,6 +215,21 @@ def ex_struck():
     return ring, struck
 
 
+def ex_plus():
+    """A plus into a minus, filled outlines with rounded ends: the minus is the plus's cross bar."""
+    plus = ("M 8 1.5 A 0.75 0.75 0 0 1 8.75 2.25 L 8.75 7.25 L 13.75 7.25 A 0.75 0.75 0 0 1 13.75 8.75 "
+            "L 8.75 8.75 L 8.75 13.75 A 0.75 0.75 0 0 1 7.25 13.75 L 7.25 8.75 L 2.25 8.75 "
+            "A 0.75 0.75 0 0 1 2.25 7.25 L 7.25 7.25 L 7.25 2.25 A 0.75 0.75 0 0 1 8 1.5 Z")
+    minus = "M 2.25 7.25 L 13.75 7.25 A 0.75 0.75 0 0 1 13.75 8.75 L 2.25 8.75 A 0.75 0.75 0 0 1 2.25 7.25 Z"
+    with tempfile.TemporaryDirectory() as tmp:
+        shapes = []
+        for name, d in (("plus", plus), ("minus", minus)):
+            path = Path(tmp) / f"{name}.svg"
+            path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16"><path d="{d}"/></svg>')
+            shapes.append(io.load(path))
+    return shapes[0], shapes[1]
+
+
 #: a padlock drawn as one filled outline with the shackle's hole, closed and open (shackle lifted, one leg free)
 LOCK_BODY = "L 12.5 7 A 1.5 1.5 0 0 1 14 8.5 L 14 13.5 A 1.5 1.5 0 0 1 12.5 15 L 3.5 15 A 1.5 1.5 0 0 1 2 13.5 Z"
 LOCK = {
@@ -326,6 +341,8 @@ EXAMPLES = [
      ex_strokes, "correspond", {"frames": 13}),
     ("struck", "a ring struck through with no options: the ring opens where the slash comes in, each arc staying "
                "where it is drawn", ex_struck, "correspond", {"frames": 13}),
+    ("plus", "a plus into a minus with no options: the arms retract into the bar, which stays where it is drawn",
+     ex_plus, "correspond", {"frames": 13}),
     ("lock", "a padlock opens with no options: the hole inside the shackle opens into the open lock's notch",
      ex_lock, "correspond", {"frames": 13}),
     ("slash", "an eye struck through with no options: the slash parts the eye, each half staying where it is drawn",
