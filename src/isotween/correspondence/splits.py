@@ -309,7 +309,8 @@ def split_strokes(items, frames):
         strokes = [it for it in items[other] if it.kind in ("ring", "line")]
         if len(strokes) < 2:
             continue
-        step = STEP * bbox_diagonal(*[r for it in items[k] for r in it.rings])
+        diagonal = bbox_diagonal(*[r for it in items[k] for r in it.rings])
+        step = STEP * diagonal
         theirs = [frames[other].to(frames[k], it.rings[0]) for it in strokes]
         closed = [it.kind == "ring" for it in strokes]
         lines = np.array([_outline(w, c) for w, c in zip(theirs, closed, strict=True)])
@@ -325,9 +326,9 @@ def split_strokes(items, frames):
             parts = None
             if it.kind in ("ring", "line"):
                 width = getattr(it.paint[0], "stroke_width", 0.0) if getattr(it.paint[0], "stroke", None) else 0.0
-                reach = max(width, REACH_LEAST * step / STEP)
+                reach = max(width, REACH_LEAST * diagonal)
                 z = it.rings[0]
-                ends_meet = it.kind == "line" and len(z) > 3 and abs(z[-1] - z[0]) <= 1e-9 * step / STEP
+                ends_meet = it.kind == "line" and len(z) > 3 and abs(z[-1] - z[0]) <= 1e-9 * diagonal
                 if ends_meet:  # a line that ends where it starts goes round as a ring
                     z = z[:-1]
                 line = _outline(z, it.kind == "ring" or ends_meet)
