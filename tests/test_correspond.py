@@ -389,3 +389,19 @@ def test_a_mesh_cache_gives_the_same_meshes_and_is_used_again(tmp_path):
     assert len(calls) == len(kept) and len(watched) == len(kept)  # every region's meshes from the mapping
     for shapes in (first, again):
         assert shapes.source.equals(plain.source) and shapes.target.equals(plain.target)
+
+
+def test_regions_of_unlike_colours_pair_only_where_they_overlap(tmp_path):
+    # a face with a red tongue below its mouth, and the face with a blue tear at its side: the tongue fades out and
+    # the tear in, where paired by place and size the tongue flew across the face into the tear. A red heart into
+    # the blue heart beside it still pairs: they overlap
+    face = '<circle cx="18" cy="18" r="17" fill="#FFCC4D"/><rect x="10" y="20" width="16" height="3" fill="#664500"/>'
+    svg = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 36 36">{}</svg>'
+    (tmp_path / "a.svg").write_text(svg.format(face + '<circle cx="18" cy="26" r="2.5" fill="#E75A70"/>'))
+    (tmp_path / "b.svg").write_text(svg.format(face + '<circle cx="29" cy="9" r="2.5" fill="#5DADEC"/>'))
+    _, _, report = correspond(isotween.io.load(tmp_path / "a.svg"), isotween.io.load(tmp_path / "b.svg"), always=True)
+    assert report.regions == {"paired": 2, "grown": 1, "shrunk": 1}
+    (tmp_path / "c.svg").write_text(svg.format('<circle cx="16" cy="18" r="8" fill="#E75A70"/>'))
+    (tmp_path / "d.svg").write_text(svg.format('<circle cx="20" cy="18" r="8" fill="#5DADEC"/>'))
+    _, _, report = correspond(isotween.io.load(tmp_path / "c.svg"), isotween.io.load(tmp_path / "d.svg"), always=True)
+    assert report.regions == {"paired": 1, "grown": 0, "shrunk": 0}

@@ -23,12 +23,15 @@ from ..errors import IncompatibleShapesError, ParameterError, ShapeError
 from ..geometry import fill_regions, ring_area, ring_centroid, winding_numbers
 
 __all__ = ["Item", "Slot", "Frame", "TINY", "items_of", "frames_of", "plan", "winding_numbers", "fill_regions",
-           "ring_area", "centroid", "inside_point", "region_polygon", "small_copy"]
+           "ring_area", "centroid", "inside_point", "region_polygon", "small_copy", "UNLIKE", "UNLIKE_OVERLAP"]
 
 #: scale of the small copy a missing item grows from (or shrinks to)
 TINY = 0.05
 #: leaving an item unpaired costs this many times the dearest pair (only where a pair is forbidden)
 UNPAIRED = 10.0
+#: fills this far apart (Oklab distance) pair only where the regions overlap by `UNLIKE_OVERLAP` at least
+UNLIKE = 0.2
+UNLIKE_OVERLAP = 0.1
 #: rounds of region pairing that forbid the pairs carrying a piece into or out of a paired region's hole
 NESTING_ROUNDS = 3
 
@@ -198,19 +201,39 @@ def _features(item_rings, closed, frame):
     return centroid(z, closed), _size(z, closed), z
 
 
-def _cost(a_feats, b_feats, closed):
-    """(m, n) matching cost: squared distance of centroids and sizes, plus 1 - overlap (regions) or turn (strokes)."""
+def _cost(a_feats, b_feats, closed, overlap=None):
+    """(m, n) matching cost: squared distance of centroids and sizes, plus 1 - overlap (regions) or turn (strokes).
+
+    ``overlap``: the regions' (m, n) `_overlap`, where the caller has it.
+    """
     ca = np.array([f[0] for f in a_feats])
     cb = np.array([f[0] for f in b_feats])
     sa = np.array([f[1] for f in a_feats])
     sb = np.array([f[1] for f in b_feats])
     cost = np.abs(ca[:, None] - cb[None, :]) ** 2 + (sa[:, None] - sb[None, :]) ** 2
     if closed:
-        cost = cost + (1.0 - _overlap([f[2] for f in a_feats], [f[2] for f in b_feats]))
+        if overlap is None:
+            overlap = _overlap([f[2] for f in a_feats], [f[2] for f in b_feats])
+        cost = cost + (1.0 - overlap)
     else:
         da, db = np.array([_direction(f[2]) for f in a_feats]), np.array([_direction(f[2]) for f in b_feats])
         cost = cost + TURN_COST * np.abs(da[:, None] - db[None, :]) ** 2
     return cost
+
+
+def _unlike(a_paint, b_paint, overlap):
+    """Pairs (row, col) of regions of fills more than `UNLIKE` apart (Oklab) that overlap less than `UNLIKE_OVERLAP`."""
+    from ..paint import srgb_to_oklab
+
+    def lab(paints):
+        fills = [getattr(p, "fill", None) for p in paints]
+        return None if any(f is None for f in fills) else srgb_to_oklab(np.array([f[:3] for f in fills]))
+
+    a, b = lab(a_paint), lab(b_paint)
+    if a is None or b is None:
+        return set()
+    far = (np.linalg.norm(a[:, None] - b[None, :], axis=-1) > UNLIKE) & (overlap < UNLIKE_OVERLAP)
+    return {(int(r), int(c)) for r, c in zip(*np.nonzero(far), strict=True)}
 
 
 def _direction(z):
@@ -331,9 +354,14 @@ def plan(items, frames, pairs=None):
                 forced = _check_forced(pairs, n_regions)
             done = []
             if feats_ref and feats_k:
-                cost = _cost(feats_ref, feats_k, closed)
-                done = _assign(cost, forced)
-                forbidden = set()
+                overlap = _overlap([f[2] for f in feats_ref], [f[2] for f in feats_k]) if closed else None
+                cost = _cost(feats_ref, feats_k, closed, overlap)
+                # regions of unlike colours pair only where they overlap: a smile's red tongue fades out and a
+                # frown's blue tear in, rather than one flying across the face into the other
+                forbidden = set() if not closed else _unlike(
+                    [items[o][i].paint[0] for i, o in refs], [items[k][i].paint[0] for i in own[k]], overlap)
+                forbidden -= set(forced)
+                done = _assign(cost, forced, forbidden)
                 for _ in range(NESTING_ROUNDS if kind == "region" else 0):
                     bad = _nesting_conflicts(done, refs, own[k], k, nests) - set(forced)
                     if not bad & set(done):
