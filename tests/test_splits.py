@@ -82,6 +82,37 @@ def test_a_thin_outline_is_cut_where_its_struck_through_copy_parts_though_drawn_
     assert report.cut == [1, 0] and report.regions == {"paired": 2, "grown": 1, "shrunk": 0}
 
 
+
+def test_a_region_is_cut_where_a_slash_drawn_joined_to_one_part_parts_it(tmp_path):
+    # the square parted down x = 8..9 and struck through by a bar 1.5 wide (x = 9 to 10.5) drawn as one path with
+    # the right part (Font Awesome's slashed icons): the bar reaches far out, so only 75 % of that path lies inside
+    # the square, short of `INSIDE`; the bar left out, all of the right part does, and the square is cut
+    parts = '<path d="M2 2h6v16h-6Z"/><path d="M9 -14h1.5v16h7.5v16h-7.5v16h-1.5Z"/>'
+    a, b = _pair(tmp_path, SQUARE, parts)
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.cut == [1, 0] and report.regions == {"paired": 2, "grown": 0, "shrunk": 0}
+    seq = isotween.morph(a, b, frames=11)
+    left = [idx for idx, closed in seq.shape.paths if closed and seq.z[-1, idx].real.mean() < 8.5]
+    # the left part keeps left of the gap's middle (the cut, straightened within a quarter `STEP`): not swallowed
+    assert len(left) == 1 and np.all(seq.z[:, left[0]].real <= 8.5 + 0.05)
+
+
+def test_a_struck_through_copy_drawn_shifted_is_cut_where_it_parts(tmp_path):
+    # the parted square and a bar in its gap, all drawn 2 to the right (Font Awesome draws a bell and the bell struck
+    # through each in the middle of its own width): in place, 2 of the right half's 7 lie outside the square, short
+    # of `INSIDE`; the alignment finds the shift that puts the halves on the square, which is then cut between them
+    shifted = '<path d="M4 2h7v16h-7Z M13 2h7v16h-7Z"/><path d="M11.5 -2h1v24h-1Z"/>'
+    a, b = _pair(tmp_path, SQUARE, shifted)
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.cut == [1, 0] and report.regions == {"paired": 2, "grown": 1, "shrunk": 0}
+    seq = isotween.morph(a, b, frames=11)
+    z, rings = seq.z, [idx for idx, closed in seq.shape.paths if closed]
+    # the square's halves (painted first, the bar last) move 2 to the right and open 1 from the cut: no part of the
+    # square travels across it
+    for idx in rings[:2]:
+        assert np.abs(z[:, idx] - z[0, idx]).max() <= 3.0 + 0.05
+
+
 def test_the_struck_through_eye_parts_where_it_is_drawn():
     from isotween import examples
 

@@ -6,10 +6,12 @@ whole eye becomes one piece (half its outline travelling round to the cut)
 while the other piece grows from nothing; the motion is the eye parting
 where the stroke comes in. So, before regions are paired, a region R of one
 drawing that holds two or more regions of the other (once the drawings are
-aligned: `alignment.align`), each mostly inside it (`INSIDE`) and filled
-alike, that together cover most of it (`COVER`) and with the other
-drawing's other regions (the stroke across) more still (`FILLED`: not a
-cart's body and wheels inside a bag), where no region of the other drawing
+aligned: `alignment.align`), each mostly inside it (`INSIDE`; a piece
+drawn joined to a bar that reaches out of R, Font Awesome's slash, by what
+is left of it without bars up to `NEAR` wide) and filled alike, that
+together cover most of it (`COVER`) and with the other drawing's other
+regions (the stroke across) more still (`FILLED`: not a cart's body and
+wheels inside a bag), where no region of the other drawing
 overlaps R as a whole (`WHOLE`), is cut among them (a thin R, an
 outline drawing's at most `NEAR` of the diagonal wide, holds what lies
 within its width of it: a bell's outline and the struck-through bell's,
@@ -122,8 +124,16 @@ def _parts(region, paint, theirs, filled, step):
         cover = shapely.area(shapely.intersection(region, shapely.buffer(polys, width)))
         filled = filled.buffer(width)
     fill = getattr(paint, "fill", None)
-    held = [i for i, (p, q) in enumerate(theirs) if p.area >= LEAST * area and inside[i] >= INSIDE * p.area
-            and getattr(q, "fill", None) == fill]
+    opened = 0.5 * NEAR * step / STEP  # a piece opened by this much leaves out bars drawn joined to it (a slash)
+
+    def inside_enough(i):
+        if inside[i] >= INSIDE * polys[i].area:
+            return True
+        core = polys[i].buffer(-opened).buffer(opened)
+        return not core.is_empty and shapely.intersection(region, core).area >= INSIDE * core.area >= LEAST * area
+
+    held = [i for i, (p, q) in enumerate(theirs) if p.area >= LEAST * area and getattr(q, "fill", None) == fill
+            and inside_enough(i)]
     if (len(held) < 2 or cover[held].sum() < COVER * area
             or shapely.intersection(region, filled).area < FILLED * area):
         return None
