@@ -97,6 +97,25 @@ def test_a_region_is_cut_where_a_slash_drawn_joined_to_one_part_parts_it(tmp_pat
     assert len(left) == 1 and np.all(seq.z[:, left[0]].real <= 8.5 + 0.05)
 
 
+@pytest.mark.parametrize("play_first", [True, False])
+def test_play_parts_into_pause(tmp_path, play_first):
+    # a triangle and two bars (play and pause): the left bar lies 90 % inside the triangle, the right only 38 %
+    # (`LOOSE`), in nothing else of the drawing: the triangle is cut between them, and each part squares into its
+    # bar, where paired whole the triangle would become one bar while the other grew from nothing
+    play = '<path d="M2 2L18 10L2 18Z"/>'
+    pause = '<path d="M2 3h6v14h-6Z"/><path d="M10 3h5.5v14h-5.5Z"/>'
+    a, b = _pair(tmp_path, *((play, pause) if play_first else (pause, play)))
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.cut == ([1, 0] if play_first else [0, 1])
+    assert report.regions == {"paired": 2, "grown": 0, "shrunk": 0}
+    seq = isotween.morph(a, b, frames=11)
+    z, bars = seq.z, -1 if play_first else 0
+    for idx in (idx for idx, closed in seq.shape.paths if closed):
+        # each part keeps to its bar's side of the gap's middle (x = 9) in every frame
+        side = np.sign(z[bars, idx].real.mean() - 9.0)
+        assert np.all(side * (z[:, idx].real - 9.0) >= -0.05)
+
+
 def test_a_struck_through_copy_drawn_shifted_is_cut_where_it_parts(tmp_path):
     # the parted square and a bar in its gap, all drawn 2 to the right (Font Awesome draws a bell and the bell struck
     # through each in the middle of its own width): in place, 2 of the right half's 7 lie outside the square, short

@@ -21,6 +21,11 @@ cuts, so the end still draws R (the cuts are seams of no width, which a
 fill does not draw), and each then pairs with its piece like any region.
 Regions with a stroke, which would draw the seams, stay whole.
 
+Play and pause: the pause's right bar lies only partly in the triangle.
+Pieces no larger than R, not bars, that lie partly in it (`LOOSE`) and in
+nothing else of R's drawing count too, alongside one that lies mostly in it
+or where R has no holes: the triangle parts into the two bars.
+
 A plus and a minus (`_arms`): the minus is the plus's bar, so the plus is
 cut into the bar and the arms the minus lacks, which retract into it.
 
@@ -40,10 +45,11 @@ import numpy as np
 from ..geometry import bbox_diagonal, ring_area
 from .regions import Item, region_polygon
 
-__all__ = ["split_regions", "split_strokes", "INSIDE", "COVER", "FILLED", "WHOLE", "LEAST", "CORE", "ARM", "WITHIN",
-           "NEAR", "STEP", "REACH_LEAST"]
+__all__ = ["split_regions", "split_strokes", "INSIDE", "LOOSE", "COVER", "FILLED", "WHOLE", "LEAST", "CORE", "ARM",
+           "WITHIN", "NEAR", "STEP", "REACH_LEAST"]
 
 INSIDE = 0.8  # a piece of the other drawing lies at least this share of its area inside the region
+LOOSE = 0.3  # ... or, with one that does, this share, where it is no larger and in nothing else of the drawing
 COVER = 0.6  # the pieces together cover at least this share of the region
 FILLED = 0.7  # and the other drawing's regions, the pieces and others (a slash across), this share of it
 WHOLE = 0.9  # a region of the other drawing overlapping the region this much (intersection over union) keeps it whole
@@ -84,13 +90,14 @@ def split_regions(items, frames):
         if not theirs:
             continue
         filled = shapely.union_all([p for p, _ in theirs])
+        mine = shapely.union_all([region_polygon(it.rings) for it in items[k] if it.kind == "region"])
         step = STEP * bbox_diagonal(*[r for it in items[k] for r in it.rings])
         new = []
         for it in out[k]:
             parts = None
             if it.kind == "region" and not it.stroked:
                 region = region_polygon(it.rings)
-                parts = (_parts(region, it.paint[0], theirs, filled, step) if len(theirs) >= 2 else None) \
+                parts = (_parts(region, it.paint[0], theirs, filled, mine, step) if len(theirs) >= 2 else None) \
                     or _arms(region, it.paint[0], theirs)
             if parts is None:
                 new.append(it)
@@ -102,10 +109,11 @@ def split_regions(items, frames):
     return out, cut
 
 
-def _parts(region, paint, theirs, filled, step):
+def _parts(region, paint, theirs, filled, mine, step):
     """The region cut among the pieces of the other drawing it holds (shapely polygons), or None.
 
-    ``theirs`` are the other drawing's regions (polygon, paint), ``filled`` their union.
+    ``theirs`` are the other drawing's regions (polygon, paint), ``filled`` their union, ``mine`` the union of the
+    region's own drawing's regions.
     """
     import shapely
 
@@ -124,16 +132,30 @@ def _parts(region, paint, theirs, filled, step):
         cover = shapely.area(shapely.intersection(region, shapely.buffer(polys, width)))
         filled = filled.buffer(width)
     fill = getattr(paint, "fill", None)
-    opened = 0.5 * NEAR * step / STEP  # a piece opened by this much leaves out bars drawn joined to it (a slash)
+    opened = 0.5 * NEAR * step / STEP  # a piece opened by this much leaves out bars (a slash)
+    cores = {}
 
-    def inside_enough(i):
+    def core(i):
+        if i not in cores:
+            cores[i] = polys[i].buffer(-opened).buffer(opened)
+        return cores[i]
+
+    def inside_enough(i):  # or, joined to a bar that reaches out (a slash), without it
         if inside[i] >= INSIDE * polys[i].area:
             return True
-        core = polys[i].buffer(-opened).buffer(opened)
-        return not core.is_empty and shapely.intersection(region, core).area >= INSIDE * core.area >= LEAST * area
+        body = core(i)
+        return not body.is_empty and shapely.intersection(region, body).area >= INSIDE * body.area >= LEAST * area
 
-    held = [i for i, (p, q) in enumerate(theirs) if p.area >= LEAST * area and getattr(q, "fill", None) == fill
-            and inside_enough(i)]
+    alike = [i for i, (p, q) in enumerate(theirs) if p.area >= LEAST * area and getattr(q, "fill", None) == fill]
+    held = [i for i in alike if inside_enough(i)]
+    if held or not region.interiors:  # with one of them, or in a region with no holes, pieces no larger than the
+        # region, not bars, that lie partly in it and in nothing else of its drawing (a triangle's two bars: play and
+        # pause; a person's body, and the two of a pair of people)
+        loose = [i for i in alike if i not in held and LOOSE * polys[i].area <= inside[i] and polys[i].area <= area
+                 and not core(i).is_empty]
+        if loose:
+            elsewhere = shapely.area(shapely.intersection(shapely.difference(mine, region), polys[loose]))
+            held = sorted(held + [i for i, e in zip(loose, elsewhere, strict=True) if e <= LEAST * polys[i].area])
     if (len(held) < 2 or cover[held].sum() < COVER * area
             or shapely.intersection(region, filled).area < FILLED * area):
         return None
