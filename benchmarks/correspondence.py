@@ -127,6 +127,29 @@ def _dense(polylines, step):
     return points, seam
 
 
+def _covered(z, paths, keep, regions, fills, points, tol):
+    """(m,) bool: which of ``points`` (m, 2), on a frame's outline, lie more than ``tol`` inside a visible region.
+
+    Only regions sharing their fill with another count: a point of one's outline lies outside itself.
+    """
+    import shapely
+
+    inside = np.zeros(len(points), np.int64)
+    if not regions or fills is None:
+        return inside > 0
+    by_fill = {}
+    for rs in regions:
+        if keep is None or keep[rs[0]]:
+            ring = z[paths[rs[0]][0]]
+            poly = shapely.Polygon(ring, [z[paths[h][0]] for h in rs[1:]]).buffer(-tol)
+            by_fill.setdefault(repr(fills[rs[0]]), []).append(poly)
+    for polys in by_fill.values():
+        if len(polys) > 1:
+            for poly in polys:
+                inside += shapely.contains_xy(poly, points[:, 0], points[:, 1])
+    return inside > 0
+
+
 def _polylines(vertices, paths, keep=None):
     """Visible paths as point arrays (closed ones closed); rings collapsed to a point and hidden paths left out."""
     out = []
@@ -166,18 +189,24 @@ def end_measures(seq, drawings):
     keys = (seq.info.get("paint") or {}).get("keys")
     hd, specks = [], 0
     for frame, drawing in zip((0, -1), drawings, strict=True):
-        keep = None
+        keep = fills = None
         key = keys[frame] if keys else None  # the paint of the first (last) key time
         if key and len(key) == len(seq.shape.paths):
             keep = [k.get("opacity", 1.0) > 0 for k in key]
-        d, n = end_error(seq.frames[frame], seq.shape.paths, drawing, keep)
+            fills = [k.get("fill") for k in key]
+        d, n = end_error(seq.frames[frame], seq.shape.paths, drawing, keep, seq.shape.regions, fills)
         hd.append(d)
         specks += n
     return hd, specks
 
 
-def end_error(z, paths, drawing, keep=None):
-    """(Hausdorff distance in % of the diagonal, specks) of one end frame against its input drawing."""
+def end_error(z, paths, drawing, keep=None, regions=None, fills=None):
+    """(Hausdorff distance in % of the diagonal, specks) of one end frame against its input drawing.
+
+    Frame outline that lies inside another region of the same fill (``regions``, ``fills`` per path) draws
+    nothing either: an X taken as its two crossed bars (`isotween.correspondence.splits`), each running
+    through the other where they cross.
+    """
     from scipy.spatial import cKDTree
 
     diag = drawing.bbox_diagonal()
@@ -188,6 +217,7 @@ def end_error(z, paths, drawing, keep=None):
     (a, seam), (b, _) = _dense(mine, 2e-4 * diag), _dense(theirs, 2e-4 * diag)
     # the frame's seams (closed slits) draw nothing, so they need not lie on the input's outline;
     # every point of the input's outline, seams included, must lie on the frame's
+    seam |= _covered(z, paths, keep, regions, fills, a, 2e-4 * diag)
     drawn = a[~seam] if (~seam).any() else a
     hd = 100 * float(max(cKDTree(b).query(drawn)[0].max(), cKDTree(a).query(b)[0].max())) / diag
     box = np.ptp(drawing.vertices, axis=0).prod()
@@ -753,7 +783,9 @@ def main():
         "point) are left out, and so are seams, stretches of an outline that another stretch runs back over "
         "(no width, so a fill draws nothing there: a slit that opened a hole into a notch, closed again at its "
         "end, or the cuts between the parts of a region that the other drawing shows in pieces; regions with a "
-        "stroke keep their holes and stay whole). **Speck**: a closed ring of an end frame with an area "
+        "stroke keep their holes and stay whole), and outline inside another region of the same fill, which "
+        "draws over it (an X taken as its two crossed bars, each running through the other). **Speck**: a closed "
+        "ring of an end frame with an area "
         "above 0 and below 0.5 % of the "
         "drawing's bounding-box area where the input has no ring of about that area and place.",
         "",

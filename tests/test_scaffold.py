@@ -125,3 +125,14 @@ def test_a_scaffold_geos_cannot_triangulate_is_a_shape_error_and_the_morph_goes_
     seq = isotween.interpolate(aiap.shape, aiap.shape.with_vertices(aiap.frames[-1]), frames=9, fold="fallback")
     assert "no scaffold could hold them apart" in seq.info["collisions"]
     np.testing.assert_array_equal(seq.frames, aiap.frames)
+
+
+def test_of_two_crossed_bars_one_is_left_out():
+    # an X taken as its two bars: they overlap where they cross, though neither starts inside the other; touching
+    # along an edge (the parts of a cut region) is no overlap
+    across, upright, beside = rect(0, 1, 3, 2), rect(1, 0, 2, 3), rect(3, 1, 4, 2)
+    shape = isotween.Shape.from_paths([across, upright, beside], regions=[[0], [1], [2]])
+    z = shape.vertices[:, 0] + 1j * shape.vertices[:, 1]
+    assert separate_regions(shape, np.stack([z, z])) == [0, 2]  # alike, the later bar is left out
+    wider = np.r_[z[:4], z[4:8] + np.array([0, 0.5, 0.5, 0]), z[8:]]  # the upright bar made wider
+    assert separate_regions(shape, np.stack([wider, wider])) == [1, 2]

@@ -256,6 +256,31 @@ def test_a_plus_into_a_minus_retracts_its_arms_into_the_bar(tmp_path, plus_first
         assert np.abs(z[-1 - plus, idx].imag - 10).max() <= 1 + 1e-9 and np.ptp(z[-1 - plus, idx].imag) < 0.1
 
 
+@pytest.mark.parametrize("menu_first", [True, False])
+def test_a_menu_turns_into_a_close_sign_as_two_crossed_bars(tmp_path, menu_first):
+    # three bars and an X, one region (a menu and a close sign, Bootstrap's list and x-lg): the X is taken as its two
+    # bars crossed, each turns into a bar of the menu (paired whole with a bar, the X melted into a blob)
+    menu = "".join(f'<path d="M3 {y}h14v2h-14Z"/>' for y in (4, 9, 14))
+    r = 1 / 2**0.5  # the X: bars 2 wide from (4, 4) to (16, 16) and from (16, 4) to (4, 16)
+    x = [(4 - r, 4 + r), (4 + r, 4 - r), (10, 10 - 2 * r), (16 - r, 4 - r), (16 + r, 4 + r), (10 + 2 * r, 10),
+         (16 + r, 16 - r), (16 - r, 16 + r), (10, 10 + 2 * r), (4 + r, 16 + r), (4 - r, 16 - r), (10 - 2 * r, 10)]
+    cross = '<path d="M' + " L".join(f"{a!r} {b!r}" for a, b in x) + 'Z"/>'
+    a, b = _pair(tmp_path, *((menu, cross) if menu_first else (cross, menu)))
+    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    assert report.cut == ([0, 1] if menu_first else [1, 0])
+    assert report.regions == ({"paired": 2, "grown": 0, "shrunk": 1} if menu_first
+                              else {"paired": 2, "grown": 1, "shrunk": 0})
+    seq = isotween.morph(a, b, frames=11)
+    # the bars cross where the X is drawn: they may pass through each other on the way, so AIAP's morph stands
+    assert not seq.info.get("fallback")
+    bars = [idx for idx, closed in seq.shape.paths if closed and abs(ring_area(seq.z[0, idx])) > 1e-9
+            and abs(ring_area(seq.z[-1, idx])) > 1e-9]
+    assert len(bars) == 2
+    for idx in bars:  # each keeps to a bar's area (14 by 2, 17 by 2) in every frame: it turns as a whole
+        area = np.abs([ring_area(z) for z in seq.z[:, idx]])
+        assert np.all((area >= min(area[0], area[-1]) - 1.0) & (area <= max(area[0], area[-1]) + 1.0))
+
+
 def test_a_triangle_round_its_inscribed_circle_keeps_its_corners(tmp_path):
     # the circle lies within the triangle, but the corners left over are no bars: the triangle morphs whole
     th = np.linspace(0, 2 * np.pi, 48, endpoint=False)

@@ -29,6 +29,9 @@ or where R has no holes: the triangle parts into the two bars.
 A plus and a minus (`_arms`): the minus is the plus's bar, so the plus is
 cut into the bar and the arms the minus lacks, which retract into it.
 
+A menu and a close sign (`_crossed`): the X is taken as its two crossed
+bars, which overlap, each to turn into a bar of the menu.
+
 Strokes alike (`split_strokes`): a bell's outline, and the struck-through
 bell's drawn as two strokes that part where the slash comes in (Lucide's
 ``bell`` and ``bell-off``). A stroke of one drawing along which lie two or
@@ -54,6 +57,8 @@ COVER = 0.6  # the pieces together cover at least this share of the region
 FILLED = 0.7  # and the other drawing's regions, the pieces and others (a slash across), this share of it
 WHOLE = 0.9  # a region of the other drawing overlapping the region this much (intersection over union) keeps it whole
 LEAST = 0.05  # pieces smaller than this share of the region do not count
+NOTCH = np.deg2rad(30.0)  # an inner corner of crossed bars: the outline turns back inward by this much (`_crossed`)
+CONVEX = 0.95  # ... and each bar fills this share of its convex hull
 CORE = (0.35, 0.7)  # one region of the other drawing covering this share of a region: its arms cut off (`_arms`)
 ARM = 2.5  # ... where each is a bar, this many times as long as it is wide
 WITHIN = 0.97  # ... and the other drawing's region lies within the region (a minus is the plus's bar)
@@ -94,16 +99,21 @@ def split_regions(items, frames):
         step = STEP * bbox_diagonal(*[r for it in items[k] for r in it.rings])
         new = []
         for it in out[k]:
-            parts = None
+            parts = bars = None
             if it.kind == "region" and not it.stroked:
                 region = region_polygon(it.rings)
                 parts = (_parts(region, it.paint[0], theirs, filled, mine, step) if len(theirs) >= 2 else None) \
                     or _arms(region, it.paint[0], theirs)
-            if parts is None:
+                bars = None if parts else _crossed(region, it.paint[0], theirs)
+            if parts is None and bars is None:
                 new.append(it)
                 continue
             cut[k] += 1
             outer = np.sign(ring_area(it.rings[0]))
+            if bars:  # they overlap: each its own region (`index`), not parts drawn as one path (an even-odd fill)
+                new += [Item("region", _rings(p, outer), [it.paint[0]], index) for p, index in
+                        zip(bars, (it.index, -1 - it.index), strict=True)]
+                continue
             new += [Item("region", _rings(p, outer), [it.paint[0]] * (1 + len(p.interiors)), it.index) for p in parts]
         out[k] = new
     return out, cut
@@ -222,6 +232,51 @@ def _arms(region, paint, theirs):
         return _whole([core, *arms], area, region)
     except shapely.errors.GEOSException:
         return None
+
+
+def _crossed(region, paint, theirs):
+    """Two bars crossing (an X, a plus) that make up the region, where the other drawing has bars: (2,) or None.
+
+    A menu's three bars and a close sign's X (Bootstrap's ``list`` and
+    ``x-lg``): the X, one region, paired whole with a bar melts into a blob.
+    Taken as its two bars, which overlap where they cross, each turns into a
+    bar of the menu. The region, with no holes, has four inner corners
+    (where its outline turns back inward by `NOTCH` or more, a run of
+    vertices together); what is left of it without their quadrilateral is
+    four arms, and each two opposite arms with the quadrilateral make a bar
+    (`ARM` times as long as wide, `CONVEX`). Only where two or more regions
+    of the other drawing, filled alike, are bars.
+    """
+    import shapely
+
+    fill = getattr(paint, "fill", None)
+    if region.interiors or sum(getattr(q, "fill", None) == fill and _aspect(p) >= ARM for p, q in theirs) < 2:
+        return None
+    z = np.asarray(region.exterior.coords)[:-1] @ [1, 1j]
+    turn = np.angle((np.roll(z, -1) - z) / (z - np.roll(z, 1)))
+    inward = turn * np.sign(turn.sum()) < 0
+    if inward.all() or not inward.any():
+        return None
+    first = int(np.flatnonzero(~inward)[0])  # runs of inward turns, counted from a vertex that turns outward
+    z, turn, inward = (np.roll(a, -first) for a in (z, turn, inward))
+    run = np.cumsum(np.r_[False, inward[1:] & ~inward[:-1]])[inward]
+    corners = [z[inward][run == r].mean() for r in np.unique(run) if abs(turn[inward][run == r].sum()) >= NOTCH]
+    if len(corners) != 4:
+        return None
+    try:
+        core = shapely.MultiPoint(np.c_[np.real(corners), np.imag(corners)]).convex_hull
+        rest = shapely.difference(region, core)
+        arms = [g for g in getattr(rest, "geoms", [rest]) if g.geom_type == "Polygon" and g.area >= LEAST * region.area]
+        if len(arms) != 4 or core.geom_type != "Polygon":
+            return None
+        centre = complex(*core.centroid.coords[0])
+        arms.sort(key=lambda g: np.angle(complex(*g.centroid.coords[0]) - centre))  # opposite arms two apart
+        bars = [shapely.union_all([arms[i], core, arms[i + 2]]) for i in (0, 1)]
+    except shapely.errors.GEOSException:
+        return None
+    if any(b.geom_type != "Polygon" or _aspect(b) < ARM or b.area < CONVEX * b.convex_hull.area for b in bars):
+        return None
+    return bars
 
 
 def _aspect(poly):

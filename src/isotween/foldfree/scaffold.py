@@ -30,10 +30,11 @@ import numpy as np
 from ..errors import ShapeError
 from ..geometry import bbox_diagonal, edge_table
 
-__all__ = ["Scaffold", "Around", "box_around", "scaffold", "separate_regions", "MARGIN", "BOX_SIDE"]
+__all__ = ["Scaffold", "Around", "box_around", "scaffold", "separate_regions", "MARGIN", "BOX_SIDE", "OVERLAP"]
 
 MARGIN = 0.5  # the box lies this far (in bounding-box diagonals of all frames) around every frame
 BOX_SIDE = 6  # vertices on each side of the box (corners included once)
+OVERLAP = 1e-6  # two regions overlapping by more than this share of the smaller one's area lie on each other
 
 
 class Scaffold(NamedTuple):
@@ -137,7 +138,9 @@ def separate_regions(shape, ends):
     A piece with no partner grows from (or shrinks to) a small copy, placed
     off the other pieces where it can be (``unmatched='grow'``); one that
     splits off from another piece (``'split'``) starts on it, so it is left
-    out of the scaffold, and its overlaps are not collisions.
+    out of the scaffold, and its overlaps are not collisions. Of two that
+    overlap (more than `OVERLAP` of the smaller: an X taken as its two
+    crossed bars) the smaller is left out, the later of two alike.
     """
     import shapely
 
@@ -145,12 +148,20 @@ def separate_regions(shape, ends):
     keep = set(range(len(regions)))
     for z in ends:
         xy = np.c_[z.real, z.imag]
-        polys = [shapely.Polygon(xy[shape.paths[r[0]][0]], [xy[shape.paths[h][0]] for h in r[1:]])
-                 for r in regions]
+        polys = np.array([shapely.Polygon(xy[shape.paths[r[0]][0]], [xy[shape.paths[h][0]] for h in r[1:]])
+                          for r in regions], dtype=object)
         for i, r in enumerate(regions):
             point = shapely.Point(xy[shape.paths[r[0]][0][0]])
             if any(j != i and polys[j].contains(point) for j in range(len(regions))):
                 keep.discard(i)
+        i, j = shapely.STRtree(polys).query(polys, predicate="intersects")
+        i, j = i[i < j], j[i < j]
+        area = shapely.area(polys)
+        try:
+            over = shapely.area(shapely.intersection(polys[i], polys[j])) > OVERLAP * np.minimum(area[i], area[j])
+        except shapely.errors.GEOSException:  # an end that is not a valid drawing: its first vertices only
+            continue
+        keep -= set(np.where(area[i] >= area[j], j, i)[over].tolist())
     return sorted(keep)
 
 
