@@ -179,6 +179,32 @@ def test_paths_that_meet_at_an_end_count_as_crossing_there(tmp_path):
     assert np.abs(upright.real - 12).max() < 1e-9 and np.abs(upright[-1] - (12 + 12j)).max() < 1e-9
 
 
+def test_a_stroke_end_that_meets_another_path_may_dip_under_its_stroke(tmp_path):
+    from isotween import Shape
+
+    # a T: the upright ends on the bar in both frames and dips through it in between, by less than half the
+    # stroke's width (under its own stroke, unseen) or by more
+    s = Shape.from_paths([[[-2, 0], [2, 0]], [[0, 0], [0, 2]]], closed=[False, False])
+    for dip, seen in ((0.4, False), (0.8, True)):
+        dipped = np.r_[s.vertices[:2], s.vertices[2:] + [0, -dip]]
+        z = np.stack([s.vertices, dipped, s.vertices]) @ [1, 1j]
+        frame, _, _ = metrics.path_crossings(s, z, new=True, reach=[0.5, 0.5])
+        assert (len(frame) > 0) == seen
+        assert len(metrics.path_crossings(s, z, new=True)[0]) > 0  # with no stroke to hide it: a crossing
+    # a lock opening (Lucide's lock and lock-open): the shackle's ends sit on the body; the left one stays while the
+    # right one lifts, nudged a little through the body's edge by the morph: the shackle opens, nothing is drawn
+    # off and on
+    body = '<rect width="18" height="11" x="3" y="11" rx="2" ry="2"/>'
+    (tmp_path / "lock.svg").write_text(HEAD.replace('stroke-width="1"', 'stroke-width="2"') + body
+                                       + '<path d="M7 11V7a5 5 0 0 1 10 0v4"/></svg>')
+    (tmp_path / "open.svg").write_text(HEAD.replace('stroke-width="1"', 'stroke-width="2"') + body
+                                       + '<path d="M7 11V7a5 5 0 0 1 9.9-1"/></svg>')
+    seq = isotween.morph(tmp_path / "lock.svg", tmp_path / "open.svg", frames=9)
+    assert "strokes" not in seq.info
+    rect = seq.z[:, seq.shape.paths[0][0]]
+    assert np.abs(rect - rect[0]).max() < 1e-6  # the body stays where it is drawn
+
+
 def test_strokes_morph_keeps_every_stroke_morphing(bar_pair, tmp_path):
     a, b = bar_pair
     prepared = prepare_pair(a, b)

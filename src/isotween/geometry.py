@@ -19,7 +19,8 @@ import numpy as np
 from .errors import ShapeError
 
 __all__ = [
-    "as_complex", "orient", "ring_area", "ring_areas", "ring_orientation", "ring_centroid", "triangle_areas",
+    "as_complex", "orient", "segment_distance", "ring_area", "ring_areas", "ring_orientation", "ring_centroid",
+    "triangle_areas",
     "triangle_angles", "affine_maps", "bbox_diagonal", "edge_keys", "edge_table", "face_sides", "boundary_loops",
     "mean_value_weights",
     "mean_value_laplacian", "cotangent_laplacian", "convex_map", "winding_numbers", "fill_regions", "MAX_TRIANGLES",
@@ -169,6 +170,19 @@ def orient(a, b, c):
     (1.0, -1.0)
     """
     return (np.conj(b - a) * (c - a)).imag
+
+
+def segment_distance(p, a, b):
+    """Distance from points ``p`` to segments ``a -> b``, all (...) complex arrays broadcast together.
+
+    Examples
+    --------
+    >>> float(segment_distance(1 + 1j, 0, 2)), float(segment_distance(3, 0, 2))
+    (1.0, 1.0)
+    """
+    d = b - a
+    t = np.clip(((p - a) * np.conj(d)).real / np.maximum(np.abs(d) ** 2, 1e-300), 0.0, 1.0)
+    return np.abs(a + t * d - p)
 
 
 def triangle_areas(points, faces):

@@ -15,7 +15,7 @@ from .errors import ParameterError
 from .geometry import bbox_diagonal, orient, ring_areas
 from .optimisation.schemes import SCHEMES
 from .optimisation.schemes import isometric_energy as _energy
-from .paint import out_of_sight
+from .paint import half_widths, out_of_sight
 
 if TYPE_CHECKING:
     from .sequence import Sequence
@@ -300,7 +300,7 @@ def outline_crossings(seq, scope="all", visible=False):
     return np.bincount(frame, minlength=len(seq)).astype(np.int64)
 
 
-def path_crossings(shape, z, hidden=None, new=False):
+def path_crossings(shape, z, hidden=None, new=False, reach=None):
     """Every crossing of two outline edges in frames ``z``, as the frame and the two edges' paths.
 
     Parameters
@@ -317,6 +317,12 @@ def path_crossings(shape, z, hidden=None, new=False):
         there (a vertex on the other's edge, its neighbours on either side, as
         the strokes of a plus resampled can; not a T, nor a V's tip on a line):
         those the end drawings have themselves.
+    reach : (P,) float, optional
+        With ``new``: an open path's end that lies within ``reach`` of another
+        path in the first and the last frame meets it there (a T: a lock's
+        shackle on its body); where that end lies within ``reach`` of the
+        other path's edge it crosses, the crossing is left out too (it lies
+        under the stroke, of half width ``reach``: `isotween.paint.half_widths`).
 
     Returns
     -------
@@ -333,8 +339,44 @@ def path_crossings(shape, z, hidden=None, new=False):
         pair = p * len(shape.paths) + q
         met = _met(shape, z[[0, -1]], edges, path_of, None if hidden is None else hidden[[0, -1]])
         keep = ~np.isin(pair, np.r_[pair[end], met])
+        if reach is not None:
+            keep &= ~_at_joints(shape, z, edges, path_of, i, j, frame, np.asarray(reach, dtype=np.float64))
         frame, p, q = frame[keep], p[keep], q[keep]
     return frame, p, q
+
+
+def _at_joints(shape, z, edges, path_of, i, j, frame, reach):
+    """(C,) bool: crossings of edges ``i``, ``j`` in frames ``frame`` at an open path's end that meets the other path.
+
+    The end lies within ``reach`` (of its path) of the other path in the
+    first and the last frame, and of the other edge in the crossing's frame.
+    """
+    from .geometry import segment_distance
+
+    out = np.zeros(len(i), dtype=bool)
+    owner = np.full(z.shape[1], -1)  # the open path each end vertex ends
+    for k, (idx, closed) in enumerate(shape.paths):
+        if not closed and len(idx) > 1 and reach[k] > 0:
+            owner[[idx[0], idx[-1]]] = k
+    tips = np.flatnonzero(owner >= 0)
+    if not len(i) or not len(tips):
+        return out
+    # which paths each end meets in the first and the last frame: (T, P) bool
+    ends = z[[0, -1]]
+    gap = segment_distance(ends[:, tips, None], ends[:, None, edges[:, 0]], ends[:, None, edges[:, 1]])
+    least = np.full((2, len(shape.paths), len(tips)), np.inf)
+    for end in (0, 1):
+        np.minimum.at(least[end], path_of, gap[end].T)
+    meets = (least.max(axis=0) <= reach[owner[tips]]).T
+    row = np.full(z.shape[1], -1)
+    row[tips] = np.arange(len(tips))
+    for x, y in ((i, j), (j, i)):
+        for col in (0, 1):
+            v, p, q = edges[x, col], path_of[x], path_of[y]
+            at = owner[v] == p
+            close = segment_distance(z[frame, v], z[frame, edges[y, 0]], z[frame, edges[y, 1]]) <= reach[p]
+            out |= at & close & meets[np.maximum(row[v], 0), q]
+    return out
 
 
 def _met(shape, z, edges, path_of, hidden):
@@ -382,12 +424,15 @@ def new_crossings(seq, visible=True):
 
     What `outline_crossings` counts, less the crossings the end drawings have
     themselves (two strokes of an 'x' cross in every frame of its morph, as
-    do two that pass through each other at a vertex at an end).
+    do two that pass through each other at a vertex at an end), and those
+    under a stroke's end where it meets another path at an end (a T:
+    `path_crossings` with ``reach``, half the stroke's width).
     A shape without paths: `outline_crossings`.
     """
     if not seq.shape.paths:
         return outline_crossings(seq, visible=visible)
-    frame, _, _ = path_crossings(seq.shape, seq.z, out_of_sight(seq) if visible else None, new=True)
+    frame, _, _ = path_crossings(seq.shape, seq.z, out_of_sight(seq) if visible else None, new=True,
+                                 reach=half_widths(seq))
     return np.bincount(frame, minlength=len(seq)).astype(np.int64)
 
 

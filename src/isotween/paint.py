@@ -13,8 +13,8 @@ import numpy as np
 from .errors import ParameterError
 
 __all__ = ["Paint", "DEFAULT_FILL", "drawn_groups", "joined_groups", "lerp_paint", "srgb_to_oklab", "oklab_to_srgb",
-           "paint_keys", "sequence_paint", "key_paint", "paint_at", "out_of_sight", "paint_groups", "merge_groups",
-           "opaque", "svg_paint_attributes"]
+           "paint_keys", "sequence_paint", "key_paint", "paint_at", "out_of_sight", "half_widths", "paint_groups",
+           "merge_groups", "opaque", "svg_paint_attributes"]
 
 #: SVG's initial fill: opaque black
 DEFAULT_FILL = (0.0, 0.0, 0.0, 1.0)
@@ -285,6 +285,21 @@ def out_of_sight(seq):
     if paints is None:
         return np.zeros((len(seq), n), dtype=bool)
     return np.array([[p.opacity <= 0 for p in frame] for frame in paints], dtype=bool).reshape(len(seq), n)
+
+
+def half_widths(seq):
+    """(P,) float: half the least stroke width of every path over the sequence's keys (0 where it has no stroke).
+
+    A stroke's centre line within this of another path lies under its own
+    stroke there: `isotween.metrics.path_crossings` lets a stroke's end meet
+    another path (a T) by this much.
+    """
+    keyed = key_paint(seq)
+    n = len(seq.shape.paths or [])
+    if keyed is None:
+        return np.zeros(n)
+    return np.array([0.5 * min(key[p].stroke_width if key[p].stroke is not None else 0.0 for key in keyed[2])
+                     for p in range(n)], dtype=np.float64).reshape(n)
 
 
 def paint_groups(shape):

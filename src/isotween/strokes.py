@@ -24,7 +24,7 @@ its length on view), the longest of them morph again, crossings and all.
 import numpy as np
 
 from .metrics import path_crossings
-from .paint import Paint, key_paint, out_of_sight, paint_at
+from .paint import Paint, half_widths, key_paint, out_of_sight, paint_at
 
 __all__ = ["drawn", "untangle", "stroke_paths", "FADE"]
 
@@ -107,6 +107,7 @@ class _Swaps:
         keyed = key_paint(seq)
         self.keys = None if keyed is None else keyed[1:]  # (key times, keys)
         self.out_of_sight = out_of_sight(seq)
+        self.reach = half_widths(seq)  # a stroke's end under its own stroke on another path meets it (a T)
 
     def schedule(self, swapped):
         """Per swapped path: (a, b, h), drawn off within (a - h, a) and on within (b, b + h).
@@ -162,7 +163,8 @@ class _Swaps:
 
     def crossings(self, swapped):
         """(P,) crossings per path, in the in-betweens, between paths that do not cross in either drawing."""
-        _, p, q = path_crossings(self.seq.shape, self.frames(swapped), self.hidden(swapped), new=True)
+        _, p, q = path_crossings(self.seq.shape, self.frames(swapped), self.hidden(swapped), new=True,
+                                 reach=self.reach)
         return np.bincount(np.r_[p, q], minlength=len(self.seq.shape.paths))
 
     def paint(self, swapped):
