@@ -230,6 +230,39 @@ def ex_plus():
     return shapes[0], shapes[1]
 
 
+def _svg_pair(first, second, view="0 0 16 16"):
+    """Two drawings read from SVG path data (a list of ``d`` strings each, one filled path per string)."""
+    shapes = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, paths in (("a", first), ("b", second)):
+            path = Path(tmp) / f"{name}.svg"
+            path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{view}">'
+                            + "".join(f'<path d="{d}"/>' for d in paths) + "</svg>")
+            shapes.append(io.load(path))
+    return shapes[0], shapes[1]
+
+
+def ex_play():
+    """Play into pause: a rounded triangle and two rounded bars, the right one only partly inside the triangle."""
+    play = ["M 3.5 3.4 A 1 1 0 0 1 5 2.55 L 13.2 7.15 A 1 1 0 0 1 13.2 8.85 L 5 13.45 A 1 1 0 0 1 3.5 12.6 Z"]
+    pause = [f"M {x} 4.25 A 1.25 1.25 0 0 1 {x + 1.25} 3 L {x + 2.25} 3 A 1.25 1.25 0 0 1 {x + 3.5} 4.25 "
+             f"L {x + 3.5} 11.75 A 1.25 1.25 0 0 1 {x + 2.25} 13 L {x + 1.25} 13 A 1.25 1.25 0 0 1 {x} 11.75 Z"
+             for x in (3.5, 8.5)]
+    return _svg_pair(play, pause)
+
+
+def ex_menu():
+    """A menu into a close sign: three bars, and an X drawn as one outline (its two bars crossed)."""
+    menu = [f"M 2.75 {y} L 13.25 {y} A 0.75 0.75 0 0 1 13.25 {y + 1.5} L 2.75 {y + 1.5} A 0.75 0.75 0 0 1 2.75 {y} Z"
+            for y in (3.25, 7.25, 11.25)]
+    r = 0.75 / np.sqrt(2)
+    a, b, c = 3.5, 12.5, 8.0  # the bars run from (a, a) to (b, b) and from (b, a) to (a, b)
+    corners = [(a - r, a + r), (a + r, a - r), (c, c - 2 * r), (b - r, a - r), (b + r, a + r), (c + 2 * r, c),
+               (b + r, b - r), (b - r, b + r), (c, c + 2 * r), (a + r, b + r), (a - r, b - r), (c - 2 * r, c)]
+    x = ["M " + " L ".join(f"{u:.4f} {v:.4f}" for u, v in corners) + " Z"]
+    return _svg_pair(menu, x)
+
+
 #: a padlock drawn as one filled outline with the shackle's hole, closed and open (shackle lifted, one leg free)
 LOCK_BODY = "L 12.5 7 A 1.5 1.5 0 0 1 14 8.5 L 14 13.5 A 1.5 1.5 0 0 1 12.5 15 L 3.5 15 A 1.5 1.5 0 0 1 2 13.5 Z"
 LOCK = {
@@ -343,6 +376,10 @@ EXAMPLES = [
                "where it is drawn", ex_struck, "correspond", {"frames": 13}),
     ("plus", "a plus into a minus with no options: the arms retract into the bar, which stays where it is drawn",
      ex_plus, "correspond", {"frames": 13}),
+    ("play", "play into pause with no options: the triangle parts into the two bars",
+     ex_play, "correspond", {"frames": 13}),
+    ("menu", "a menu into a close sign with no options: the X is taken as its two crossed bars, which two of the "
+             "menu's bars turn into while the third fades", ex_menu, "correspond", {"frames": 13}),
     ("lock", "a padlock opens with no options: the hole inside the shackle opens into the open lock's notch",
      ex_lock, "correspond", {"frames": 13}),
     ("slash", "an eye struck through with no options: the slash parts the eye, each half staying where it is drawn",

@@ -52,7 +52,7 @@ __all__ = ["split_regions", "split_strokes", "INSIDE", "LOOSE", "COVER", "FILLED
            "WITHIN", "NEAR", "STEP", "REACH_LEAST"]
 
 INSIDE = 0.8  # a piece of the other drawing lies at least this share of its area inside the region
-LOOSE = 0.3  # ... or, with one that does, this share, where it is no larger and in nothing else of the drawing
+LOOSE = 0.15  # ... or, with one that does, this share, where it is no larger and in nothing else of the drawing
 COVER = 0.6  # the pieces together cover at least this share of the region
 FILLED = 0.7  # and the other drawing's regions, the pieces and others (a slash across), this share of it
 WHOLE = 0.9  # a region of the other drawing overlapping the region this much (intersection over union) keeps it whole
