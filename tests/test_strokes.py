@@ -268,6 +268,21 @@ def test_a_stroke_prefers_a_partner_of_its_direction():
     assert cost[0, 1] == cost[1, 0] == pytest.approx(4 * regions.TURN_COST)
 
 
+@pytest.mark.parametrize("drawn_from", ["top", "bottom"])
+def test_a_straight_stroke_turns_the_short_way(tmp_path, drawn_from):
+    # a menu's bar into one stroke of a cross, the cross's stroke drawn from either end: straight, it fits either
+    # way round, and the bar turns by 45 degrees (its left end to the stroke's lower left end), not by 135
+    d = "M18 6 6 18" if drawn_from == "top" else "M6 18 18 6"
+    (tmp_path / "bar.svg").write_text(HEAD + '<path d="M4 12h16"/></svg>')
+    (tmp_path / "stroke.svg").write_text(HEAD + f'<path d="{d}"/></svg>')
+    seq = isotween.morph(tmp_path / "bar.svg", tmp_path / "stroke.svg", frames=9)
+    z = seq.z[:, seq.shape.paths[0][0]]
+    left = int(np.argmin(z[0].real))
+    assert abs(z[-1, left] - (6 + 18j)) < 1e-9
+    turn = np.unwrap(np.angle(z[:, -1] - z[:, 0]))
+    assert abs(turn[-1] - turn[0]) == pytest.approx(np.pi / 4)
+
+
 def test_strokes_drawn_off_and_on_take_turns(tmp_path):
     # two cells of the bar sweeping through four short strokes: both bars are drawn off and on, one
     # after the other, so the drawing never loses both at once (all at once, both vanish half way)

@@ -58,6 +58,8 @@ WARP_EVERY = 4
 CORNER_SNAP = 0.02
 #: corner pairs (source corners x target corners) above which corners are not matched
 MAX_CORNER_PAIRS = 4000
+#: a polyline target fitting both ways within this share of the better fit goes the way that turns it less
+REVERSE_TIE = 0.05
 #: weight of a start's worse fit to the drawing's rotation against its corners' cost
 SHIFT_WEIGHT = 4.0
 #: how much (radians) the turning angles of two paired corners may differ
@@ -696,7 +698,12 @@ def _split(s, u, closed, hs, hu):
 
 
 def _polyline_reversed(z, w):
-    """Whether a polyline target fits the source better backwards (similarity fit of arc samples)."""
+    """Whether a polyline target fits the source better backwards (similarity fit of arc samples).
+
+    Where both ways fit about as well (within `REVERSE_TIE`: a straight
+    stroke, a symmetric arc), the way that turns it less: a menu's bar into
+    a cross's stroke turns by 45 degrees, not 135.
+    """
     grid = np.linspace(0.0, 1.0, 64)
     x = points_at(z, False, grid)
     x = x - x.mean()
@@ -704,5 +711,8 @@ def _polyline_reversed(z, w):
     for ww in (w, w[::-1]):
         y = points_at(ww, False, grid)
         y = y - y.mean()
-        fits.append(abs(np.vdot(x, y)))
-    return bool(fits[1] > fits[0])
+        fits.append(complex(np.vdot(x, y)))
+    size = np.abs(fits)
+    if abs(size[1] - size[0]) <= REVERSE_TIE * size.max():
+        return bool(abs(np.angle(fits[1])) < abs(np.angle(fits[0])))
+    return bool(size[1] > size[0])
