@@ -11,6 +11,11 @@ SQUARE = '<path d="M2 2h16v16h-16Z"/>'
 PARTED = '<path d="M2 2h7v16h-7Z M11 2h7v16h-7Z"/>'  # the square with a gap of 2 down its middle, x = 9 to 11
 
 
+def _report(a, b):
+    """The correspondence report of two SVG files."""
+    return isotween.correspond(isotween.io.load(a), isotween.io.load(b))[2]
+
+
 def _pair(tmp_path, a, b):
     (tmp_path / "a.svg").write_text(SVG.format(a))
     (tmp_path / "b.svg").write_text(SVG.format(b))
@@ -20,7 +25,7 @@ def _pair(tmp_path, a, b):
 @pytest.mark.parametrize("whole_first", [True, False])
 def test_a_region_the_other_drawing_parts_is_cut_where_they_part(tmp_path, whole_first):
     a, b = _pair(tmp_path, *((SQUARE, PARTED) if whole_first else (PARTED, SQUARE)))
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.cut == ([1, 0] if whole_first else [0, 1])
     assert report.regions == {"paired": 2, "grown": 0, "shrunk": 0}
     seq = isotween.morph(a, b, frames=11)
@@ -41,7 +46,7 @@ def test_a_region_with_a_whole_partner_stays_whole(tmp_path):
     face = '<path d="M2 2h16v16h-16Z"/>'
     eyes = face + '<path d="M5 5h3v3h-3Z"/><path d="M12 5h3v3h-3Z"/>'
     a, b = _pair(tmp_path, face, eyes)
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.cut == [0, 0] and report.regions == {"paired": 1, "grown": 2, "shrunk": 0}
 
 
@@ -64,7 +69,7 @@ def test_a_region_is_cut_only_where_the_other_drawing_fills_most_of_it(tmp_path,
     # parted; without, the bars stand in an empty square, which stays whole
     bars = '<path d="M2 2h5v16h-5Z M13 2h5v16h-5Z"/>' + ('<path d="M8 -4h4v28h-4Z"/>' if across else "")
     a, b = _pair(tmp_path, SQUARE, bars)
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.cut == ([1, 0] if across else [0, 0])
 
 
@@ -78,7 +83,7 @@ def test_a_thin_outline_is_cut_where_its_struck_through_copy_parts_though_drawn_
     parted = (f'<path d="M2 {top}h7v1h-6v14h6v1h-7Z"/><path d="M11 {top}h7v{low - top}h-7v-1h6v-14h-6Z"/>'
               f'<path d="M9.5 0h1v20h-1Z"/>')
     a, b = _pair(tmp_path, outline, parted)
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.cut == [1, 0] and report.regions == {"paired": 2, "grown": 1, "shrunk": 0}
 
 
@@ -89,7 +94,7 @@ def test_a_region_is_cut_where_a_slash_drawn_joined_to_one_part_parts_it(tmp_pat
     # the square, short of `INSIDE`; the bar left out, all of the right part does, and the square is cut
     parts = '<path d="M2 2h6v16h-6Z"/><path d="M9 -14h1.5v16h7.5v16h-7.5v16h-1.5Z"/>'
     a, b = _pair(tmp_path, SQUARE, parts)
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.cut == [1, 0] and report.regions == {"paired": 2, "grown": 0, "shrunk": 0}
     seq = isotween.morph(a, b, frames=11)
     left = [idx for idx, closed in seq.shape.paths if closed and seq.z[-1, idx].real.mean() < 8.5]
@@ -105,7 +110,7 @@ def test_play_parts_into_pause(tmp_path, play_first):
     play = '<path d="M2 2L18 10L2 18Z"/>'
     pause = '<path d="M2 3h6v14h-6Z"/><path d="M10 3h5.5v14h-5.5Z"/>'
     a, b = _pair(tmp_path, *((play, pause) if play_first else (pause, play)))
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.cut == ([1, 0] if play_first else [0, 1])
     assert report.regions == {"paired": 2, "grown": 0, "shrunk": 0}
     seq = isotween.morph(a, b, frames=11)
@@ -122,7 +127,7 @@ def test_a_struck_through_copy_drawn_shifted_is_cut_where_it_parts(tmp_path):
     # of `INSIDE`; the alignment finds the shift that puts the halves on the square, which is then cut between them
     shifted = '<path d="M4 2h7v16h-7Z M13 2h7v16h-7Z"/><path d="M11.5 -2h1v24h-1Z"/>'
     a, b = _pair(tmp_path, SQUARE, shifted)
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.cut == [1, 0] and report.regions == {"paired": 2, "grown": 1, "shrunk": 0}
     seq = isotween.morph(a, b, frames=11)
     z, rings = seq.z, [idx for idx, closed in seq.shape.paths if closed]
@@ -193,7 +198,7 @@ def test_a_stroke_the_other_drawing_parts_is_cut_where_they_part(tmp_path, close
     square = f'<path {STROKE} d="M2 2H18V18H2{close}"/>'
     parted = f'<path {STROKE} d="M4 2H18V16"/><path {STROKE} d="M16 18H2V4"/><path {STROKE} d="M1 1L19 19"/>'
     a, b = _pair(tmp_path, square, parted)
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.strokes_cut == [1, 0] and report.lines == {"paired": 2, "grown": 1, "shrunk": 0}
     seq = isotween.morph(a, b, frames=9)
     z = seq.z
@@ -215,7 +220,7 @@ def test_a_stroke_the_other_drawing_draws_nearly_whole_is_not_cut(tmp_path):
     square = f'<path {STROKE} d="M2 2H18V18H2Z"/>'
     other = f'<path {STROKE} d="M5 2H18V18H2V5"/><path {STROKE} d="M2 3V2H3"/>'
     a, b = _pair(tmp_path, square, other)
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.strokes_cut == [0, 0]
 
 
@@ -240,7 +245,7 @@ MINUS = '<path d="M2 9h16v2h-16Z"/>'  # the plus's cross bar
 @pytest.mark.parametrize("plus_first", [True, False])
 def test_a_plus_into_a_minus_retracts_its_arms_into_the_bar(tmp_path, plus_first):
     a, b = _pair(tmp_path, *((PLUS, MINUS) if plus_first else (MINUS, PLUS)))
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.cut == ([1, 0] if plus_first else [0, 1])
     assert report.regions == {"paired": 1, "grown": 0 if plus_first else 2, "shrunk": 2 if plus_first else 0}
     seq = isotween.morph(a, b, frames=9)
@@ -266,7 +271,7 @@ def test_a_menu_turns_into_a_close_sign_as_two_crossed_bars(tmp_path, menu_first
          (16 + r, 16 - r), (16 - r, 16 + r), (10, 10 + 2 * r), (4 + r, 16 + r), (4 - r, 16 - r), (10 - 2 * r, 10)]
     cross = '<path d="M' + " L".join(f"{a!r} {b!r}" for a, b in x) + 'Z"/>'
     a, b = _pair(tmp_path, *((menu, cross) if menu_first else (cross, menu)))
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.cut == ([0, 1] if menu_first else [1, 0])
     assert report.regions == ({"paired": 2, "grown": 0, "shrunk": 1} if menu_first
                               else {"paired": 2, "grown": 1, "shrunk": 0})
@@ -286,5 +291,5 @@ def test_a_triangle_round_its_inscribed_circle_keeps_its_corners(tmp_path):
     th = np.linspace(0, 2 * np.pi, 48, endpoint=False)
     circle = "M" + " L".join(f"{10 + 4.6 * np.cos(t):.4f} {11.5 + 4.6 * np.sin(t):.4f}" for t in th) + "Z"
     a, b = _pair(tmp_path, '<path d="M10 1.5 L18.66 16.5 L1.34 16.5Z"/>', f'<path d="{circle}"/>')
-    _, _, report = isotween.correspond(isotween.io.load(a), isotween.io.load(b))
+    report = _report(a, b)
     assert report.cut == [0, 0] and report.regions == {"paired": 1, "grown": 0, "shrunk": 0}
