@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, overload
 import numpy as np
 
 from .errors import ParameterError
-from .geometry import bbox_diagonal, orient, ring_areas
+from .geometry import bbox_diagonal, orient, ring_areas, segment_distance
 from .optimisation.schemes import SCHEMES
 from .optimisation.schemes import isometric_energy as _energy
 from .paint import half_widths, out_of_sight
@@ -351,8 +351,6 @@ def _at_joints(shape, z, edges, path_of, i, j, frame, reach):
     The end lies within ``reach`` (of its path) of the other path in the
     first and the last frame, and of the other edge in the crossing's frame.
     """
-    from .geometry import segment_distance
-
     out = np.zeros(len(i), dtype=bool)
     owner = np.full(z.shape[1], -1)  # the open path each end vertex ends
     for k, (idx, closed) in enumerate(shape.paths):
