@@ -52,6 +52,9 @@ class Item(NamedTuple):
         Paint of each ring (None when the shape has none).
     index : int
         Region index (regions) or path index (rings, lines) in its shape.
+        The parts of a region cut in pieces (`splits`) share it (drawn as
+        one path at that end); the second of an X's two crossed bars, which
+        overlap, has ``-1 - index``.
     """
 
     kind: str
