@@ -323,3 +323,28 @@ def test_a_drawing_does_not_empty_to_untangle_its_strokes(tmp_path):
               * np.array([p[k].opacity for p in paints]) for k, (idx, closed) in enumerate(seq.shape.paths))
     assert ink[1:-1].min() >= 0.15 * min(ink[0], ink[-1])
     assert seq.info["strokes"].startswith("6 of 9")  # the rays; the ring morphs
+
+
+def test_symmetric_drawings_pair_their_strokes_symmetrically(tmp_path):
+    # a menu into an X: both are mirror symmetric about y = 12, so the top and bottom bars become the X's
+    # two bars, mirror images of each other in every frame, and the middle bar (on the axis) has no partner;
+    # the cheapest pairing alone takes the top and the middle bars, which are no mirror pair
+    (tmp_path / "menu.svg").write_text(HEAD + '<path d="M4 5h16"/><path d="M4 12h16"/><path d="M4 19h16"/></svg>')
+    (tmp_path / "x.svg").write_text(HEAD + '<path d="M18 6 6 18"/><path d="m6 6 12 12"/></svg>')
+    seq = isotween.morph(tmp_path / "menu.svg", tmp_path / "x.svg", frames=9)
+    bars = {}
+    for idx, _ in seq.shape.paths:
+        y = seq.z[0, idx].imag
+        if np.ptp(y) < 1e-9:
+            bars[round(float(y[0]))] = idx
+    assert sorted(bars) == [5, 12, 19]
+    top, bottom = seq.z[:, bars[5]], seq.z[:, bars[19]]
+    x_bars = {frozenset({6 + 18j, 18 + 6j}), frozenset({6 + 6j, 18 + 18j})}
+    ends = {frozenset(np.round(z[-1, [0, -1]], 9).tolist()) for z in (top, bottom)}
+    assert ends == x_bars
+    mirror = 24j + np.conj(top)  # the top bar mirrored about y = 12, in every frame
+    for k in range(len(seq.z)):
+        assert distance_to_polyline(mirror[k], bottom[k]).max() < 1e-6
+        assert distance_to_polyline(bottom[k], mirror[k]).max() < 1e-6
+    middle = seq.z[-1, bars[12]]
+    assert np.ptp(middle.real) < 1.0  # drawn off: no length left at the end

@@ -88,6 +88,8 @@ class Slot(NamedTuple):
 
 #: weight of the difference of two strokes' directions in their matching cost (a bar and one across: 4 x this)
 TURN_COST = 0.05
+#: items are mirror images of each other where centroids, sizes and directions agree this closely (normalised)
+MIRROR_TOL = 0.01
 
 
 # ---------------------------------------------------------------- geometry
@@ -295,6 +297,70 @@ def _assign(cost, forced=(), forbidden=()):
     return pairs
 
 
+def _mirror_images(feats):
+    """Per mirror of the normalised plane, the permutation of the items that it makes, or None.
+
+    The mirrors are about the horizontal, then the vertical axis through the
+    frame's centre; an item's image is the item whose centroid, size and
+    direction are those of its mirror image within `MIRROR_TOL`.
+
+    Parameters
+    ----------
+    feats : list of (complex, float, (k,) complex)
+        Per item, `_features`: centroid, size and outer ring, normalised.
+
+    Returns
+    -------
+    list of (n,) int or None
+        Per mirror, the index of every item's image (an involution), or None
+        where some item has no image.
+    """
+    c = np.array([f[0] for f in feats])
+    s = np.array([f[1] for f in feats])
+    d = np.array([_direction(f[2]) for f in feats])
+    out = []
+    for flip in (1, -1):  # z -> conj(z), z -> -conj(z); a direction exp(2i theta) goes to its conjugate either way
+        gap = (np.abs(flip * np.conj(c)[:, None] - c[None, :]) + np.abs(s[:, None] - s[None, :])
+               + np.abs(np.conj(d)[:, None] - d[None, :]))
+        image = np.argmin(gap, axis=1)
+        ok = gap[np.arange(len(c)), image].max(initial=0.0) < MIRROR_TOL and np.all(image[image] == np.arange(len(c)))
+        out.append(image if ok else None)
+    return out
+
+
+def _mirrored(cost, a_feats, b_feats, forbidden):
+    """Least-cost pairs (rows, cols) that commute with a mirror both drawings share, or None.
+
+    Where both sets of items are symmetric about the same axis, an item and
+    its mirror image pair with an item and its mirror image (a hamburger's
+    top and bottom bars with the two bars of an X, its middle bar with
+    nothing): items are grouped in orbits of the mirror (one item on the
+    axis, or two), orbits of the same size paired by `_assign`, a pair of
+    two-item orbits in the cheaper of its two ways.
+    """
+    for ia, ib in zip(_mirror_images(a_feats), _mirror_images(b_feats), strict=True):
+        if ia is None or ib is None:
+            continue
+        oa = [(i,) if ia[i] == i else (i, int(ia[i])) for i in range(len(ia)) if ia[i] >= i]
+        ob = [(j,) if ib[j] == j else (j, int(ib[j])) for j in range(len(ib)) if ib[j] >= j]
+        if all(len(o) == 1 for o in oa) and all(len(o) == 1 for o in ob):
+            return None  # every item on the axis: any pairing commutes with the mirror
+        orbit_cost = np.zeros((len(oa), len(ob)))
+        ways, barred = {}, set()
+        for r, a in enumerate(oa):
+            for c, b in enumerate(ob):
+                options = [list(zip(a, b, strict=True)), list(zip(a, b[::-1], strict=True))] if len(a) == len(b) else []
+                options = [o for o in options if not set(o) & forbidden]
+                if not options:
+                    barred.add((r, c))
+                    continue
+                best = min(options, key=lambda o: sum(cost[i, j] for i, j in o))
+                ways[r, c] = best
+                orbit_cost[r, c] = sum(cost[i, j] for i, j in best)
+        return [p for r, c in _assign(orbit_cost, (), barred) for p in ways[r, c]]
+    return None
+
+
 def _check_forced(pairs, n_regions):
     """Validated forced region pairs [(source region, target region)]."""
     out = []
@@ -371,6 +437,10 @@ def plan(items, frames, pairs=None):
                         break
                     forbidden |= bad
                     done = _assign(cost, forced, forbidden)
+                mirrored = None if forced else _mirrored(cost, feats_ref, feats_k, forbidden)
+                if mirrored is not None and len(mirrored) == len(done) and not (
+                        closed and _nesting_conflicts(mirrored, refs, own[k], k, nests) & set(mirrored)):
+                    done = mirrored
             for r, c in done:
                 kind_slots[r][k] = own[k][c]
             taken = {c for _, c in done}
