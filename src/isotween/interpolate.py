@@ -17,6 +17,7 @@ from .errors import MethodError, ParameterError
 from .initialisation import INITIALISERS
 from .optimisation import backend
 from .optimisation.global_solver import LINEAR_SOLVERS
+from .optimisation.hold import hold, still_vertices
 from .optimisation.local_solver import ASSEMBLY
 from .optimisation.problem import DEFAULT_TOL, Result, bbox_diagonal
 from .optimisation.schemes import SCHEMES
@@ -231,6 +232,15 @@ def _aiap(source, target, t, options, callback):
             result = solve(problem, solver=options["solver"], assembly=options["assembly"],
                            linear_solver=options["linear_solver"], callback=callback, folds=folds)
         result.timings = {"init": init_time, **result.timings}
+        # paths that stay put between the ends held on their straight way (an outline round a hole that
+        # closes), where that folds no more triangles
+        held = still_vertices(source, z0, z1, diag)
+        if held.size and held.size < source.n_vertices:
+            z = hold(source, result.z, t, held)
+            flips = _flips(source) if source.n_faces else None
+            if flips is None or flips(z) <= flips(result.z):
+                result.z = z
+                result.info["held"] = int(held.size)
     result.timings["total"] = time.perf_counter() - start
     return result.sequence(source, t, method="aiap", scheme=scheme,
                            info={"options": options, "max_move": result.max_move})
