@@ -293,3 +293,33 @@ def test_a_triangle_round_its_inscribed_circle_keeps_its_corners(tmp_path):
     a, b = _pair(tmp_path, '<path d="M10 1.5 L18.66 16.5 L1.34 16.5Z"/>', f'<path d="{circle}"/>')
     report = _report(a, b)
     assert report.cut == [0, 0] and report.regions == {"paired": 1, "grown": 0, "shrunk": 0}
+
+
+@pytest.mark.parametrize("check_first", [True, False])
+def test_a_check_turns_into_a_close_sign_arm_by_arm(tmp_path, check_first):
+    # a check mark (one region bent once) and an X (one region, two bars crossed): the check is cut at its elbow
+    # and the X taken as its two bars; each arm turns into the bar of its own direction (whole, the check melted
+    # into the X; paired by place and overlap alone, the long arm swung across into the other bar)
+    import shapely
+
+    v = shapely.LineString([(3, 10), (8, 15), (17, 4)]).buffer(1, cap_style="flat", join_style="mitre")
+    check = '<path d="M' + " L".join(f"{x:.12g} {y:.12g}" for x, y in np.asarray(v.exterior.coords)[:-1]) + 'Z"/>'
+    r = 1 / 2**0.5
+    x = [(4 - r, 4 + r), (4 + r, 4 - r), (10, 10 - 2 * r), (16 - r, 4 - r), (16 + r, 4 + r), (10 + 2 * r, 10),
+         (16 + r, 16 - r), (16 - r, 16 + r), (10, 10 + 2 * r), (4 + r, 16 + r), (4 - r, 16 - r), (10 - 2 * r, 10)]
+    cross = '<path d="M' + " L".join(f"{a!r} {b!r}" for a, b in x) + 'Z"/>'
+    a, b = _pair(tmp_path, *((check, cross) if check_first else (cross, check)))
+    report = _report(a, b)
+    assert report.cut == [1, 1]
+    assert report.regions == {"paired": 2, "grown": 0, "shrunk": 0}
+    seq = isotween.morph(a, b, frames=11)
+
+    def axis(z):  # the direction of a piece's long axis, as exp(2i angle)
+        d = z - z.mean()
+        m = np.mean(d * d)
+        return m / abs(m)
+
+    pieces = [idx for idx, closed in seq.shape.paths if closed]
+    assert len(pieces) == 2
+    for idx in pieces:
+        assert abs(axis(seq.z[0, idx]) - axis(seq.z[-1, idx])) < 2 * np.sin(np.radians(20))  # within 20 degrees

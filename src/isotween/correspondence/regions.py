@@ -3,7 +3,7 @@
 A drawing is cut into *items*: filled regions (outer ring, then holes),
 unfilled closed rings and open polylines. Items of the same kind are paired
 by an optimal assignment (scipy's `min_weight_full_bipartite_matching`) on their
-position and size, both normalised by the drawing's bounding box, and for
+position, size and direction, normalised by the drawing's bounding box, and for
 regions also on their overlap. Holes are paired the same way inside each
 pair of regions, normalised by the region's box.
 
@@ -207,7 +207,10 @@ def _features(item_rings, closed, frame):
 
 
 def _cost(a_feats, b_feats, closed, overlap=None):
-    """(m, n) matching cost: squared distance of centroids and sizes, plus 1 - overlap (regions) or turn (strokes).
+    """(m, n) matching cost: squared distance of centroids, sizes and directions (`TURN_COST`), plus 1 - overlap.
+
+    The overlap counts for regions only. A bar pairs with a bar of its direction: a check mark's arms cut apart
+    each with the bar of a close sign that lies its way.
 
     ``overlap``: the regions' (m, n) `_overlap`, where the caller has it.
     """
@@ -220,10 +223,8 @@ def _cost(a_feats, b_feats, closed, overlap=None):
         if overlap is None:
             overlap = _overlap([f[2] for f in a_feats], [f[2] for f in b_feats])
         cost = cost + (1.0 - overlap)
-    else:
-        da, db = np.array([_direction(f[2]) for f in a_feats]), np.array([_direction(f[2]) for f in b_feats])
-        cost = cost + TURN_COST * np.abs(da[:, None] - db[None, :]) ** 2
-    return cost
+    da, db = np.array([_direction(f[2]) for f in a_feats]), np.array([_direction(f[2]) for f in b_feats])
+    return cost + TURN_COST * np.abs(da[:, None] - db[None, :]) ** 2
 
 
 def _unlike(a_paint, b_paint, overlap):

@@ -30,7 +30,9 @@ A plus and a minus (`_arms`): the minus is the plus's bar, so the plus is
 cut into the bar and the arms the minus lacks, which retract into it.
 
 A menu and a close sign (`_crossed`): the X is taken as its two crossed
-bars, which overlap, each to turn into a bar of the menu.
+bars, which overlap, each to turn into a bar of the menu. A check mark (or
+a chevron) and a close sign (`_bent`): the check, bent once, is cut at its
+elbow into its two arms, each to turn into a bar of the X.
 
 Strokes alike (`split_strokes`): a bell's outline, and the struck-through
 bell's drawn as two strokes that part where the slash comes in (Lucide's
@@ -105,6 +107,7 @@ def split_regions(items, frames):
                 parts = (_parts(region, it.paint[0], theirs, filled, mine, step) if len(theirs) >= 2 else None) \
                     or _arms(region, it.paint[0], theirs)
                 bars = None if parts else _crossed(region, it.paint[0], theirs)
+                parts = parts or (None if bars else _bent(region, it.paint[0], theirs))
             if parts is None and bars is None:
                 new.append(it)
                 continue
@@ -245,24 +248,95 @@ def _crossed(region, paint, theirs):
     vertices together); what is left of it without their quadrilateral is
     four arms, and each two opposite arms with the quadrilateral make a bar
     (`ARM` times as long as wide, `CONVEX`). Only where two or more regions
-    of the other drawing, filled alike, are bars.
+    of the other drawing, filled alike, are bars, or one is bent (`_bent`:
+    a check mark's two arms).
+    """
+    fill = getattr(paint, "fill", None)
+    alike = [p for p, q in theirs if getattr(q, "fill", None) == fill]
+    if sum(_aspect(p) >= ARM for p in alike) < 2 and not any(_elbow(p) for p in alike):
+        return None
+    return _cross_bars(region)
+
+
+def _bent(region, paint, theirs):
+    """A region bent once (a check mark, a chevron) cut at its elbow, where the other drawing has an X: (2,) or None.
+
+    A check into a close sign (Font Awesome's ``check`` and ``xmark``): the
+    X is taken as its two crossed bars (`_crossed`) and the check as its two
+    arms, each to turn into a bar; whole, the check melted into the X. The
+    region, with no holes, has one inner corner (`_elbow`); it is cut from
+    there along the bisector of the corner into two arms (the cut a seam of
+    no width, as `_parts` cuts), each at least `LEAST` of the region. Only
+    where a region of the other drawing, filled alike, is two crossed bars.
     """
     import shapely
+    from shapely.ops import split
 
     fill = getattr(paint, "fill", None)
-    if region.interiors or sum(getattr(q, "fill", None) == fill and _aspect(p) >= ARM for p, q in theirs) < 2:
+    elbow = _elbow(region)
+    if elbow is None or not any(getattr(q, "fill", None) == fill and _cross_bars(p) for p, q in theirs):
         return None
+    corner, way = elbow
+    x0, y0, x1, y1 = region.bounds
+    reach = 2 * np.hypot(x1 - x0, y1 - y0)
+    a, b = corner - 1e-9 * reach * way, corner + reach * way
+    try:
+        pieces = split(region, shapely.LineString([(a.real, a.imag), (b.real, b.imag)]))
+    except (shapely.errors.GEOSException, ValueError):
+        return None
+    arms = [g for g in pieces.geoms if g.geom_type == "Polygon"]
+    if len(arms) != 2 or min(g.area for g in arms) < LEAST * region.area:
+        return None
+    return arms
+
+
+def _inner_corners(region):
+    """The inner corners of a region's outer ring: per corner, (vertex indices (r,), summed turn) in (k,) order.
+
+    An inner corner is a run of vertices where the outline turns back
+    inward, by `NOTCH` or more in all; with the outline's vertices (k,)
+    complex. None where no vertex or every vertex turns inward.
+    """
     z = np.asarray(region.exterior.coords)[:-1] @ [1, 1j]
     turn = np.angle((np.roll(z, -1) - z) / (z - np.roll(z, 1)))
     inward = turn * np.sign(turn.sum()) < 0
     if inward.all() or not inward.any():
         return None
     first = int(np.flatnonzero(~inward)[0])  # runs of inward turns, counted from a vertex that turns outward
-    z, turn, inward = (np.roll(a, -first) for a in (z, turn, inward))
-    run = np.cumsum(np.r_[False, inward[1:] & ~inward[:-1]])[inward]
-    corners = [z[inward][run == r].mean() for r in np.unique(run) if abs(turn[inward][run == r].sum()) >= NOTCH]
-    if len(corners) != 4:
+    order = np.roll(np.arange(len(z)), -first)
+    at = order[inward[order]]
+    run = np.cumsum(np.r_[False, inward[order][1:] & ~inward[order][:-1]])[inward[order]]
+    runs = [at[run == r] for r in np.unique(run)]
+    return z, [(r, float(turn[r].sum())) for r in runs if abs(turn[r].sum()) >= NOTCH]
+
+
+def _elbow(region):
+    """A region bent once: (its inner corner (complex), unit direction into the material (complex)), or None.
+
+    No holes and one inner corner (`_inner_corners`); the direction halves
+    the corner's angle inside the region.
+    """
+    found = None if region.interiors else _inner_corners(region)
+    if found is None or len(found[1]) != 1:
         return None
+    z, ((run, _),) = found
+    k = len(z)
+    into, out = z[run[0]] - z[run[0] - 1], z[(run[-1] + 1) % k] - z[run[-1]]
+    way = into / abs(into) - out / abs(out)  # back along the incoming side, on along the outgoing: the halving line
+    if abs(way) < 1e-9:
+        return None
+    return complex(z[run].mean()), way / abs(way)
+
+
+def _cross_bars(region):
+    """The two crossed bars that make up a region (an X, a plus): (2,) shapely Polygons, or None (`_crossed`)."""
+    import shapely
+
+    found = None if region.interiors else _inner_corners(region)
+    if found is None or len(found[1]) != 4:
+        return None
+    z, runs = found
+    corners = [complex(z[r].mean()) for r, _ in runs]
     try:
         core = shapely.MultiPoint(np.c_[np.real(corners), np.imag(corners)]).convex_hull
         rest = shapely.difference(region, core)
