@@ -251,6 +251,23 @@ def ex_play():
     return _svg_pair(play, pause)
 
 
+def ex_star():
+    """A star drawn as an outline (a band round a hole) and filled: the same outer outline, the hole closes."""
+    import shapely
+
+    k = np.arange(10)
+    r = np.where(k % 2, 3.1, 7.5)  # the tips and the inner corners
+    z = 8 + 8.6j - 1j * r * np.exp(1j * np.pi * k / 5)
+    star = shapely.Polygon(np.c_[z.real, z.imag]).buffer(0.5, join_style="round").buffer(-0.5)  # rounded tips
+    outline = shapely.orient_polygons(star.difference(star.buffer(-1.2, join_style="mitre")))  # the hole winds back
+
+    def d(poly):
+        return " ".join("M " + " L ".join(f"{u:.4f} {v:.4f}" for u, v in np.asarray(r.coords)[:-1]) + " Z"
+                        for r in [poly.exterior, *poly.interiors])
+
+    return _svg_pair([d(outline)], [d(star)])
+
+
 def ex_menu():
     """A menu into a close sign: three bars, and an X drawn as one outline (its two bars crossed)."""
     menu = [f"M 2.75 {y} L 13.25 {y} A 0.75 0.75 0 0 1 13.25 {y + 1.5} L 2.75 {y + 1.5} A 0.75 0.75 0 0 1 2.75 {y} Z"
@@ -378,8 +395,10 @@ EXAMPLES = [
      ex_plus, "correspond", {"frames": 13}),
     ("play", "play into pause with no options: the triangle parts into the two bars",
      ex_play, "correspond", {"frames": 13}),
-    ("menu", "a menu into a close sign with no options: the X is taken as its two crossed bars, which two of the "
-             "menu's bars turn into while the third fades", ex_menu, "correspond", {"frames": 13}),
+    ("menu", "a menu into a close sign with no options: the X is taken as its two crossed bars, which the menu's "
+             "top and bottom bars turn into while the middle one fades", ex_menu, "correspond", {"frames": 13}),
+    ("star", "an outline star fills with no options: the outline stays where it is while the hole closes",
+     ex_star, "correspond", {"frames": 13}),
     ("lock", "a padlock opens with no options: the hole inside the shackle opens into the open lock's notch",
      ex_lock, "correspond", {"frames": 13}),
     ("slash", "an eye struck through with no options: the slash parts the eye, each half staying where it is drawn",
