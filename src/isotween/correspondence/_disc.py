@@ -232,13 +232,14 @@ def _cuts(zs, zt, rings, near=12):
         shapely.prepare(p)
     joined = [0]
     chosen, used, taken = [], set(), [[], []]  # taken: lines of the chosen cuts in each shape
+    known = {}  # (u, v) -> whether the segment lies inside both polygons, from every round so far
     while len(joined) < len(rings):
         best = None
         for h in (h for h in range(1, len(rings)) if h not in joined):
             base = np.concatenate([rings[j] for j in joined])
-            picks = _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near)
+            picks = _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near, known)
             if picks is None:  # every pair, not only the nearest
-                picks = _hole_cuts(zs, zt, rings, h, base, polys, used, taken, len(base))
+                picks = _hole_cuts(zs, zt, rings, h, base, polys, used, taken, len(base), known)
             if picks is not None and (best is None or picks[0] < best[0]):
                 best = (picks[0], h, picks[1])
         if best is None:
@@ -256,10 +257,11 @@ def _cuts(zs, zt, rings, near=12):
     return chosen
 
 
-def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
+def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near, known):
     """The shortest two valid cuts from hole h to the vertices ``base``, or None.
 
-    Returned as (summed length, ((u1, v1), (u2, v2))).
+    Returned as (summed length, ((u1, v1), (u2, v2))). ``known`` ((u, v) ->
+    bool) holds the inside tests made before, and gets the new ones.
     """
     import shapely
 
@@ -280,9 +282,12 @@ def _hole_cuts(zs, zt, rings, h, base, polys, used, taken, near):
         nonlocal tested
         while n >= tested:
             c = cand[tested:tested + max(64, tested)]
-            ok = np.ones(len(c), dtype=bool)
+            seen = [known.get((u, v)) for u, v in zip(bv[c].tolist(), hv[c].tolist(), strict=True)]
+            ok = np.array([s is None or s for s in seen], dtype=bool)
+            new = np.array([s is None for s in seen], dtype=bool)
             for z, poly in zip((zs, zt), polys, strict=False):
-                ok[ok] = _inside(z, poly, np.c_[bv[c[ok]], hv[c[ok]]])
+                ok[ok & new] = _inside(z, poly, np.c_[bv[c[ok & new]], hv[c[ok & new]]])
+            known.update(zip(zip(bv[c[new]].tolist(), hv[c[new]].tolist(), strict=True), ok[new].tolist(), strict=True))
             inside[tested:tested + len(c)] = ok
             tested += len(c)
         return inside[n]
