@@ -217,6 +217,10 @@ def _aiap(source, target, t, options, callback):
         check_compatible(source, target, edge_vectors=(e0, e1), diagonal=diag)
     else:
         check_compatible(source, target)  # raises
+    # paths that stay put between the ends are held on their straight way (an outline round a hole that closes)
+    held = still_vertices(source, z0, z1, diag)
+    held = held if 0 < held.size < source.n_vertices else None
+    flips = _flips(source) if source.n_faces else None
     if len(t) == 2:
         result = Result(np.array([z0, z1]).T)
     else:
@@ -228,16 +232,14 @@ def _aiap(source, target, t, options, callback):
             # with the fold check, the iterations stop before the first that folds a triangle (where the
             # first does not): Eq. (6) lowered as far as no fold allows, not a fold for the check to repair;
             # where the first folds, once the folds spread (each iteration folds more: GROW)
-            folds = _flips(source) if options["fold"] == "fallback" and source.n_faces else None
+            folds = flips if options["fold"] == "fallback" else None
+            if folds is not None and held is not None:  # the check sees the frames as they come out
+                folds = lambda z: flips(hold(source, z, t, held))  # noqa: E731
             result = solve(problem, solver=options["solver"], assembly=options["assembly"],
                            linear_solver=options["linear_solver"], callback=callback, folds=folds)
         result.timings = {"init": init_time, **result.timings}
-        # paths that stay put between the ends held on their straight way (an outline round a hole that
-        # closes), where that folds no more triangles
-        held = still_vertices(source, z0, z1, diag)
-        if held.size and held.size < source.n_vertices:
+        if held is not None:  # where that folds no more triangles
             z = hold(source, result.z, t, held)
-            flips = _flips(source) if source.n_faces else None
             if flips is None or flips(z) <= flips(result.z):
                 result.z = z
                 result.info["held"] = int(held.size)
