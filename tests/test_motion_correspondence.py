@@ -177,6 +177,21 @@ def test_a_symmetric_drawing_does_not_spin(tmp_path):
     assert np.abs(a.z[outer] - b.z[outer]).max() < 0.25 * a.bbox_diagonal()  # every point stays near its place
 
 
+def test_a_toggle_slides_its_knob_and_does_not_spin(tmp_path):
+    # a toggle's frame (a stroked pill) and knob (a stroked circle), the knob left, then right: the right
+    # toggle is the left one turned by 180 degrees, but the frame is where it was, so nothing turns and only
+    # the knob moves (turned as a whole, the frame spun round)
+    head = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 24 24" fill="none" stroke="black" '
+            'stroke-width="2"><rect x="1" y="5" width="22" height="14" rx="7"/><circle cx="{}" cy="12" r="3"/></svg>')
+    (tmp_path / "left.svg").write_text(head.format(8))
+    (tmp_path / "right.svg").write_text(head.format(16))
+    seq = isotween.morph(tmp_path / "left.svg", tmp_path / "right.svg", frames=9)
+    frame, knob = sorted(seq.shape.paths, key=lambda p: -np.ptp(seq.z[0, p[0]].real))
+    assert np.abs(seq.z[:, frame[0]] - seq.z[0, frame[0]]).max() < 0.01 * 24
+    path = seq.z[:, knob[0]].mean(axis=1)  # the knob's centre slides straight across
+    assert np.abs(path.imag - 12).max() < 0.01 * 24 and np.all(np.diff(path.real) > 0)
+
+
 def _outer_turn(tmp_path, source_svg, target_svg):
     """Two drawings corresponded with no options; (a, b, the largest ring's vertices, its turn in degrees)."""
     for name, text in (("a", source_svg), ("b", target_svg)):

@@ -11,10 +11,12 @@ mean distance between arc-length samples of all their rings and the nearest
 samples of the other drawing (both ways); of turns that fit about as well
 (`TIE`, a symmetric drawing's), the smallest counts. A rotation is used only when it
 fits clearly better than no rotation (`GAIN`), so that drawings that do not
-turn keep their places, and a symmetric drawing does not spin. Without a
-turn, a shift is used where it puts most of the source on the target
-(`KEPT`, `_shifted`): the same object drawn in the middle of canvases of
-different widths.
+turn keep their places, and a symmetric drawing does not spin; nor where
+the plain frames already put most of the source on the target (`KEPT`: a
+toggle's frame, which a turn by 180 degrees would also fit, stays while its
+knob slides). Without a turn, a shift is used where it puts most of the
+source on the target (`_shifted`): the same object drawn in the middle of
+canvases of different widths.
 """
 
 import numpy as np
@@ -124,6 +126,11 @@ def align(items, frames):
     turn : complex
         The rotation (unit complex) from source to target; 1 when none.
     """
+    p, q = _samples(items[0]), _samples(items[1])
+    near = _Nearest(q)
+    diagonal = abs(complex(np.ptp(q.real), np.ptp(q.imag)))
+    if _kept(p, near, frames, diagonal) >= KEPT:  # most of the drawing stays where it is: no turn
+        return frames, 1.0 + 0j
     cands = []
     (z, closed), (w, closed_w) = _dominant(items[0]), _dominant(items[1])
     if closed and closed_w:
@@ -138,8 +145,6 @@ def align(items, frames):
         xc, yc = x.mean(), y.mean()
         ratio = np.linalg.norm(y - yc) / max(np.linalg.norm(x - xc), 1e-300)
         cands = [(rho[k] * ratio, xc, yc) for k in peaks]
-    p, q = _samples(items[0]), _samples(items[1])
-    near = _Nearest(q)
     plain = _fit_distance(p, q, near, lambda v: frames[0].to(frames[1], v))
     # candidates: the dominant rings' correlation peaks, and a coarse circle of turns about the samples' centroids
     pc, qc = p.mean(), q.mean()
@@ -159,7 +164,6 @@ def align(items, frames):
     if fits:  # of the turns that fit about as well as the best (a symmetric drawing's), the smallest
         least = min(f[0] for f in fits)
         best, best_a, best_b = min((f for f in fits if f[0] <= (1 + TIE) * least), key=lambda f: abs(np.angle(f[1])))
-    diagonal = abs(complex(np.ptp(q.real), np.ptp(q.imag)))
     if (best_a is None or not best < GAIN * plain or plain < VISIBLE * diagonal
             or (abs(np.angle(best_a)) > SMALL_TURN and best > COPY * diagonal)):  # a large turn only for a copy
         return _shifted(p, q, near, frames, diagonal), 1.0 + 0j
@@ -184,9 +188,6 @@ def _shifted(p, q, near, frames, diagonal):
     within `COPY` of the target's, and the plain frames do not.
     """
     a, b = frames[0].factor(frames[1]), frames[0].to(frames[1], 0j)
-    near_share = (near.query(a * p + b)[0] <= COPY * diagonal).mean()
-    if near_share >= KEPT:
-        return frames
     shift, few, few_q = 0j, p[::SCREEN], q[::SCREEN]  # found on every `SCREEN`th sample of each
     near_few = _Nearest(few_q)
     for _ in range(SHIFT_ROUNDS):
@@ -202,6 +203,12 @@ def _shifted(p, q, near, frames, diagonal):
     if abs(shift) < VISIBLE * diagonal or (near.query(moved)[0] <= COPY * diagonal).mean() < KEPT:
         return frames
     return _similar(frames, a, b + shift)
+
+
+def _kept(p, near, frames, diagonal):
+    """The share of the source's samples ``p`` that the plain frames put within `COPY` of the target's."""
+    a, b = frames[0].factor(frames[1]), frames[0].to(frames[1], 0j)
+    return float((near.query(a * p + b)[0] <= COPY * diagonal).mean())
 
 
 def _icp(p, q, near, a, b, rounds=ICP_ROUNDS):
