@@ -1,4 +1,4 @@
-"""Paths that stay put between the drawings are held on their straight way (`isotween.optimisation.hold`)."""
+"""Paths that stay put, shrink or grow between the drawings are held on their straight way (`optimisation.hold`)."""
 
 import numpy as np
 
@@ -35,22 +35,28 @@ def test_held_frames_are_the_least_squares_positions_with_the_held_vertices_fixe
     assert np.allclose(out[:, [0, -1]], z[:, [0, -1]])  # the ends stay
 
 
-def test_only_paths_that_stay_put_are_held():
+def test_paths_that_stay_put_are_held_and_scaled_copies_in_their_piece():
     grid = grid_mesh(3, 3)
-    outline = np.array([0, 1, 2])
-    mesh = isotween.Shape(grid.vertices, faces=grid.faces, paths=[(outline, False)])
-    z0 = mesh.vertices[:, 0] + 1j * mesh.vertices[:, 1]
+    z0 = grid.vertices[:, 0] + 1j * grid.vertices[:, 1]
+    low, high = np.argsort(z0.imag)[:3], np.argsort(z0.imag)[-3:]  # two rows of the same piece
+    mesh = isotween.Shape(grid.vertices, faces=grid.faces, paths=[(low, False), (high, False)])
     z1 = z0.copy()
-    assert np.array_equal(still_vertices(mesh, z0, z1, 1.0), np.sort(outline))
-    z1[outline[0]] += 0.02  # one vertex moves 2 % of the diagonal
+    assert np.array_equal(still_vertices(mesh, z0, z1, 1.0), np.sort(np.r_[low, high]))
+    z1[high] = z0[high].mean() + 0.1 + 0.5 * (z0[high] - z0[high].mean())  # moved and shrunk
+    assert np.array_equal(still_vertices(mesh, z0, z1, 1.0), np.sort(np.r_[low, high]))
+    z1[high] = z0[high].mean() + 1j * (z0[high] - z0[high].mean())  # turned: not a copy
+    assert np.array_equal(still_vertices(mesh, z0, z1, 1.0), np.sort(low))
+    z1[high] = z0[high].mean() + 0.5 * (z0[high] - z0[high].mean())
+    z1[low[0]] += 0.02  # one vertex of the other row moves 2 % of the diagonal: nothing stays put
     assert still_vertices(mesh, z0, z1, 1.0).size == 0
-    z1[outline[0]] -= 0.02 - 0.5 * HOLD
-    assert still_vertices(mesh, z0, z1, 1.0).size == len(outline)
+    z1[low[0]] -= 0.02 - 0.5 * HOLD  # half the tolerance: it stays
+    assert np.array_equal(still_vertices(mesh, z0, z1, 1.0), np.sort(np.r_[low, high]))
 
 
-def test_an_outline_whose_hole_closes_stays_put(tmp_path):
+def test_an_outline_whose_hole_closes_stays_put_and_the_hole_shrinks_as_a_copy(tmp_path):
     # the square outline into the filled square: the outline stays where it is in every frame while the
-    # hole shrinks; left free, it bulges out as the region grows into the hole
+    # hole shrinks, a square in every frame; left free, the outline bulges out as the region grows into the
+    # hole, and the hole's corners stand out
     a, b = tmp_path / "outline.svg", tmp_path / "filled.svg"
     a.write_text(OUTLINE)
     b.write_text(FILLED)
@@ -62,3 +68,8 @@ def test_an_outline_whose_hole_closes_stays_put(tmp_path):
     assert np.abs(z[:, outer] - z[0, outer]).max() < 1e-9
     areas = [abs(ring_area(z[k, hole])) for k in range(len(z))]
     assert np.all(np.diff(areas) < 0) and areas[-1] < 1e-9
+    a = z[0, hole] - z[0, hole].mean()
+    for k in range(len(z) - 1):  # a copy of the hole, shrunk
+        b = z[k, hole] - z[k, hole].mean()
+        s = np.vdot(a, b).real / np.vdot(a, a).real
+        assert np.abs(b - s * a).max() < 1e-9

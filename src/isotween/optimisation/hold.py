@@ -1,28 +1,40 @@
-"""Paths that stay put between the two drawings, held on their straight way in the in-betweens.
+"""Paths that stay put between the two drawings, and holes that close inside them, held on their straight way.
 
 AIAP places the vertices of every frame from its edge vectors by the least
 squares of Eq. (10), ``L z = D^T W e`` with ``L = D^T W D`` (the local
-solver's frozen weights ``w_ij = 2 / (|e_ij(0)| + |e_ij(1)|)``). Where a path of the
-drawing hardly moves from one end to the other (every vertex by less than
-`HOLD` of the diagonal: an outline icon and its filled variant share the
-outline, two emoji their face), the same least squares with those vertices
-held on the straight way between their ends changes the other vertices of
-their components by the discrete harmonic extension of the change at the held
+solver's frozen weights ``w_ij = 2 / (|e_ij(0)| + |e_ij(1)|)``). Where a
+path of the drawing stays put between the ends (within `HOLD` of the
+diagonal: an outline icon and its filled variant share the outline, two
+emoji their face), or, in a piece where one does, is at one end a copy of
+itself at the other, moved and scaled but not turned nor bent (a hole that
+closes, shrinking into a small copy of itself), the same least
+squares with its vertices held on the straight way between their ends, on
+which the path stays such a copy, changes the other vertices of their
+components by the discrete harmonic extension of the change at the held
 ones, ``L_ff dz_f = -L_fh dz_h``. Without it the free outline bulges while
-the hole inside it closes, as the in-betweens spread the hole's growth over
-the whole region.
+the hole inside it closes (the in-betweens spread the hole's growth over the
+whole region), and the closing hole's small round corners stay round while
+the rest of it shrinks, standing out as ears.
 """
 
 import numpy as np
 
 __all__ = ["HOLD", "still_vertices", "hold"]
 
-#: a path whose vertices all move less than this share of the diagonal between the ends is held
+#: a path is held where its target is its source moved and scaled to within this share of the diagonal
 HOLD = 0.01
 
 
 def still_vertices(shape, z0, z1, diagonal, tol=HOLD):
-    """Vertices of the paths that move less than ``tol * diagonal`` between the ends.
+    """Vertices of the paths that stay put, and of those that are moved and scaled copies where something stays.
+
+    A path stays put where every vertex moves less than ``tol * diagonal``
+    between the ends; a path whose target is within that of the best copy
+    ``c1 + s (z0 - c0)`` of its source (centroids ``c``, a scale ``s >= 0``
+    by least squares: moved and scaled, not turned nor bent) is held too
+    where a path of the same piece (component) stays put: a hole closing
+    inside an outline that stays. (Alone, a large hole held shrinking while
+    the region round it changes makes the region fold more.)
 
     Parameters
     ----------
@@ -38,9 +50,22 @@ def still_vertices(shape, z0, z1, diagonal, tol=HOLD):
     (h,) int
         Sorted vertex indices (empty where no path stays put).
     """
-    move = np.abs(z1 - z0)
-    still = [idx for idx, _ in shape.paths or () if len(idx) and move[idx].max() < tol * diagonal]
-    return np.unique(np.concatenate(still)) if still else np.zeros(0, dtype=np.int64)
+    still, copies = [], []
+    for idx, _ in shape.paths or ():
+        if len(idx) < 2:
+            continue
+        if np.abs(z1[idx] - z0[idx]).max() < tol * diagonal:
+            still.append(idx)
+            continue
+        a, b = z0[idx] - z0[idx].mean(), z1[idx] - z1[idx].mean()
+        s = max(float(np.vdot(a, b).real / max(np.vdot(a, a).real, 1e-300)), 0.0)
+        if np.abs(b - s * a).max() < tol * diagonal:
+            copies.append(idx)
+    if not still:
+        return np.zeros(0, dtype=np.int64)
+    pieces = shape.topology.components
+    kept = set(np.unique(pieces[np.concatenate(still)]).tolist())
+    return np.unique(np.concatenate(still + [idx for idx in copies if pieces[idx[0]] in kept]))
 
 
 def hold(shape, z, times, held):
@@ -56,7 +81,8 @@ def hold(shape, z, times, held):
     times : (F,) float
         Frame times (the straight way is linear in time).
     held : (h,) int
-        Vertices to hold (`still_vertices`).
+        Vertices to hold (`still_vertices`): on their straight way, a path
+        whose ends are copies of each other stays such a copy.
 
     Returns
     -------
