@@ -4,7 +4,7 @@ import numpy as np
 
 import isotween
 from isotween.geometry import ring_area
-from isotween.optimisation.hold import HOLD, hold, still_vertices
+from isotween.optimisation.hold import HOLD, Hold, still_vertices
 from shapes import grid_mesh
 
 HEAD = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16">'
@@ -22,7 +22,7 @@ def test_held_frames_are_the_least_squares_positions_with_the_held_vertices_fixe
     z = (mesh.vertices[:, 0] + 1j * mesh.vertices[:, 1])[:, None] + rng.normal(size=(n, 5)) * 0.1
     times = np.linspace(0.0, 1.0, 5)
     held = np.array([0, 1, 2, 7])
-    out = hold(mesh, z, times, held)
+    out = Hold(mesh, z[:, 0], z[:, -1], held)(z, times)
     line = z[held, :1] + (z[held, -1:] - z[held, :1]) * times
     assert np.allclose(out[held], line)
     D = mesh.topology.D.toarray()

@@ -17,7 +17,7 @@ from .errors import MethodError, ParameterError
 from .initialisation import INITIALISERS
 from .optimisation import backend
 from .optimisation.global_solver import LINEAR_SOLVERS
-from .optimisation.hold import hold, still_vertices
+from .optimisation.hold import Hold, still_vertices
 from .optimisation.local_solver import ASSEMBLY
 from .optimisation.problem import DEFAULT_TOL, Result, bbox_diagonal
 from .optimisation.schemes import SCHEMES
@@ -217,9 +217,10 @@ def _aiap(source, target, t, options, callback):
         check_compatible(source, target, edge_vectors=(e0, e1), diagonal=diag)
     else:
         check_compatible(source, target)  # raises
-    # paths that stay put between the ends are held on their straight way (an outline round a hole that closes)
+    # paths that stay put between the ends are held on their straight way (an outline round a hole that
+    # closes, and that hole, shrinking as a copy of itself)
     held = still_vertices(source, z0, z1, diag)
-    held = held if 0 < held.size < source.n_vertices else None
+    hold = Hold(source, z0, z1, held) if 0 < held.size < source.n_vertices and len(t) > 2 else None
     flips = _flips(source) if source.n_faces else None
     if len(t) == 2:
         result = Result(np.array([z0, z1]).T)
@@ -233,13 +234,13 @@ def _aiap(source, target, t, options, callback):
             # first does not): Eq. (6) lowered as far as no fold allows, not a fold for the check to repair;
             # where the first folds, once the folds spread (each iteration folds more: GROW)
             folds = flips if options["fold"] == "fallback" else None
-            if folds is not None and held is not None:  # the check sees the frames as they come out
-                folds = lambda z: flips(hold(source, z, t, held))  # noqa: E731
+            if folds is not None and hold is not None:  # the check sees the frames as they come out
+                folds = lambda z: flips(hold(z, t))  # noqa: E731
             result = solve(problem, solver=options["solver"], assembly=options["assembly"],
                            linear_solver=options["linear_solver"], callback=callback, folds=folds)
         result.timings = {"init": init_time, **result.timings}
-        if held is not None:  # where that folds no more triangles
-            z = hold(source, result.z, t, held)
+        if hold is not None:  # where that folds no more triangles
+            z = hold(result.z, t)
             if flips is None or flips(z) <= flips(result.z):
                 result.z = z
                 result.info["held"] = int(held.size)

@@ -19,9 +19,9 @@ the rest of it shrinks, standing out as ears.
 
 import numpy as np
 
-__all__ = ["HOLD", "still_vertices", "hold"]
+__all__ = ["HOLD", "still_vertices", "Hold"]
 
-#: a path is held where its target is its source moved and scaled to within this share of the diagonal
+#: a path stays put where it moves less than this share of the diagonal (a copy: is that near a moved, scaled copy)
 HOLD = 0.01
 
 
@@ -68,43 +68,52 @@ def still_vertices(shape, z0, z1, diagonal, tol=HOLD):
     return np.unique(np.concatenate(still + [idx for idx in copies if pieces[idx[0]] in kept]))
 
 
-def hold(shape, z, times, held):
-    """Frames ``z`` with the vertices ``held`` on their straight way and the rest of their components following.
+class Hold:
+    """Frames with the vertices ``held`` on their straight way and the rest of their components following.
+
+    The Laplacian of the held vertices' components is factorised once; every
+    call applies it to other frames of the same two ends (AIAP's iterations).
 
     Parameters
     ----------
     shape : Shape
         Connectivity (its edge incidence ``topology.D``).
-    z : (n, F) complex
-        Vertex positions of every frame; the first and last are kept (and
-        weight the edges as the local solver does).
-    times : (F,) float
-        Frame times (the straight way is linear in time).
+    z0, z1 : (n,) complex
+        The two ends (they weight the edges as the local solver does).
     held : (h,) int
         Vertices to hold (`still_vertices`): on their straight way, a path
         whose ends are copies of each other stays such a copy.
-
-    Returns
-    -------
-    (n, F) complex
-        The frames; components without a held vertex are unchanged.
     """
-    from scipy.sparse.linalg import splu
 
-    top = shape.topology
-    s = (np.asarray(times, float) - times[0]) / (times[-1] - times[0])
-    line = z[held, :1] * (1 - s) + z[held, -1:] * s  # (h, F)
-    mask = np.zeros(top.n, dtype=bool)
-    mask[held] = True
-    free = np.flatnonzero(np.isin(top.components, top.components[held]) & ~mask)
-    out = z.copy()
-    out[held] = line
-    if free.size:
-        e = top.D @ z[:, [0, -1]]
-        w = 2.0 / np.maximum(np.abs(e).sum(axis=1), 1e-300)  # the frozen weights of Algorithm 2
-        L = (top.D.T @ top.D.multiply(w[:, None])).tocsr()  # Eq. (10)'s Laplacian
-        rhs = -(L[free][:, held] @ (line - z[held]))  # (f, F)
-        lu = splu(L[free][:, free].tocsc())  # a held vertex in every component: positive definite
-        dz = lu.solve(np.ascontiguousarray(np.c_[rhs.real, rhs.imag]))
-        out[free] += dz[:, :z.shape[1]] + 1j * dz[:, z.shape[1]:]
-    return out
+    def __init__(self, shape, z0, z1, held):
+        from scipy.sparse.linalg import splu
+
+        top = shape.topology
+        self.held = held
+        mask = np.zeros(top.n, dtype=bool)
+        mask[held] = True
+        self.free = free = np.flatnonzero(np.isin(top.components, top.components[held]) & ~mask)
+        if free.size:
+            w = 2.0 / np.maximum(np.abs(top.D @ z0) + np.abs(top.D @ z1), 1e-300)  # the frozen weights of Alg. 2
+            L = (top.D.T @ top.D.multiply(w[:, None])).tocsr()  # Eq. (10)'s Laplacian
+            self._coupling = L[free][:, held]
+            self._lu = splu(L[free][:, free].tocsc())  # a held vertex in every component: positive definite
+
+    def __call__(self, z, times):
+        """The frames ``z`` (n, F) complex at ``times`` (F,) held; the first and last are kept.
+
+        Returns
+        -------
+        (n, F) complex
+            The frames; components without a held vertex are unchanged.
+        """
+        held, free = self.held, self.free
+        s = (np.asarray(times, float) - times[0]) / (times[-1] - times[0])
+        line = z[held, :1] * (1 - s) + z[held, -1:] * s  # (h, F)
+        out = z.copy()
+        out[held] = line
+        if free.size:
+            rhs = -(self._coupling @ (line - z[held]))  # (f, F)
+            dz = self._lu.solve(np.ascontiguousarray(np.c_[rhs.real, rhs.imag]))
+            out[free] += dz[:, :z.shape[1]] + 1j * dz[:, z.shape[1]:]
+        return out
