@@ -87,7 +87,6 @@ def test_a_thin_outline_is_cut_where_its_struck_through_copy_parts_though_drawn_
     assert report.cut == [1, 0] and report.regions == {"paired": 2, "grown": 1, "shrunk": 0}
 
 
-
 def test_a_region_is_cut_where_a_slash_drawn_joined_to_one_part_parts_it(tmp_path):
     # the square parted down x = 8..9 and struck through by a bar 1.5 wide (x = 9 to 10.5) drawn as one path with
     # the right part (Font Awesome's slashed icons): the bar reaches far out, so only 75 % of that path lies inside

@@ -29,7 +29,7 @@ or where R has no holes: the triangle parts into the two bars.
 A plus and a minus (`_arms`): the minus is the plus's bar, so the plus is
 cut into the bar and the arms the minus lacks, which retract into it.
 
-A menu and a close sign (`_crossed`): the X is taken as its two crossed
+A menu and a close sign (`_shapes`, `_cross_bars`): the X is taken as its two crossed
 bars, which overlap, each to turn into a bar of the menu. A check mark (or
 a chevron) and a close sign (`_bent`): the check, bent once, is cut at its
 elbow into its two arms, each to turn into a bar of the X.
@@ -59,8 +59,8 @@ COVER = 0.6  # the pieces together cover at least this share of the region
 FILLED = 0.7  # and the other drawing's regions, the pieces and others (a slash across), this share of it
 WHOLE = 0.9  # a region of the other drawing overlapping the region this much (intersection over union) keeps it whole
 LEAST = 0.05  # pieces smaller than this share of the region do not count
-NOTCH = np.deg2rad(30.0)  # an inner corner of crossed bars: the outline turns back inward by this much (`_crossed`)
-CONVEX = 0.95  # ... and each bar fills this share of its convex hull
+NOTCH = np.deg2rad(30.0)  # an inner corner: the outline turns back inward by this much (`_inner_corners`)
+CONVEX = 0.95  # each of two crossed bars fills this share of its convex hull (`_cross_bars`)
 CORE = (0.35, 0.7)  # one region of the other drawing covering this share of a region: its arms cut off (`_arms`)
 ARM = 2.5  # ... where each is a bar, this many times as long as it is wide
 WITHIN = 0.97  # ... and the other drawing's region lies within the region (a minus is the plus's bar)
@@ -99,6 +99,7 @@ def split_regions(items, frames):
         filled = shapely.union_all([p for p, _ in theirs])
         mine = shapely.union_all([region_polygon(it.rings) for it in items[k] if it.kind == "region"])
         step = STEP * bbox_diagonal(*[r for it in items[k] for r in it.rings])
+        barred, crossed = _shapes(theirs)
         new = []
         for it in out[k]:
             parts = bars = None
@@ -106,8 +107,9 @@ def split_regions(items, frames):
                 region = region_polygon(it.rings)
                 parts = (_parts(region, it.paint[0], theirs, filled, mine, step) if len(theirs) >= 2 else None) \
                     or _arms(region, it.paint[0], theirs)
-                bars = None if parts else _crossed(region, it.paint[0], theirs)
-                parts = parts or (None if bars else _bent(region, it.paint[0], theirs))
+                fill = getattr(it.paint[0], "fill", None)
+                bars = None if parts or fill not in barred else _cross_bars(region)
+                parts = parts or (None if bars or fill not in crossed else _bent(region))
             if parts is None and bars is None:
                 new.append(it)
                 continue
@@ -237,44 +239,53 @@ def _arms(region, paint, theirs):
         return None
 
 
-def _crossed(region, paint, theirs):
-    """Two bars crossing (an X, a plus) that make up the region, where the other drawing has bars: (2,) or None.
+def _shapes(theirs):
+    """The fills of the other drawing's regions that call for crossed bars (`_cross_bars`) and for arms (`_bent`).
 
     A menu's three bars and a close sign's X (Bootstrap's ``list`` and
-    ``x-lg``): the X, one region, paired whole with a bar melts into a blob.
-    Taken as its two bars, which overlap where they cross, each turns into a
-    bar of the menu. The region, with no holes, has four inner corners
-    (where its outline turns back inward by `NOTCH` or more, a run of
-    vertices together); what is left of it without their quadrilateral is
-    four arms, and each two opposite arms with the quadrilateral make a bar
-    (`ARM` times as long as wide, `CONVEX`). Only where two or more regions
-    of the other drawing, filled alike, are bars, or one is bent (`_bent`:
-    a check mark's two arms).
+    ``x-lg``): the X, one region, paired whole with a bar melts into a blob;
+    taken as its two bars, which overlap where they cross, each turns into a
+    bar of the menu. So a region is taken as crossed bars where two or more
+    regions of the other drawing, filled alike, are bars (`ARM` times as
+    long as wide), or one is bent once (`_elbow`: a check mark's two arms);
+    and a region bent once is cut into its arms where a region of the other
+    drawing, filled alike, is crossed bars.
+
+    Parameters
+    ----------
+    theirs : list of (shapely Polygon, Paint)
+
+    Returns
+    -------
+    barred, crossed : set of tuple or None
+        The fills with bars or a bent region, and those with crossed bars.
     """
-    fill = getattr(paint, "fill", None)
-    alike = [p for p, q in theirs if getattr(q, "fill", None) == fill]
-    if sum(_aspect(p) >= ARM for p in alike) < 2 and not any(_elbow(p) for p in alike):
-        return None
-    return _cross_bars(region)
+    bars, barred, crossed = {}, set(), set()
+    for p, q in theirs:
+        fill = getattr(q, "fill", None)
+        bars[fill] = bars.get(fill, 0) + (_aspect(p) >= ARM)
+        if bars[fill] >= 2 or _elbow(p):
+            barred.add(fill)
+        if _cross_bars(p):
+            crossed.add(fill)
+    return barred, crossed
 
 
-def _bent(region, paint, theirs):
-    """A region bent once (a check mark, a chevron) cut at its elbow, where the other drawing has an X: (2,) or None.
+def _bent(region):
+    """A region bent once (a check mark, a chevron) cut at its elbow into its two arms: (2,) or None.
 
     A check into a close sign (Font Awesome's ``check`` and ``xmark``): the
-    X is taken as its two crossed bars (`_crossed`) and the check as its two
-    arms, each to turn into a bar; whole, the check melted into the X. The
-    region, with no holes, has one inner corner (`_elbow`); it is cut from
-    there along the bisector of the corner into two arms (the cut a seam of
-    no width, as `_parts` cuts), each at least `LEAST` of the region. Only
-    where a region of the other drawing, filled alike, is two crossed bars.
+    X is taken as its two crossed bars (`_cross_bars`) and the check as its
+    two arms, each to turn into a bar; whole, the check melted into the X.
+    The region, with no holes, has one inner corner (`_elbow`); it is cut
+    from there along the bisector of the corner into two arms (the cut a seam
+    of no width, as `_parts` cuts), each at least `LEAST` of the region.
     """
     import shapely
     from shapely.ops import split
 
-    fill = getattr(paint, "fill", None)
     elbow = _elbow(region)
-    if elbow is None or not any(getattr(q, "fill", None) == fill and _cross_bars(p) for p, q in theirs):
+    if elbow is None:
         return None
     corner, way = elbow
     x0, y0, x1, y1 = region.bounds
@@ -329,7 +340,13 @@ def _elbow(region):
 
 
 def _cross_bars(region):
-    """The two crossed bars that make up a region (an X, a plus): (2,) shapely Polygons, or None (`_crossed`)."""
+    """The two crossed bars that make up a region (an X, a plus): (2,) shapely Polygons, or None.
+
+    The region, with no holes, has four inner corners (`_inner_corners`);
+    what is left of it without their quadrilateral is four arms, and each two
+    opposite arms with the quadrilateral make a bar (`ARM` times as long as
+    wide, filling `CONVEX` of its convex hull). The bars overlap there.
+    """
     import shapely
 
     found = None if region.interiors else _inner_corners(region)
