@@ -196,6 +196,23 @@ def test_the_command_line_staggers_and_refuses_a_bad_share(tmp_path):
     assert not np.allclose(runs["1"].frames, library.frames, atol=1e-6)
 
 
+def test_a_later_timing_whose_frames_are_clean_is_taken_before_repairing_the_first(tmp_path):
+    pytest.importorskip("shapely")
+    rings = [[(0, 0), (4, 0), (4, 0.5), (0, 0.5)], [(1.8, 1), (2.2, 1), (2.2, 5), (1.8, 5)]]  # a bar, an upright
+    d = " ".join("M " + " L ".join(f"{x} {y}" for x, y in r) + " Z" for r in rings)
+    (tmp_path / "a.svg").write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 4 5"><path d="{d}"/></svg>')
+    src = isotween.interpolate(tmp_path / "a.svg", tmp_path / "a.svg", frames=3).shape  # meshed regions
+    tgt = src.translate([0.0, 6.0])  # both rise: together they never meet
+    first = np.tile([0.0, 1.0], (src.n_vertices, 1))
+    first[src.vertices[:, 1] > 0.75] = (0.5, 1.0)  # the upright waits: the bar rises through it
+    waited = isotween.interpolate(src, tgt, frames=5, spans=first)
+    assert metrics.outline_crossings(waited)[1:-1].any()
+    together = np.tile([0.0, 1.0], (src.n_vertices, 1))
+    seq = isotween.interpolate(src, tgt, frames=5, spans=[first, together], fold="fallback")
+    np.testing.assert_allclose(seq.frames, isotween.interpolate(src, tgt, frames=5).frames, atol=1e-9)
+    assert seq.info["spans"]["used"] == 1 and "fallback" not in seq.info
+
+
 def test_alternative_spans_are_checked_and_the_first_is_kept_where_it_can_be():
     src = two_bars()
     tgt = turned(src, 0.3)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import time
 from typing import TYPE_CHECKING
 
@@ -123,11 +124,13 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         ``(0, 1)``. The frames are solved at the times all spans need and
         each piece takes its own (`ParameterError` for spans that are not
         within [0, 1], not increasing, or differ within a piece). Several
-        (m, n, 2) are alternatives: the first is used, and where the fold
-        check cannot keep its pieces apart (frames as they are, or
-        repaired), it tries the next ones in turn (one of ``(0, 1)``
-        everywhere: every piece on the whole morph), and ``info['spans']``
-        says which it kept (``{'used': index, 'why': ...}``).
+        (m, n, 2) are alternatives: the first is used; where its frames
+        fold or collide, the fold check takes the first of the next ones
+        whose frames do not, before any repair, else it repairs the first,
+        and where that cannot keep its pieces apart it tries the next ones
+        in turn (one of ``(0, 1)`` everywhere: every piece on the whole
+        morph); ``info['spans']`` says which it kept (``{'used': index,
+        'why': ...}``).
 
     Returns
     -------
@@ -316,9 +319,10 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     still has crossing outline edges, the fold-free 'injective' morph (else
     'convex') replaces the whole sequence. ``info['fallback']`` says which.
     ``alternatives``: (``make()``, spans) of other timings of the same
-    morph (`interpolate`'s ``spans``), each checked in turn where this one
-    cannot be kept with its pieces apart, before the repair in the regions
-    alone, keeping or replacing; ``apart_only``: only the repairs that keep
+    morph (`interpolate`'s ``spans``): the first of them whose frames are
+    clean as they are is the result before any repair of this one (AIAP's
+    own); else each is checked in turn where this one cannot be repaired
+    with its pieces apart, before the repair in the regions alone; ``apart_only``: only the repairs that keep
     pieces apart, else None. ``fewer(j, faces=None)``: the sequence after at
     most j AIAP iterations (on other faces); where outlines cross but no face
     folds, the most iterations whose outlines do not are looked for first
@@ -332,6 +336,8 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     """
     from . import metrics
     from .foldfree.scaffold import Around
+
+    alternatives = [(functools.cache(make), other) for make, other in alternatives]  # each solved once
 
     if seq.method in ("convex", "injective") or len(t) < 3:
         return seq
@@ -388,6 +394,10 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
                 flips, crossings, collisions = folds(seq)
                 if not (flips.any() or crossings.any() or collisions.any()):
                     return seq
+    for n, (make, _) in enumerate(alternatives, 2):  # a quicker timing whose frames are clean, before a repair
+        if clean(alt := make()):
+            alt.info["spans"] = {"used": n - 1, "why": "the first spans fold or collide where these do not"}
+            return alt
     bad = flips | crossings | collisions
     folded = (f"{seq.method} folded{at} in {int(np.count_nonzero(bad))} of {len(t) - 2} in-between frames "
               f"({int(flips.sum())} flipped triangles, {int(crossings.sum() + collisions.sum())} outline crossings)")
