@@ -353,6 +353,11 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     def clean(s):
         return not any(x.any() for x in folds(s))
 
+    def clean_timing(s):  # another timing of the same morph, its pieces out of sight in its own frames
+        w, a = _crossed(s.shape, z[[0, -1]], _hidden(s))
+        x = _complex_frames(s.frames)[1:-1]
+        return not (metrics.flipped_faces(s, None)[1:-1].any() or w(inner, x).any() or a(inner, x).any())
+
     def fewest(s, faces=None, found=None):  # s, or where outlines cross, no face folds: most iterations that do not
         flipped, *crossed = folds(s) if found is None else found
         if fewer is None or s.iterations < 2 or flipped.any() or not any(x.any() for x in crossed):
@@ -395,7 +400,7 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
                 if not (flips.any() or crossings.any() or collisions.any()):
                     return seq
     for n, (make, _) in enumerate(alternatives, 2):  # a quicker timing whose frames are clean, before a repair
-        if clean(alt := make()):
+        if clean_timing(alt := make()):
             alt.info["spans"] = {"used": n - 1, "why": "the first spans fold or collide where these do not"}
             return alt
     bad = flips | crossings | collisions
