@@ -351,6 +351,35 @@ def test_the_overlay_is_coarsened_and_stays_valid():
     assert coarse.info["vertices"] < sum(len(r) for r in src) + coarse.info["crossings"] / 2
 
 
+def test_fans_that_cross_too_often_are_flipped_to_cross_less_and_stay_a_triangulation():
+    # two fans of a convex 60-gon from opposite corners: every pair of their diagonals that interleaves crosses
+    from isotween.correspondence import _overlay
+    from isotween.geometry import edge_table, triangle_areas
+
+    n = 60
+    w = np.exp(2j * np.pi * np.arange(n) / n)
+    fan = lambda apex: np.array([[apex, (apex + k) % n, (apex + k + 1) % n] for k in range(1, n - 1)])  # noqa: E731
+    source, target, pos = fan(0), fan(n // 2), np.arange(n)
+
+    def chords(f):
+        a, b, _, _, twin = edge_table(f)
+        h = np.flatnonzero(twin > np.arange(len(a)))
+        return np.sort(np.c_[a[h], b[h]], axis=1)
+
+    def crossings(f):
+        (p, q), (r, s) = chords(source).T[:, :, None], chords(f).T[:, None, :]
+        return int(np.count_nonzero(((p < r) & (r < q) & (q < s)) | ((r < p) & (p < s) & (s < q))))
+
+    before = crossings(target)
+    assert before > n
+    assert _overlay._fewer_crossings(target, source, pos, w, budget=before / n) is target  # within the budget
+    flipped = _overlay._fewer_crossings(target, source, pos, w, budget=1)
+    assert crossings(flipped) < before / 4
+    areas = triangle_areas(w, flipped)
+    assert np.all(areas > 0) and np.isclose(areas.sum(), triangle_areas(w, target).sum())
+    assert {tuple(e) for e in chords(flipped)}.isdisjoint({(k, (k + 1) % n) for k in range(n - 1)})  # sides kept
+
+
 # DejaVu Serif 'W' and 'V' (Bitstream Vera licence), as matplotlib writes their outlines
 SERIF_W = ("M 76.219 -0.000 L 68.219 -0.000 L 51.516 -59.281 L 34.812 -0.000 L 26.812 -0.000 L 7.719 -67.672 "
            "L 0.484 -67.672 L 0.484 -72.906 L 27.094 -72.906 L 27.094 -67.672 L 18.016 -67.672 L 33.203 -13.812 "

@@ -9,7 +9,10 @@ from scipy.sparse.csgraph import connected_components
 
 from ..errors import ShapeError
 from ..geometry import convex_map, edge_table, orient, triangle_areas
-from ._disc import _disc_cycle, _open_cuts
+from ._disc import _disc_cycle, _flip, _independent, _open_cuts, _scale2
+
+#: crossings per boundary vertex past which the target's triangulation is flipped to cross the source's less
+OVERLAY_BUDGET = 50
 
 
 # ---------------------------------------------------------------- overlay of two discs
@@ -57,6 +60,8 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     lt = np.abs(np.diff(zt_all[np.r_[cyc, cyc[:1]]]))
     s = 0.5 * (np.r_[0, np.cumsum(ls)[:-1]] / ls.sum() + np.r_[0, np.cumsum(lt)[:-1]] / lt.sum())
     D = convex_map(zs_all, F1, cyc, np.exp(2j * np.pi * s))
+    if np.all(pos[F1] >= 0) and np.all(pos[F2] >= 0):  # two triangulations of the disc's boundary alone
+        F2 = _fewer_crossings(F2, F1, pos, zt_all)
 
     # target chords: edges of F2 that are neither boundary edges nor edges of F1
     a1, b1, _, key1, twin1 = edge_table(F1)
@@ -167,6 +172,62 @@ def _overlay(z1, f1, zt, f_tgt, rings, cuts, K, tol=1e-9):
     z = np.r_[z1, zs_x]
     w = np.r_[zt_all[:N1], zt_x]
     return z, w, vmap[faces]
+
+
+def _fewer_crossings(F2, F1, pos, w, budget=OVERLAY_BUDGET, rounds=100):
+    """``F2``, or where it crosses ``F1`` too often, with diagonals flipped (positive at ``w``) to cross fewer.
+
+    Both triangulate the same polygon with no inner vertex; in the disc their
+    diagonals are chords of a circle, and two cross exactly where their ends
+    interleave along it (``pos``: each vertex's place on the boundary). Every
+    crossing is a vertex of the overlay that the coarsening must merge away
+    again; two unlike fans cross tens of thousands of times. Where they cross
+    more than ``budget`` times per boundary vertex, each round flips, in
+    faces apart, the diagonals whose flip crosses fewer chords of ``F1``
+    (the target's Delaunay triangles, which AIAP folds less on, are kept
+    below that).
+
+    Returns
+    -------
+    (F, 3) int
+    """
+    a1, b1, _, _, twin1 = edge_table(F1)
+    h1 = np.flatnonzero(twin1 > np.arange(len(a1)))
+    lo1, hi1 = np.minimum(pos[a1[h1]], pos[b1[h1]]), np.maximum(pos[a1[h1]], pos[b1[h1]])
+
+    def crossed(u, v):  # (E,) how many chords of F1 the chords u-v cross, in blocks of rows
+        out = np.empty(len(u), dtype=np.int64)
+        step = max(1, (1 << 20) // max(len(lo1), 1))
+        for k in range(0, len(u), step):
+            lo = np.minimum(pos[u[k:k + step]], pos[v[k:k + step]])[:, None]
+            hi = np.maximum(pos[u[k:k + step]], pos[v[k:k + step]])[:, None]
+            inside_lo, inside_hi = (lo1 > lo) & (lo1 < hi), (hi1 > lo) & (hi1 < hi)
+            apart = (lo1 != lo) & (lo1 != hi) & (hi1 != lo) & (hi1 != hi)
+            out[k:k + step] = np.count_nonzero((inside_lo != inside_hi) & apart, axis=1)
+        return out
+
+    a, b, _, _, twin = edge_table(F2)
+    h = np.flatnonzero(twin > np.arange(len(a)))
+    if crossed(a[h], b[h]).sum() <= budget * np.count_nonzero(pos >= 0):
+        return F2
+    f = F2.copy()
+    sign = np.sign(triangle_areas(w, f[:1]))[0]
+    eps = 1e-12 * _scale2(w)
+    for _ in range(rounds):
+        a, b, c, _, twin = edge_table(f)
+        h = np.flatnonzero(twin > np.arange(len(a)))
+        now = crossed(a[h], b[h])
+        h, now = h[now > 0], now[now > 0]  # only a diagonal that crosses can cross less
+        d = c[twin[h]]
+        gain = now - crossed(c[h], d)
+        ok = gain > 0
+        ok[ok] &= (sign * triangle_areas(w, np.c_[a[h[ok]], d[ok], c[h[ok]]]) > eps) & \
+                  (sign * triangle_areas(w, np.c_[d[ok], b[h[ok]], c[h[ok]]]) > eps)
+        h, gain = h[ok], gain[ok]
+        if not len(h):
+            break
+        _flip(f, h[_independent(gain.astype(float), h // 3, twin[h] // 3, len(f))], twin, a, b, c)
+    return f
 
 
 def _locate(D, F2, zt_all, inner):
