@@ -213,6 +213,34 @@ def test_a_later_timing_whose_frames_are_clean_is_taken_before_repairing_the_fir
     assert seq.info["spans"]["used"] == 1 and "fallback" not in seq.info
 
 
+def test_a_later_timing_is_judged_with_its_own_pieces_out_of_sight(tmp_path, monkeypatch):
+    pytest.importorskip("shapely")
+    rings = [[(0, 0), (4, 0), (4, 0.5), (0, 0.5)], [(1.8, 1), (2.2, 1), (2.2, 5), (1.8, 5)]]  # a bar, an upright
+    d = " ".join("M " + " L ".join(f"{x} {y}" for x, y in r) + " Z" for r in rings)
+    (tmp_path / "a.svg").write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 4 5"><path d="{d}"/></svg>')
+    mesh = isotween.interpolate(tmp_path / "a.svg", tmp_path / "a.svg", frames=3).shape
+    up = mesh.vertices[:, 1] > 0.75
+    fades = [bool(up[idx].all()) for idx, _ in mesh.paths]  # the upright fades out where it stands
+
+    def drawn(vertices, out):
+        paint = [Paint(fill=(0, 0, 0, 1), opacity=0.0 if out and f else 1.0) for f in fades]
+        return Shape(vertices, mesh.edges, mesh.faces, paths=mesh.paths, regions=mesh.regions, paint=paint)
+
+    src, tgt = drawn(mesh.vertices, False), drawn(mesh.vertices + np.where(up[:, None], 0.0, [0.0, 6.0]), True)
+    slow, quick = np.tile([0.0, 1.0], (2, src.n_vertices, 1))
+    slow[up], quick[up] = (0.5, 1.0), (0.0, 0.2)  # the bar rises through the upright, which fades late or soon
+    gone = isotween.interpolate(src, tgt, frames=5, spans=quick)
+    assert metrics.outline_crossings(gone)[1:-1].any() and not metrics.outline_crossings(gone, visible=True).any()
+    from isotween.foldfree import repair
+
+    tried, original = [], repair.repair_folds
+    monkeypatch.setattr(repair, "repair_folds", lambda *a, **k: tried.append(1) or original(*a, **k))
+    seq = isotween.interpolate(src, tgt, frames=5, spans=[slow, quick], fold="fallback")
+    np.testing.assert_allclose(seq.frames, gone.frames, atol=1e-9)  # AIAP's own
+    assert not tried  # taken before any repair of the first timing
+    assert seq.info["spans"]["used"] == 1 and "fallback" not in seq.info
+
+
 def test_alternative_spans_are_checked_and_the_first_is_kept_where_it_can_be():
     src = two_bars()
     tgt = turned(src, 0.3)

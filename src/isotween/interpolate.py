@@ -320,10 +320,11 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     'convex') replaces the whole sequence. ``info['fallback']`` says which.
     ``alternatives``: (``make()``, spans) of other timings of the same
     morph (`interpolate`'s ``spans``): the first of them whose frames are
-    clean as they are is the result before any repair of this one (AIAP's
-    own); else each is checked in turn where this one cannot be repaired
-    with its pieces apart, before the repair in the regions alone; ``apart_only``: only the repairs that keep
-    pieces apart, else None. ``fewer(j, faces=None)``: the sequence after at
+    clean as they are (its pieces out of sight where it has them so) is the
+    result before any repair of this one (AIAP's own); else each is checked
+    in turn where this one cannot be repaired with its pieces apart, before
+    the repair in the regions alone; ``apart_only``: only the repairs that
+    keep pieces apart, else None. ``fewer(j, faces=None)``: the sequence after at
     most j AIAP iterations (on other faces); where outlines cross but no face
     folds, the most iterations whose outlines do not are looked for first
     (`_fewer_iterations`); where the first iteration folds, edges are first
@@ -346,17 +347,12 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     within, across = _crossed(seq.shape, z[[0, -1]], hidden)
     inner = np.arange(1, len(t) - 1)
 
-    def folds(s):  # (flips, crossings, collisions) of the in-between frames of s, (F - 2,) int each
+    def folds(s, crossed=(within, across)):  # (flips, crossings, collisions) of s's in-between frames, (F - 2,) each
         x = _complex_frames(s.frames)[1:-1]
-        return metrics.flipped_faces(s, None)[1:-1], within(inner, x), across(inner, x)
+        return metrics.flipped_faces(s, None)[1:-1], crossed[0](inner, x), crossed[1](inner, x)
 
-    def clean(s):
-        return not any(x.any() for x in folds(s))
-
-    def clean_timing(s):  # another timing of the same morph, its pieces out of sight in its own frames
-        w, a = _crossed(s.shape, z[[0, -1]], _hidden(s))
-        x = _complex_frames(s.frames)[1:-1]
-        return not (metrics.flipped_faces(s, None)[1:-1].any() or w(inner, x).any() or a(inner, x).any())
+    def clean(s, crossed=(within, across)):
+        return not any(x.any() for x in folds(s, crossed))
 
     def fewest(s, faces=None, found=None):  # s, or where outlines cross, no face folds: most iterations that do not
         flipped, *crossed = folds(s) if found is None else found
@@ -400,7 +396,8 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
                 if not (flips.any() or crossings.any() or collisions.any()):
                     return seq
     for n, (make, _) in enumerate(alternatives, 2):  # a quicker timing whose frames are clean, before a repair
-        if clean_timing(alt := make()):
+        alt = make()
+        if clean(alt, _crossed(alt.shape, z[[0, -1]], _hidden(alt))):  # its pieces out of sight in its own frames
             alt.info["spans"] = {"used": n - 1, "why": "the first spans fold or collide where these do not"}
             return alt
     bad = flips | crossings | collisions
