@@ -146,3 +146,22 @@ def test_the_budget_counts_iterations_so_results_do_not_depend_on_speed(monkeypa
     again = isotween.interpolate(src, tgt, frames=7, method="injective")
     assert again.iterations == 8 and np.array_equal(again.z, capped.z)
     assert flipped_faces(capped, None).tolist() == [0] * 7
+
+
+def test_superlu_orders_once_and_solves_every_later_newton_system(monkeypatch):
+    # without CHOLMOD, the first system's fill-reducing order is kept for the later ones of its pattern
+    monkeypatch.setattr(barrier, "HAVE_CHOLMOD", False)
+    src, _ = pair("W->T")
+    specs = []
+    splu = barrier.splu
+    monkeypatch.setattr(barrier, "splu", lambda A, permc_spec, **kw: specs.append(permc_spec) or splu(A, permc_spec, **kw))
+    z = src.z
+    energy = barrier.SymmetricDirichlet(z, z, src.faces, np.zeros(len(z), dtype=bool))
+    energy.rest(0.0)
+    energy.pull_towards(np.arange(len(z)), z, 1.0)  # every vertex free: the pull makes the Hessian definite
+    rng = np.random.default_rng(1)
+    for _ in range(4):
+        x = z + 1e-3 * src.bbox_diagonal() * (rng.standard_normal(len(z)) + 1j * rng.standard_normal(len(z)))
+        g, H = energy.derivatives(x)
+        assert np.linalg.norm(H @ energy.solve(H, -g) + g) <= 1e-9 * np.linalg.norm(g)  # the residual
+    assert specs == ["MMD_AT_PLUS_A"] + ["NATURAL"] * 3
