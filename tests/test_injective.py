@@ -154,7 +154,8 @@ def test_superlu_orders_once_and_solves_every_later_newton_system(monkeypatch):
     src, _ = pair("W->T")
     specs = []
     splu = barrier.splu
-    monkeypatch.setattr(barrier, "splu", lambda A, permc_spec, **kw: specs.append(permc_spec) or splu(A, permc_spec, **kw))
+    monkeypatch.setattr(barrier, "splu",
+                        lambda A, permc_spec, **kw: specs.append(permc_spec) or splu(A, permc_spec, **kw))
     z = src.z
     energy = barrier.SymmetricDirichlet(z, z, src.faces, np.zeros(len(z), dtype=bool))
     energy.rest(0.0)
