@@ -237,8 +237,9 @@ class Shape:
         loops = np.flatnonzero(e[:, 0] == e[:, 1])
         if loops.size:
             raise ShapeError(f"edge {loops[0]} is a self-loop on vertex {e[loops[0], 0]}")
-        key = np.sort(e, axis=1)
-        _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        from .geometry import edge_keys  # (the model imports no layer above it at module level)
+
+        _, first, inverse = np.unique(edge_keys(e[:, 0], e[:, 1]), return_index=True, return_inverse=True)
         if len(first) < len(e):
             dup = np.flatnonzero(first[inverse.ravel()] != np.arange(len(e)))[0]
             orig = first[inverse.ravel()[dup]]
@@ -868,8 +869,10 @@ def _check_regions_paint(paths, regions, paint):
 
 def _edges_of_faces(faces):
     """Unique undirected triangle sides in first-seen order."""
+    from .geometry import edge_keys
+
     e = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    _, first = np.unique(np.sort(e, axis=1), axis=0, return_index=True)
+    _, first = np.unique(edge_keys(e[:, 0], e[:, 1]), return_index=True)
     return e[np.sort(first)]
 
 

@@ -400,8 +400,8 @@ def _refine(z, f, fixed_keys, size, rounds=30):
 
 def _chords(f, K):
     """(C, 2) interior edges of faces ``f`` whose two ends are both ring vertices (index below ``K``)."""
-    e = np.sort(np.stack([f, np.roll(f, -1, axis=1)], axis=-1).reshape(-1, 2), axis=1)
-    edges, count = np.unique(e, axis=0, return_counts=True)
+    key, count = np.unique(_keys(np.stack([f, np.roll(f, -1, axis=1)], axis=-1)), return_counts=True)
+    edges = np.c_[key >> 32, key & 0xFFFFFFFF]
     return edges[(count == 2) & (edges[:, 1] < K)]
 
 
