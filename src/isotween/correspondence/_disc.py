@@ -400,8 +400,9 @@ def _refine(z, f, fixed_keys, size, rounds=30):
 
 def _chords(f, K):
     """(C, 2) interior edges of faces ``f`` whose two ends are both ring vertices (index below ``K``)."""
-    key, count = np.unique(_keys(np.stack([f, np.roll(f, -1, axis=1)], axis=-1)), return_counts=True)
-    edges = np.c_[key >> 32, key & 0xFFFFFFFF]
+    e = np.sort(np.stack([f, np.roll(f, -1, axis=1)], axis=-1).reshape(-1, 2), axis=1)
+    _, first, count = np.unique(_keys(e), return_index=True, return_counts=True)
+    edges = e[first]
     return edges[(count == 2) & (edges[:, 1] < K)]
 
 
