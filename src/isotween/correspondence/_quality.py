@@ -272,9 +272,10 @@ def _merge(z, w, f, x, y, score, eps, floor):
     A = coo_matrix((np.ones(3 * nF), (f.ravel(), np.roll(f, -1, axis=1).ravel())), shape=(N, N)).tocsr()
     A = ((A + A.T) > 0).astype(np.int64).tocsr()
     q = _quality(z, w, f)
+    by_score = np.argsort(score, kind="stable")
     rank = np.empty(len(x), dtype=np.int64)
-    rank[np.argsort(score, kind="stable")] = np.arange(len(x))
-    o = np.lexsort((score, x))  # per x, its candidates by score
+    rank[by_score] = np.arange(len(x))
+    o = by_score[np.argsort(x[by_score], kind="stable")]  # per x, its candidates by score
     first = np.flatnonzero(np.r_[True, x[o][1:] != x[o][:-1]])
     last = np.r_[first[1:], len(x)]
     # pass 1: the first candidate of every x; pass 2: all the others of the x still open
@@ -305,13 +306,13 @@ def _merge(z, w, f, x, y, score, eps, floor):
     taken = np.zeros(nR, dtype=bool)
     while left.any():
         live = left[cc]
-        cl, fl = cc[live], ff[live]
+        cc, ff = cc[live], ff[live]  # the claims of merges still open (the rest decide nothing more)
         claim = np.full(nR, np.iinfo(np.int64).max)
-        np.minimum.at(claim, fl, rank[cl])
-        win = left & (np.bincount(cl[claim[fl] != rank[cl]], minlength=n) == 0)
+        np.minimum.at(claim, ff, rank[cc])
+        win = left & (np.bincount(cc[claim[ff] != rank[cc]], minlength=n) == 0)
         take |= win
         taken[ff[win[cc]]] = True
-        left &= np.bincount(cl[taken[fl]], minlength=n) == 0
+        left &= np.bincount(cc[taken[ff]], minlength=n) == 0
     vmap = np.arange(N)
     vmap[x[take]] = y[take]
     touched = np.zeros(N, dtype=bool)
