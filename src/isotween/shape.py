@@ -237,7 +237,7 @@ class Shape:
         loops = np.flatnonzero(e[:, 0] == e[:, 1])
         if loops.size:
             raise ShapeError(f"edge {loops[0]} is a self-loop on vertex {e[loops[0], 0]}")
-        from .geometry import edge_keys  # (the model imports no layer above it at module level)
+        from .geometry import edge_keys  # (geometry is no part of the model: imported where used)
 
         _, first, inverse = np.unique(edge_keys(e[:, 0], e[:, 1]), return_index=True, return_inverse=True)
         if len(first) < len(e):
