@@ -395,10 +395,10 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
                 flips, crossings, collisions = folds(seq)
                 if not (flips.any() or crossings.any() or collisions.any()):
                     return seq
-    for n, (make, _) in enumerate(alternatives, 2):  # a quicker timing whose frames are clean, before a repair
+    for n, (make, _) in enumerate(alternatives, 1):  # a quicker timing whose frames are clean, before a repair
         alt = make()
         if clean(alt, _crossed(alt.shape, z[[0, -1]], _hidden(alt))):  # its pieces out of sight in its own frames
-            alt.info["spans"] = {"used": n - 1, "why": "the first spans fold or collide where these do not"}
+            alt.info["spans"] = {"used": n, "why": "the first spans fold or collide where these do not"}
             return alt
     bad = flips | crossings | collisions
     folded = (f"{seq.method} folded{at} in {int(np.count_nonzero(bad))} of {len(t) - 2} in-between frames "
@@ -412,10 +412,10 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     repaired = _repaired(seq, z, apart, folded)
     if repaired is not None:
         return repaired
-    for n, (make, other) in enumerate(alternatives, 2):  # another timing of the morph, with its pieces apart
+    for n, (make, other) in enumerate(alternatives, 1):  # another timing of the morph, with its pieces apart
         done = _fallback(make(), source, target, t, options, other, apart_only=True)
         if done is not None:
-            done.info["spans"] = {"used": n - 1, "why": "the fold check could not keep the pieces apart with the "
+            done.info["spans"] = {"used": n, "why": "the fold check could not keep the pieces apart with the "
                                                         "first spans"}
             return done
     if apart_only:
