@@ -196,12 +196,17 @@ def test_the_command_line_staggers_and_refuses_a_bad_share(tmp_path):
     assert not np.allclose(runs["1"].frames, library.frames, atol=1e-6)
 
 
-def test_a_later_timing_whose_frames_are_clean_is_taken_before_repairing_the_first(tmp_path):
+def bar_and_upright(tmp_path):
+    """A bar and an upright above it, read from SVG and meshed (a Shape with two regions)."""
     pytest.importorskip("shapely")
     rings = [[(0, 0), (4, 0), (4, 0.5), (0, 0.5)], [(1.8, 1), (2.2, 1), (2.2, 5), (1.8, 5)]]  # a bar, an upright
     d = " ".join("M " + " L ".join(f"{x} {y}" for x, y in r) + " Z" for r in rings)
     (tmp_path / "a.svg").write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 4 5"><path d="{d}"/></svg>')
-    src = isotween.interpolate(tmp_path / "a.svg", tmp_path / "a.svg", frames=3).shape  # meshed regions
+    return isotween.interpolate(tmp_path / "a.svg", tmp_path / "a.svg", frames=3).shape
+
+
+def test_a_later_timing_whose_frames_are_clean_is_taken_before_repairing_the_first(tmp_path):
+    src = bar_and_upright(tmp_path)
     tgt = src.translate([0.0, 6.0])  # both rise: together they never meet
     first = np.tile([0.0, 1.0], (src.n_vertices, 1))
     first[src.vertices[:, 1] > 0.75] = (0.5, 1.0)  # the upright waits: the bar rises through it
@@ -214,11 +219,7 @@ def test_a_later_timing_whose_frames_are_clean_is_taken_before_repairing_the_fir
 
 
 def test_a_later_timing_is_judged_with_its_own_pieces_out_of_sight(tmp_path, monkeypatch):
-    pytest.importorskip("shapely")
-    rings = [[(0, 0), (4, 0), (4, 0.5), (0, 0.5)], [(1.8, 1), (2.2, 1), (2.2, 5), (1.8, 5)]]  # a bar, an upright
-    d = " ".join("M " + " L ".join(f"{x} {y}" for x, y in r) + " Z" for r in rings)
-    (tmp_path / "a.svg").write_text(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 4 5"><path d="{d}"/></svg>')
-    mesh = isotween.interpolate(tmp_path / "a.svg", tmp_path / "a.svg", frames=3).shape
+    mesh = bar_and_upright(tmp_path)
     up = mesh.vertices[:, 1] > 0.75
     fades = [bool(up[idx].all()) for idx, _ in mesh.paths]  # the upright fades out where it stands
 
