@@ -4,6 +4,8 @@ The shape builders themselves live in ``shapes.py`` (imported by test modules
 directly); the fixtures here are the sequences several test files use.
 """
 
+import sys
+
 import numpy as np
 import pytest
 
@@ -17,6 +19,14 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if "browser" in getattr(item, "fixturenames", ()):
             item.add_marker(pytest.mark.browser)
+
+
+@pytest.fixture
+def shared_only(monkeypatch):
+    """The fold check solves AIAP with the shared weights of Eq. (10) alone: where they fold, the repairs run."""
+    import isotween.interpolate  # noqa: F401 (the module, not the function the package exports)
+
+    monkeypatch.setattr(sys.modules["isotween.interpolate"], "WEIGHTS", ())
 
 
 @pytest.fixture(scope="session")

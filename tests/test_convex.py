@@ -71,7 +71,21 @@ def test_convex_never_folds_and_ends_are_the_inputs(name):
     assert np.array_equal(seq.frames[-1], tgt.vertices)
 
 
-def test_folding_aiap_is_repaired_inside_its_scaffold():
+def test_where_the_shared_weights_fold_aiap_with_relative_weights_does_not():
+    src, tgt = pair("W->T")
+    aiap = isotween.interpolate(src, tgt, frames=9)
+    assert flipped_faces(aiap) > 0  # the premise: AIAP folds on this pair with the shared weights
+    seq = isotween.interpolate(src, tgt, frames=9, fold="fallback")
+    assert seq.method == "aiap" and "fallback" not in seq.info and "relative weights" in seq.info["weights"]
+    assert flipped_faces(seq) == 0 and not outline_crossings(seq).any()
+    # the frames are AIAP's own with those weights (stopped where the fold check stopped it), ends exact
+    k = seq.info.get("stopped", {}).get("iteration", 100)
+    own = isotween.interpolate(src, tgt, frames=9, assembly="relative", max_iter=k)
+    np.testing.assert_array_equal(seq.frames, own.frames)
+    assert np.array_equal(seq.frames[0], src.vertices) and np.array_equal(seq.frames[-1], tgt.vertices)
+
+
+def test_folding_aiap_is_repaired_inside_its_scaffold(shared_only):
     src, tgt = pair("W->T")
     aiap = isotween.interpolate(src, tgt, frames=9)
     assert flipped_faces(aiap) > 0  # the premise: AIAP folds on this pair
@@ -81,7 +95,7 @@ def test_folding_aiap_is_repaired_inside_its_scaffold():
     assert np.array_equal(seq.frames[0], src.vertices) and np.array_equal(seq.frames[-1], tgt.vertices)
 
 
-def test_folding_aiap_that_cannot_be_repaired_falls_back_to_the_injective_morph(monkeypatch):
+def test_folding_aiap_that_cannot_be_repaired_falls_back_to_the_injective_morph(monkeypatch, shared_only):
     from isotween.foldfree import repair
 
     monkeypatch.setattr(repair, "WORK", 0)  # every repair gives up at once
@@ -134,7 +148,7 @@ def test_bad_input_raises_method_error():
         isotween.interpolate(mesh, mesh, fold="never")
 
 
-def test_cli_falls_back_and_says_so(tmp_path):
+def test_cli_falls_back_and_says_so(tmp_path, shared_only):
     pytest.importorskip("shapely")
     from click.testing import CliRunner
 

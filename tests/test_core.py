@@ -91,8 +91,9 @@ def test_global_energy_decreases(bar):
     assert np.all(np.diff(seq.energy) <= 1e-12 * seq.energy[0])
 
 
-def test_shared_assembly_matches_per_frame_weights(bar):
-    fast = interpolate(*bar, frames=9, assembly="shared", tol=1e-6)
+@pytest.mark.parametrize("assembly", ["shared", "relative"])
+def test_shared_assembly_matches_per_frame_weights(bar, assembly):
+    fast = interpolate(*bar, frames=9, assembly=assembly, tol=1e-6)
     ref = interpolate(*bar, frames=9, assembly="per-frame", tol=1e-6)
     e_fast, e_ref = metrics.isometric_energy(fast), metrics.isometric_energy(ref)
     assert abs(e_fast - e_ref) <= 0.01 * e_ref
@@ -219,7 +220,7 @@ def test_errors_share_one_hierarchy():
 
 
 @pytest.mark.parametrize("solver", ["local", "global"])
-@pytest.mark.parametrize("assembly", ["shared", "per-frame"])
+@pytest.mark.parametrize("assembly", ["shared", "relative", "per-frame"])
 def test_linear_init_through_collapsed_edges(bar, solver, assembly):
     # halfway through a half turn the linear blend collapses edges to zero length
     src, tgt = bar

@@ -46,7 +46,7 @@ def test_frozen_weights_keep_quality_of_per_frame_weights(bar, scheme):
 
 
 @pytest.mark.parametrize("numba", [False, True])
-@pytest.mark.parametrize("assembly", ["shared", "per-frame"])
+@pytest.mark.parametrize("assembly", ["shared", "relative", "per-frame"])
 def test_eq11_compares_successive_iterations(bar, numba, assembly):
     """Eq. (11) measures how far the frames moved between two iterations.
 

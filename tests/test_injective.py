@@ -87,7 +87,7 @@ def test_every_newton_iterate_is_an_embedding(monkeypatch):
     assert len(seen) >= 3 and min(seen) > 0
 
 
-def test_fallback_says_what_it_did(monkeypatch):
+def test_fallback_says_what_it_did(monkeypatch, shared_only):
     from isotween.foldfree import repair
 
     monkeypatch.setattr(repair, "WORK", 0)  # the repair gives up: the injective morph replaces AIAP

@@ -215,7 +215,7 @@ SANS_3 = ("M 40.578 -39.312 Q 47.656 -37.797 51.625 -33.000 Q 55.609 -28.219 55.
           "-40.922 40.578 -39.312 Z")
 
 
-def test_where_later_iterations_fold_more_than_the_first_the_first_is_repaired(tmp_path):
+def test_where_later_iterations_fold_more_than_the_first_the_first_is_repaired(tmp_path, shared_only):
     source, target = glyphs(tmp_path, SANS_2, SANS_3)
     first = interpolate(source, target, frames=21, fold="allow", max_iter=1)
     last = interpolate(source, target, frames=21, fold="allow")

@@ -38,6 +38,10 @@ if TYPE_CHECKING:
 
 __all__ = ["interpolate", "SOLVERS", "check_movable", "check_stopping", "fold_notes"]
 
+#: Eq. (10)'s weights the fold check solves AIAP with where the shared ones fold, before any repair ('relative':
+#: their squares, which hold a growing small copy's short edges as firmly as long ones)
+WEIGHTS = ("relative",)
+
 FOLDS = ("allow", "fallback")
 
 
@@ -87,10 +91,14 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
         'injective').
     times : (frames,) array_like, optional
         Increasing frame times from 0 to 1 (default: uniform).
-    assembly : {'shared', 'per-frame'}
+    assembly : {'shared', 'relative', 'per-frame'}
         Local solver only: one factorisation of Eq. (10) with frozen weights
-        ``2 / (|e(0)| + |e(1)|)`` for every frame (fast), or the paper's weights
-        ``1 / |e(t_k)|`` refactorised per frame and iteration (reference).
+        ``2 / (|e(0)| + |e(1)|)`` for every frame (fast), or with their
+        squares ('relative': every residual relative to its edge's length),
+        or the paper's weights ``1 / |e(t_k)|`` refactorised per frame and
+        iteration (reference). With 'shared' and ``fold='fallback'``, the
+        fold check solves again with the weights of `WEIGHTS` where these
+        fold, before any repair.
     linear_solver : {'cg', 'direct'}
         Global solver only: preconditioned conjugate gradients or sparse LU.
     max_memory : int, optional
@@ -186,12 +194,12 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
                    max_iter=max_iter, method=method, times=times, assembly=assembly,
                    linear_solver=linear_solver, fold=fold)
 
-    def run(spans, faces=None, max_iter=None):  # faces (AIAP only): the same pair on other triangles
-        if method != "aiap":
+    def run(spans, faces=None, max_iter=None, weights=assembly):  # AIAP only: faces, the same pair on other
+        if method != "aiap":  # triangles; weights, Eq. (10)'s (`local_solve`'s assembly)
             return _baseline(method, source, target, t, options, callback, spans)
         a, b = (source, target) if faces is None else (source.with_faces(faces), target.with_faces(faces))
-        progress = callback if faces is None and max_iter is None else None  # the progress shown: the first solve's
-        opts = options if max_iter is None else {**options, "max_iter": max_iter}
+        progress = callback if faces is None and max_iter is None and weights == assembly else None  # the first's
+        opts = {**options, "assembly": weights, **({} if max_iter is None else {"max_iter": max_iter})}
         seq = spanned(lambda grid: _aiap(a, b, grid, opts, progress), t, spans)
         seq.timings["total"] = time.perf_counter() - start
         seq.info.update(span_paint(source, target, spans))
@@ -201,11 +209,17 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
     seq = run(first)
     if fold != "fallback":
         return seq
-    # other timings the fold check tries, before a repair that lets pieces meet
-    alternatives = [(lambda s=s: run(s), s) for s in ([] if timings is None else timings[1:])]
+
+    def alternatives(weights):  # other timings the fold check tries, before a repair that lets pieces meet
+        return [(lambda s=s: run(s, weights=weights), s) for s in ([] if timings is None else timings[1:])]
+
     resolve = (lambda faces: run(first, faces)) if method == "aiap" else None  # AIAP on other triangles
     fewer = (lambda j, faces=None: run(first, faces, max_iter=j)) if method == "aiap" else None  # j iterations
-    return _fallback(seq, source, target, t, options, first, alternatives, resolve, fewer=fewer)
+    # where AIAP folds with the shared weights of Eq. (10): AIAP with the others, before any repair
+    others = [(lambda w=w: run(first, weights=w), alternatives(w)) for w in WEIGHTS] \
+        if method == "aiap" and assembly == "shared" else []
+    return _fallback(seq, source, target, t, options, first, alternatives(assembly), resolve, fewer=fewer,
+                     others=others)
 
 
 def _aiap(source, target, t, options, callback):
@@ -263,7 +277,7 @@ def fold_notes(seq):
         spread = seq.info["spread"]
         notes.append(f"aiap stopped at iteration {spread['iteration']}: its folds spread from {spread['first']} "
                      f"flipped triangles (over all frames) after the first iteration to {spread['now']}")
-    return notes + [seq.info[key] for key in ("unfolded", "fallback") if key in seq.info]
+    return notes + [seq.info[key] for key in ("weights", "unfolded", "fallback") if key in seq.info]
 
 
 def _flips(shape):
@@ -299,7 +313,7 @@ def _baseline(method, source, target, t, options, callback, spans):
 
 
 def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=None, apart_only=False,
-              fewer=None):
+              fewer=None, others=(), own_only=False):
     """``seq``; where an in-between frame folds or collides, its folding frames repaired, else the fold-free morph.
 
     A frame folds where a triangle flips or a region's outline crosses
@@ -333,7 +347,11 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
     at the most iterations whose outlines do not; where that still folds
     and the first iteration (on the flipped faces) folds fewer triangles
     than the last, the first is what is repaired (``info['fallback']``
-    says 'at iteration 1').
+    says 'at iteration 1'). ``others``: (``make()``, ``alternatives``) of
+    AIAP with other weights of Eq. (10) (`interpolate`'s ``assembly``):
+    before any repair, the first of them that is clean as it is, or in one
+    of its alternatives, is the result (``info['weights']`` says so);
+    ``own_only``: None where only a repair would do.
     """
     from . import metrics
     from .foldfree.scaffold import Around
@@ -400,6 +418,14 @@ def _fallback(seq, source, target, t, options, spans, alternatives=(), resolve=N
         if clean(alt, _crossed(alt.shape, z[[0, -1]], _hidden(alt))):  # its pieces out of sight in its own frames
             alt.info["spans"] = {"used": n, "why": "the first spans fold or collide where these do not"}
             return alt
+    for make, timings in others:  # AIAP with other weights: clean as it is or in another timing
+        done = _fallback(make(), source, target, t, options, spans, timings, own_only=True)
+        if done is not None:
+            done.info["weights"] = (f"{seq.method} folded with the {options['assembly']} weights of Eq. (10); solved "
+                                    f"again with the {done.info['options']['assembly']} weights, which do not fold")
+            return done
+    if own_only:
+        return None
     bad = flips | crossings | collisions
     folded = (f"{seq.method} folded{at} in {int(np.count_nonzero(bad))} of {len(t) - 2} in-between frames "
               f"({int(flips.sum())} flipped triangles, {int(crossings.sum() + collisions.sum())} outline crossings)")

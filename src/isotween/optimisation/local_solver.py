@@ -18,7 +18,7 @@ from .problem import Result
 
 __all__ = ["ASSEMBLY", "local_solve"]
 
-ASSEMBLY = ("shared", "per-frame")
+ASSEMBLY = ("shared", "relative", "per-frame")
 GROW = 2.0  # a solve whose first iterate folds stops once its iterates fold more than this many times as often
 
 
@@ -31,10 +31,13 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
         Shape, times, held frames, initial edges (overwritten: the solver
         reuses the array), centroids, scheme, absolute tolerance, max_iter
         (:class:`~isotween.optimisation.problem.Problem`).
-    assembly : {'shared', 'per-frame'}
+    assembly : {'shared', 'relative', 'per-frame'}
         'per-frame' uses the paper's weights w = 1/|e_ij(t_k)| with a new
         factorisation per frame and iteration; 'shared' factorises once with
-        w = 2 / (|e(0)| + |e(1)|) for all frames and iterations.
+        w = 2 / (|e(0)| + |e(1)|) for all frames and iterations; 'relative'
+        once with the square of that, so every edge's residual counts
+        relative to its length (short edges, e.g. of a small copy that
+        grows, are held as firmly as long ones).
     smooth : float
         Weight of the term that lets the velocity turn smoothly through an
         interior held frame (see :func:`~isotween.optimisation.edge_solve.solve_edges`).
@@ -65,9 +68,9 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
     free = problem.free
     centroids = problem.centroids[:, free]
     z = problem.z.copy()
-    if assembly == "shared":
-        shared = FrameAssembler(shape, 2.0 / (np.abs(edges[:, 0]) + np.abs(edges[:, -1])),
-                                factorisation=factorisation)
+    if assembly != "per-frame":
+        weights = 2.0 / (np.abs(edges[:, 0]) + np.abs(edges[:, -1]))
+        shared = FrameAssembler(shape, weights**2 if assembly == "relative" else weights, factorisation=factorisation)
     edge_pass = backend.current().edge_pass(shape.topology, t, problem.scheme, fixed, smooth)
     edge_pass.reuse(edges)
     energies, converged, move, info = [], False, np.inf, {}
@@ -76,7 +79,7 @@ def local_solve(problem, *, assembly="shared", smooth=1.0, factorisation="auto",
     timing = {"assemble": 0.0, "edges": 0.0}
     for it in range(1, problem.max_iter + 1):
         t0 = time.perf_counter()
-        if assembly == "shared":
+        if assembly != "per-frame":
             step = shared.update(z, free, edges[:, free], centroids)  # Eq. (10), Eq. (11)
         else:  # Eq. (10) with the paper's per-frame weights
             new = np.empty_like(z[:, free])

@@ -34,7 +34,7 @@ def solve(problem: Problem, *, solver: str = "local", assembly: str = "shared", 
     solver : {'local', 'global'}
         The global solver holds only the first and the last frame and starts
         from Eq. (10) of the initial edges (written into ``problem.z``).
-    assembly : {'shared', 'per-frame'}
+    assembly : {'shared', 'relative', 'per-frame'}
         Local solver: Eq. (10) weights (see :func:`~isotween.optimisation.local_solver.local_solve`).
     linear_solver : {'cg', 'direct'}
         Global solver: conjugate gradients or sparse LU.
