@@ -194,8 +194,9 @@ def interpolate(source: ShapeLike, target: ShapeLike, frames: int = 9, *, solver
                    max_iter=max_iter, method=method, times=times, assembly=assembly,
                    linear_solver=linear_solver, fold=fold)
 
-    def run(spans, faces=None, max_iter=None, weights=assembly):  # AIAP only: faces, the same pair on other
-        if method != "aiap":  # triangles; weights, Eq. (10)'s (`local_solve`'s assembly)
+    def run(spans, faces=None, max_iter=None, weights=assembly):
+        """The morph in ``spans``; AIAP only: on other ``faces``, at most ``max_iter``, Eq. (10)'s ``weights``."""
+        if method != "aiap":
             return _baseline(method, source, target, t, options, callback, spans)
         a, b = (source, target) if faces is None else (source.with_faces(faces), target.with_faces(faces))
         progress = callback if faces is None and max_iter is None and weights == assembly else None  # the first's
