@@ -84,6 +84,25 @@ def test_two_regions_into_one_shrinks_the_unpaired_one_outside_the_fill():
     assert not flips.any() and not crossings.any()
 
 
+def test_a_piece_in_a_hole_shrinks_inside_the_hole_it_lies_in():
+    # a dot in a square hole; the other drawing's hole is a thin slot above the dot's place, too thin for the
+    # space just outside the fill: the dot shrinks into the slot, not out through the frame round it
+    def box(x0, y0, x1, y1):
+        return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], float)
+
+    src = Shape.from_polygon([box(0, 0, 4, 4), box(1, 1, 3, 3)[::-1], disc(24, 0.8, 2 + 2j)])
+    tgt = Shape.from_polygon([box(0, 0, 4, 4), box(0.6, 2.3, 3.4, 2.5)[::-1]])
+    a, b, report = correspond(src, tgt)
+    assert report.regions == {"paired": 1, "grown": 0, "shrunk": 1}
+    dot = a.regions[1][0]
+    assert is_small_copy(ring(b, dot), ring(a, dot))
+    slot = ring(b, a.regions[0][1])
+    assert np.all((ring(b, dot).real > slot.real.min()) & (ring(b, dot).real < slot.real.max()))
+    assert np.all((ring(b, dot).imag > slot.imag.min()) & (ring(b, dot).imag < slot.imag.max()))
+    seq, flips, crossings = morph(a, b)
+    assert not flips.any() and not crossings.any()
+
+
 def test_split_mode_merges_into_the_nearest_region():
     src = Shape.from_polygon([disc(40, 1.0, -1.5), disc(30, 0.4, 1.5)])
     tgt = Shape.from_polygon(disc(50, 1.0, -1.5))

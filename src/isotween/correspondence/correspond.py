@@ -548,6 +548,7 @@ def _fill_slots(items, frames, slots, unmatched):
             present[k] = (rings, paint, poly)
         done[si] = present
     polys = [[(si, p[k][2]) for si, p in done.items() if k in p] for k in range(K)]
+    nests = [None] * K  # per drawing, the hole round each item (`regions.containers`), once asked
     for si, slot in enumerate(slots):
         is_closed = slot.kind != "line"
         if slot.kind == "region":
@@ -579,8 +580,10 @@ def _fill_slots(items, frames, slots, unmatched):
                     paint = list(ref_paint)
                 else:
                     part = slot.kind == "region" and items[ref][slot.members[ref]].index in parted[ref]
+                    nests[ref] = nests[ref] or _regions.containers(items[ref])
+                    hole = _paired_hole(nests[ref][slot.members[ref]], slots, done, ref, k)
                     rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k],
-                                         "split" if part else unmatched)
+                                         "split" if part else unmatched, hole)
                     # the small copy is also transparent: the item fades in (out) as it grows (shrinks)
                     paint = [None if p is None else replace(p, opacity=0.0) for p in ref_paint]
             per_key[k] += rings
@@ -616,18 +619,42 @@ def _opened(ring, near):
     return np.append(z, z[0])
 
 
-def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched):
+def _paired_hole(around, slots, done, ref, k):
+    """The ring in drawing k (complex) of the hole paired with ``around``, or None.
+
+    ``around``: (region item, ring) of the hole of drawing ``ref`` that an item
+    lies in (`regions.containers`), or None; ``done``: the region slots'
+    rings per drawing (`_fill_slots`). None where that region or hole has no
+    partner in drawing k.
+    """
+    if around is None:
+        return None
+    owner, ring = around
+    for si, slot in enumerate(slots):
+        if slot.kind == "region" and slot.members[ref] == owner and slot.members[k] is not None:
+            j = next((j for j, hs in enumerate(slot.holes) if hs[ref] == ring and hs[k] is not None), None)
+            return None if j is None else done[si][k][0][1 + j]
+    return None
+
+
+def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched, hole=None):
     """Small copy of an item's rings in another drawing.
 
     ``grow``: at its own centroid (mapped into the other drawing's box), moved
     just outside the other drawing's filled regions if it falls inside one,
-    so that it does not cross them on its way. ``split``: inside the nearest
-    region of the other drawing, as if it split off from (merged into) it.
+    so that it does not cross them on its way; where the item lies in a hole
+    whose partner in the other drawing is ``hole`` (a ring, complex), inside
+    that hole instead: it stays in the hole on its way. ``split``: inside the
+    nearest region of the other drawing, as if it split off from (merged
+    into) it.
     """
     c = _regions.centroid(rings[0], closed)
     at = f_from.to(f_to, c)
     scaled = [at + (z - c) * f_from.factor(f_to) for z in rings]
     radius = _regions.TINY * float(np.abs(np.concatenate(scaled) - at).max())
+    if unmatched != "split" and hole is not None:
+        at, room = _regions.inside_point(_regions.region_polygon([hole]), at, radius)
+        return _regions.small_copy(scaled, closed, at, room)
     if not polygons:
         return _regions.small_copy(scaled, closed, at)
     import shapely
