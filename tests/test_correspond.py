@@ -103,6 +103,27 @@ def test_a_piece_in_a_hole_shrinks_inside_the_hole_it_lies_in():
     assert not flips.any() and not crossings.any()
 
 
+def test_pieces_that_shrink_into_one_hole_keep_apart():
+    # four dots in a wide hole; the other drawing's hole is a small disc in a corner, the same way from all four
+    def box(x0, y0, x1, y1):
+        return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], float)
+
+    dots = [disc(24, 0.25, c) for c in (1.6 + 1.6j, 2.4 + 1.6j, 1.6 + 2.4j, 2.4 + 2.4j)]
+    src = Shape.from_polygon([box(0, 0, 4, 4), box(0.5, 0.5, 3.5, 3.5)[::-1], *dots])
+    tgt = Shape.from_polygon([box(0, 0, 4, 4), disc(24, 0.25, 3.3 + 3.3j, reverse=True)])
+    a, b, report = correspond(src, tgt)
+    assert report.regions == {"paired": 1, "grown": 0, "shrunk": 4}
+    hole = ring(b, a.regions[0][1])
+    copies = [ring(b, r[0]) for r in a.regions[1:]]
+    assert all(np.abs(c - (3.3 + 3.3j)).max() < 0.25 for c in copies)  # each inside the hole
+    centres = np.array([c.mean() for c in copies])
+    radii = np.array([np.abs(c - c.mean()).max() for c in copies])
+    gaps = np.abs(centres[:, None] - centres[None, :]) - radii[:, None] - radii[None, :]
+    assert np.all(gaps[~np.eye(4, dtype=bool)] > 0)  # and clear of one another
+    assert np.abs(hole - (3.3 + 3.3j)).max() < 0.25 + 1e-9
+    assert outline_crossings(isotween.interpolate(a, b, frames=3))[-1] == 0
+
+
 def test_split_mode_merges_into_the_nearest_region():
     src = Shape.from_polygon([disc(40, 1.0, -1.5), disc(30, 0.4, 1.5)])
     tgt = Shape.from_polygon(disc(50, 1.0, -1.5))

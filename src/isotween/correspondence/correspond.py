@@ -549,6 +549,7 @@ def _fill_slots(items, frames, slots, unmatched):
         done[si] = present
     polys = [[(si, p[k][2]) for si, p in done.items() if k in p] for k in range(K)]
     nests = [None] * K  # per drawing, the hole round each item (`regions.containers`), once asked
+    room = {}  # (drawing, region slot, hole): the part of that hole that no small copy placed in it takes
     for si, slot in enumerate(slots):
         is_closed = slot.kind != "line"
         if slot.kind == "region":
@@ -581,9 +582,16 @@ def _fill_slots(items, frames, slots, unmatched):
                 else:
                     part = slot.kind == "region" and items[ref][slot.members[ref]].index in parted[ref]
                     nests[ref] = nests[ref] or _regions.containers(items[ref])
-                    hole = _paired_hole(nests[ref][slot.members[ref]], slots, done, ref, k)
+                    hole = _paired_hole(nests[ref][slot.members[ref]], slots, ref, k)
+                    key = None if hole is None else (k, *hole)
+                    if key is not None and key not in room:
+                        room[key] = _regions.region_polygon([done[hole[0]][k][0][1 + hole[1]]])
                     rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k],
-                                         "split" if part else unmatched, hole)
+                                         "split" if part else unmatched, room.get(key))
+                    if key is not None:  # the next small copy in this hole keeps clear of this one
+                        at = rings[0].mean()
+                        clear = _regions.region_polygon([at + 2 * (rings[0] - at)]).convex_hull
+                        room[key] = room[key].difference(clear)
                     # the small copy is also transparent: the item fades in (out) as it grows (shrinks)
                     paint = [None if p is None else replace(p, opacity=0.0) for p in ref_paint]
             per_key[k] += rings
@@ -619,13 +627,12 @@ def _opened(ring, near):
     return np.append(z, z[0])
 
 
-def _paired_hole(around, slots, done, ref, k):
-    """The ring in drawing k (complex) of the hole paired with ``around``, or None.
+def _paired_hole(around, slots, ref, k):
+    """(region slot, hole slot) of the hole of drawing k paired with ``around``, or None.
 
     ``around``: (region item, ring) of the hole of drawing ``ref`` that an item
-    lies in (`regions.containers`), or None; ``done``: the region slots'
-    rings per drawing (`_fill_slots`). None where that region or hole has no
-    partner in drawing k.
+    lies in (`regions.containers`), or None. None where that region or hole
+    has no partner in drawing k.
     """
     if around is None:
         return None
@@ -633,7 +640,7 @@ def _paired_hole(around, slots, done, ref, k):
     for si, slot in enumerate(slots):
         if slot.kind == "region" and slot.members[ref] == owner and slot.members[k] is not None:
             j = next((j for j, hs in enumerate(slot.holes) if hs[ref] == ring and hs[k] is not None), None)
-            return None if j is None else done[si][k][0][1 + j]
+            return None if j is None else (si, j)
     return None
 
 
@@ -643,17 +650,17 @@ def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched, hole=None):
     ``grow``: at its own centroid (mapped into the other drawing's box), moved
     just outside the other drawing's filled regions if it falls inside one,
     so that it does not cross them on its way; where the item lies in a hole
-    whose partner in the other drawing is ``hole`` (a ring, complex), inside
-    that hole instead: it stays in the hole on its way. ``split``: inside the
-    nearest region of the other drawing, as if it split off from (merged
-    into) it.
+    whose partner in the other drawing leaves ``hole`` free (a shapely
+    polygon), inside that instead: it stays in the hole on its way.
+    ``split``: inside the nearest region of the other drawing, as if it split
+    off from (merged into) it.
     """
     c = _regions.centroid(rings[0], closed)
     at = f_from.to(f_to, c)
     scaled = [at + (z - c) * f_from.factor(f_to) for z in rings]
     radius = _regions.TINY * float(np.abs(np.concatenate(scaled) - at).max())
     if unmatched != "split" and hole is not None:
-        at, room = _regions.inside_point(_regions.region_polygon([hole]), at, radius)
+        at, room = _regions.inside_point(hole, at, radius)
         return _regions.small_copy(scaled, closed, at, room)
     if not polygons:
         return _regions.small_copy(scaled, closed, at)
