@@ -582,12 +582,14 @@ def _fill_slots(items, frames, slots, unmatched):
                 else:
                     part = slot.kind == "region" and items[ref][slot.members[ref]].index in parted[ref]
                     nests[ref] = nests[ref] or _regions.containers(items[ref])
-                    hole = _paired_hole(nests[ref][slot.members[ref]], slots, ref, k)
-                    key = None if hole is None else (k, *hole)
+                    paired = _paired_hole(nests[ref][slot.members[ref]], slots, ref, k)
+                    key = None if paired is None else (k, *paired)
                     if key is not None and key not in room:
-                        room[key] = _regions.region_polygon([done[hole[0]][k][0][1 + hole[1]]])
+                        room[key] = _regions.region_polygon([done[paired[0]][k][0][1 + paired[1]]])
+                    free = room.get(key)
+                    free = None if free is None or free.is_empty else free
                     rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k],
-                                         "split" if part else unmatched, room.get(key))
+                                         "split" if part else unmatched, free)
                     if key is not None:  # the next small copy in this hole keeps clear of this one
                         at = rings[0].mean()
                         clear = _regions.region_polygon([at + 2 * (rings[0] - at)]).convex_hull
