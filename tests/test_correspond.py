@@ -40,6 +40,10 @@ def morph(src, tgt, frames=9):
     return seq, flipped_faces(seq, reduce=None), outline_crossings(seq)
 
 
+def box(x0, y0, x1, y1):
+    return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], float)
+
+
 def ring(shape, path):
     return shape.z[shape.paths[path][0]]
 
@@ -87,9 +91,6 @@ def test_two_regions_into_one_shrinks_the_unpaired_one_outside_the_fill():
 def test_a_piece_in_a_hole_shrinks_inside_the_hole_it_lies_in():
     # a dot in a square hole; the other drawing's hole is a thin slot above the dot's place, too thin for the
     # space just outside the fill: the dot shrinks into the slot, not out through the frame round it
-    def box(x0, y0, x1, y1):
-        return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], float)
-
     src = Shape.from_polygon([box(0, 0, 4, 4), box(1, 1, 3, 3)[::-1], disc(24, 0.8, 2 + 2j)])
     tgt = Shape.from_polygon([box(0, 0, 4, 4), box(0.6, 2.3, 3.4, 2.5)[::-1]])
     a, b, report = correspond(src, tgt)
@@ -105,9 +106,6 @@ def test_a_piece_in_a_hole_shrinks_inside_the_hole_it_lies_in():
 
 def test_pieces_that_shrink_into_one_hole_keep_apart():
     # four dots in a wide hole; the other drawing's hole is a small disc in a corner, the same way from all four
-    def box(x0, y0, x1, y1):
-        return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], float)
-
     dots = [disc(24, 0.25, c) for c in (1.6 + 1.6j, 2.4 + 1.6j, 1.6 + 2.4j, 2.4 + 2.4j)]
     src = Shape.from_polygon([box(0, 0, 4, 4), box(0.5, 0.5, 3.5, 3.5)[::-1], *dots])
     tgt = Shape.from_polygon([box(0, 0, 4, 4), disc(24, 0.25, 3.3 + 3.3j, reverse=True)])
