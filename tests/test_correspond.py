@@ -12,7 +12,15 @@ import pytest
 import isotween
 from isotween import Shape
 from isotween.correspondence import check_compatible, correspond
-from isotween.correspondence.regions import TINY, centroid, items_of, ring_area
+from isotween.correspondence.regions import (
+    TINY,
+    UNCROSS_SIZES,
+    _collisions,
+    _uncross,
+    centroid,
+    items_of,
+    ring_area,
+)
 from isotween.errors import IncompatibleShapesError, ParameterError, ResourceError, ShapeError
 from isotween.metrics import flipped_faces, outline_crossings
 
@@ -256,6 +264,35 @@ def test_forced_pairs_and_their_errors():
         correspond(two, swapped, pairs=[(0, 5)])
     with pytest.raises(IncompatibleShapesError, match="source region 1 with two regions"):
         correspond(two, swapped, pairs=[(1, 0), (1, 1)])
+
+
+def test_pieces_that_would_pass_through_each_other_swap_partners():
+    # two candles of a cake become two rays of a sun: paired as the cost has it, the right candle crosses the
+    # left one on its way to the far ray; swapped, each goes its own way (cake2-fill -> brightness-alt-high-fill)
+    def bar(c, length, deg):
+        z = np.array([-length, length, length, -length]) / 2 + 0.03j * np.array([-1, -1, 1, 1])
+        z = c + z * np.exp(1j * np.radians(deg))
+        return centroid(z, True), np.sqrt(abs(ring_area(z))), z
+
+    src = [bar(-0.2 - 0.206j, 0.25, 90), bar(-0.066 - 0.198j, 0.25, 90)]
+    tgt = [bar(-0.203 - 0.071j, 0.15, 45), bar(-0.287 + 0.132j, 0.15, 0)]
+    apart = np.ones((2, 2), dtype=bool)
+    crossing, swapped = [(0, 0), (1, 1)], [(0, 1), (1, 0)]
+    assert _collisions(src, tgt, crossing, apart).sum() > 0.5
+    assert _collisions(src, tgt, swapped, apart).sum() == 0
+    cost = np.array([[1.0, 1.1], [1.1, 1.0]])  # the swap costs 0.2 more in all
+    ok = lambda pairs: True  # noqa: E731
+    assert _uncross(crossing, cost - [[0, 0.05], [0.05, 0]], src, tgt, set(), set(), ok) == swapped
+    # not where it costs more than UNCROSS_SLACK more, a pair is forced or forbidden, or the result is refused
+    assert _uncross(crossing, cost, src, tgt, set(), set(), ok) == crossing
+    cheap = cost - [[0, 0.05], [0.05, 0]]
+    assert _uncross(crossing, cheap, src, tgt, {(0, 0)}, set(), ok) == crossing
+    assert _uncross(crossing, cheap, src, tgt, set(), {(1, 0)}, ok) == crossing
+    assert _uncross(crossing, cheap, src, tgt, set(), set(), lambda pairs: False) == crossing
+    # nor between pieces of unlike sizes (a cake's body and a candle)
+    big = [bar(-0.2 - 0.206j, 0.25 * UNCROSS_SIZES ** 3, 90), src[1]]
+    assert _collisions(big, tgt, crossing, apart).sum() > 0
+    assert _uncross(crossing, cheap, big, tgt, set(), set(), ok) == crossing
 
 
 def test_bad_options_are_refused_before_any_work():

@@ -4,8 +4,10 @@ A drawing is cut into *items*: filled regions (outer ring, then holes),
 unfilled closed rings and open polylines. Items of the same kind are paired
 by an optimal assignment (scipy's `min_weight_full_bipartite_matching`) on their
 position, size and direction, normalised by the drawing's bounding box, and for
-regions also on their overlap. Holes are paired the same way inside each
-pair of regions, normalised by the region's box.
+regions also on their overlap. Two regions whose pieces would pass through
+each other on their way swap partners where that costs little more
+(`_uncross`). Holes are paired the same way inside each pair of regions,
+normalised by the region's box.
 
 Several drawings (keyframes) are paired with the first one: an item of a
 later drawing with no partner opens a new *slot* that every other drawing
@@ -34,6 +36,16 @@ UNLIKE = 0.2
 UNLIKE_OVERLAP = 0.1
 #: rounds of region pairing that forbid the pairs carrying a piece into or out of a paired region's hole
 NESTING_ROUNDS = 3
+#: two region pairs whose pieces would pass through each other swap partners where their two pieces differ in
+#: size by at most this factor and the two new pairs cost at most `UNCROSS_SLACK` more than the old (`_uncross`)
+UNCROSS_SIZES = 2.0
+UNCROSS_SLACK = 0.15
+#: the times at which `_uncross` places the pieces on their way, and the share of the smaller piece's area
+#: that two of them must overlap there to collide
+UNCROSS_TIMES = (0.25, 0.5, 0.75)
+UNCROSS_OVERLAP = 0.02
+#: pairings of more regions than this are not checked for collisions (the check is quadratic)
+UNCROSS_MAX = 40
 
 _KINDS = ("region", "ring", "line")
 #: kinds paired with each other: filled regions; strokes (closed rings and open polylines)
@@ -442,6 +454,9 @@ def plan(items, frames, pairs=None):
                 if mirrored is not None and len(mirrored) == len(done) and not (
                         closed and _nesting_conflicts(mirrored, refs, own[k], k, nests) & set(mirrored)):
                     done = mirrored
+                elif closed:  # pieces that would pass through each other on their way swap partners
+                    done = _uncross(done, cost, feats_ref, feats_k, set(forced), forbidden,
+                                    lambda d, r=refs, o=own[k], k=k: not _nesting_conflicts(d, r, o, k, nests) & set(d))
             for r, c in done:
                 kind_slots[r][k] = own[k][c]
             taken = {c for _, c in done}
@@ -480,6 +495,86 @@ def containers(items):
     inside &= np.array([i for i, _ in owner])[None, :] != np.arange(len(items))[:, None]
     area = np.where(inside, shapely.area(holes)[None, :], np.inf)
     return [owner[int(np.argmin(a))] if np.isfinite(a).any() else None for a in area]
+
+
+def _placed(feats_ref, feats_k, done, t):
+    """(P,) shapely polygons: each paired piece ``feats_ref[r]`` at time ``t`` on its way to ``feats_k[c]``.
+
+    A piece keeps its shape on the way: moved along the straight line between
+    the two centroids and scaled by the blend of the two sizes.
+    """
+    import shapely
+
+    out = []
+    for r, c in done:
+        (ca, sa, z), (cb, sb, _) = feats_ref[r], feats_k[c]
+        w = ca + (1 - t + t * sb / max(sa, 1e-300)) * (z - ca) + t * (cb - ca)
+        out.append(shapely.Polygon(np.c_[w.real, w.imag]))
+    return np.array([p if p.is_valid else shapely.make_valid(p) for p in out], dtype=object)
+
+
+def _collisions(feats_ref, feats_k, done, apart):
+    """(P, P) share of the smaller piece's area that two pieces of ``done`` overlap on their way.
+
+    Summed over `UNCROSS_TIMES`, where it is above `UNCROSS_OVERLAP` and the
+    two are ``apart`` (P, P) in the source (`_placed`).
+    """
+    import shapely
+
+    P = len(done)
+    hits = np.zeros((P, P))
+    for t in UNCROSS_TIMES:
+        poly = _placed(feats_ref, feats_k, done, t)
+        i, j = shapely.STRtree(poly).query(poly, predicate="intersects")
+        keep = (i < j) & apart[i, j]
+        i, j = i[keep], j[keep]
+        share = shapely.area(shapely.intersection(poly[i], poly[j])) / np.maximum(
+            np.minimum(shapely.area(poly[i]), shapely.area(poly[j])), 1e-300)
+        hits[i, j] += np.where(share > UNCROSS_OVERLAP, share, 0.0)
+    return hits + hits.T
+
+
+def _uncross(done, cost, feats_ref, feats_k, forced, forbidden, valid):
+    """Region pairs ``done`` with partners swapped where their pieces would pass through each other.
+
+    Every piece is moved on a straight line to its partner's place, keeping
+    its shape (`_placed`); two pieces that do not overlap in the source but
+    do on the way (`_collisions`) swap partners where the two pieces differ
+    in size by at most `UNCROSS_SIZES` times, the two new pairs cost at most
+    `UNCROSS_SLACK` more than the two old ones, neither is forced or
+    forbidden, ``valid(pairs)`` holds (no piece carried into a hole), and
+    the pieces collide less in all. The collision worst first, until no
+    swap helps.
+    """
+    import shapely
+
+    done = list(done)
+    if not 2 <= len(done) <= UNCROSS_MAX:
+        return done
+    src = _placed(feats_ref, feats_k, done, 0.0)
+    i, j = shapely.STRtree(src).query(src, predicate="intersects")
+    apart = np.ones((len(done),) * 2, dtype=bool)
+    apart[i, j] = False
+    for _ in range(len(done)):
+        hits = _collisions(feats_ref, feats_k, done, apart)
+        total = hits.sum()
+        for a, b in zip(*np.unravel_index(np.argsort(-hits, axis=None), hits.shape), strict=True):
+            if not hits[a, b] or a > b:
+                continue
+            (ra, ca), (rb, cb) = done[a], done[b]
+            swapped = [(ra, cb), (rb, ca)]
+            sizes = feats_ref[ra][1], feats_ref[rb][1]
+            if set(swapped) & forbidden or {done[a], done[b]} & forced or max(sizes) > UNCROSS_SIZES * min(sizes) or (
+                    cost[ra, cb] + cost[rb, ca] > UNCROSS_SLACK + cost[ra, ca] + cost[rb, cb]):
+                continue
+            trial = list(done)
+            trial[a], trial[b] = swapped
+            if valid(trial) and _collisions(feats_ref, feats_k, trial, apart).sum() < total:
+                done = trial
+                break
+        else:
+            return done
+    return done
 
 
 def _nesting_conflicts(done, refs, own, k, nests):
