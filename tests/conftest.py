@@ -29,6 +29,14 @@ def shared_only(monkeypatch):
     monkeypatch.setattr(sys.modules["isotween.interpolate"], "WEIGHTS", ())
 
 
+@pytest.fixture
+def uniform_meshes(monkeypatch):
+    """Compatible meshes as fine inside as at the outline (no `GRADE`): the meshes some fold tests were built on."""
+    from isotween.correspondence import compatible_mesh
+
+    monkeypatch.setattr(compatible_mesh, "GRADE", 0.0)
+
+
 @pytest.fixture(scope="session")
 def bent_bar():
     """A real AIAP sequence: a triangulated bar bending by 90 degrees, 7 frames."""

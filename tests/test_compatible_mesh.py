@@ -409,3 +409,29 @@ def test_a_pull_stuck_near_the_outline_flips_edges_on_the_way_instead_of_overlay
     assert not info["overlay"]
     assert np.all(s.face_areas() > 0) and np.all(t.face_areas() > 0)
     assert np.array_equal(t.vertices[:K], rings[1][0])  # the ring exactly where it was asked
+
+
+def test_the_mesh_follows_the_outline_near_it_and_coarsens_inside(monkeypatch):
+    # a disc of 160 outline points and a turned, scaled copy: triangles near the outline keep its edge length,
+    # inside they may grow with their distance from it (GRADE), and the map is still the similarity
+    import shapely
+
+    from isotween.correspondence import compatible_mesh as cm
+
+    theta = np.linspace(0, 2 * np.pi, 160, endpoint=False)
+    src = np.c_[np.cos(theta), np.sin(theta)]
+    turn = 1.5 * np.exp(0.7j)
+    z = turn * (src @ [1, 1j]) + (2 - 1j)
+    s, t, _ = compatible_meshes(src, np.c_[z.real, z.imag])
+    np.testing.assert_allclose(t.vertices @ [1, 1j], turn * (s.vertices @ [1, 1j]) + (2 - 1j), atol=1e-9)
+    size = np.abs(np.diff(np.r_[src @ [1, 1j], src[0] @ [1, 1j]])).mean()
+    outline = shapely.LinearRing(src)
+    far = shapely.distance(shapely.points(s.vertices), outline)[s.faces].min(axis=1)  # (F,) of its vertices
+    area = s.face_areas()
+    assert np.all(area <= 1.5 * np.sqrt(3) / 4 * np.maximum(size, cm.GRADE * far) ** 2 * (1 + 1e-9))
+    assert np.median(area[far > 0.5]) > 4 * np.median(area[far == 0])  # inside, much larger than at the outline
+    monkeypatch.setattr(cm, "GRADE", 0.0)  # no grading: as fine inside as at the outline, many more triangles
+    uniform, _, _ = compatible_meshes(src, np.c_[z.real, z.imag])
+    assert uniform.n_faces > 2 * s.n_faces
+    assert np.median(uniform.face_areas()[shapely.distance(shapely.points(uniform.vertices), outline)[
+        uniform.faces].min(axis=1) > 0.5]) < 2 * np.median(area[far == 0])

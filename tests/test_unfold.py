@@ -52,7 +52,7 @@ def test_aiap_stops_before_the_first_iteration_that_folds(tmp_path):
     np.testing.assert_array_equal(seq.frames[-1], target.vertices)
 
 
-def test_a_t_becomes_an_arrow_by_aiap_on_flipped_edges(tmp_path, to_the_end):
+def test_a_t_becomes_an_arrow_by_aiap_on_flipped_edges(tmp_path, to_the_end, uniform_meshes):
     source, target = pair(tmp_path, T, ARROW)
     folded = interpolate(source, target, frames=21, fold="allow")
     assert 0 < len(folding(folded)) <= MOST  # the correspondence's meshes fold a few faces in AIAP's in-betweens
@@ -71,7 +71,7 @@ def test_a_t_becomes_an_arrow_by_aiap_on_flipped_edges(tmp_path, to_the_end):
     assert np.all(seq.shape.face_areas(seq.frames[-1]) > 0)
 
 
-def test_morph_and_the_command_line_say_where_edges_were_flipped(tmp_path, to_the_end):
+def test_morph_and_the_command_line_say_where_edges_were_flipped(tmp_path, to_the_end, uniform_meshes):
     from click.testing import CliRunner
 
     from isotween.cli import main
@@ -132,7 +132,7 @@ CLOUD = ("M7.053 11.276A.5.5 0 0 1 7.5 11h1a.5.5 0 0 1 .474.658l-.28.842H9.5a.5.
          "10H13a3 3 0 0 0 .405-5.973")
 
 
-def test_where_the_first_iteration_folds_edges_are_flipped_there_and_aiap_stops_before_a_fold(tmp_path):
+def test_where_the_first_iteration_folds_edges_are_flipped_there_and_aiap_stops_before_a_fold(tmp_path, uniform_meshes):
     from isotween.pipeline import STAGGER, unmatched_spans
 
     files = []

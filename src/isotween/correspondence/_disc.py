@@ -6,7 +6,7 @@ Part of `isotween.correspondence.compatible_mesh` (see its description).
 import numpy as np
 
 from ..errors import IncompatibleShapesError, ShapeError
-from ..geometry import edge_keys, edge_table, ring_area, triangle_angles, triangle_areas
+from ..geometry import edge_keys, edge_table, ring_area, segment_distance, triangle_angles, triangle_areas
 
 
 # ---------------------------------------------------------------- validation
@@ -371,11 +371,14 @@ def _lawson(z, f, fixed_keys, rounds=200, tiny=0.0):
     return f
 
 
-def _refine(z, f, fixed_keys, size, rounds=30):
+def _refine(z, f, fixed_keys, size, rounds=30, grade=0.0):
     """Insert interior Steiner points (triangle centroids) until no triangle is much too large.
 
-    Too large means much larger than an equilateral triangle of side ``size``;
-    Lawson flips keep the mesh Delaunay.
+    Too large means much larger than an equilateral triangle of side
+    ``size``, or, with ``grade``, of side ``max(size, grade * d)`` where its
+    vertices lie ``d`` or more from the outline: the mesh follows the
+    outline's detail near it and coarsens inside. Lawson flips keep the mesh
+    Delaunay.
 
     Returns
     -------
@@ -383,19 +386,44 @@ def _refine(z, f, fixed_keys, size, rounds=30):
     """
     f = _lawson(z, f.copy(), fixed_keys)
     big = 1.5 * np.sqrt(3) / 4 * size ** 2
+    far = _OutlineDistance(z, f) if grade > 0 else None
+    depth = np.zeros(len(z))  # every vertex is on the outline at first
     for _ in range(rounds):
         area = triangle_areas(z, f)
         bad = np.flatnonzero(area > big)
+        if far is not None and len(bad):  # away from the outline, larger triangles do
+            bad = bad[area[bad] > big * np.maximum(1.0, grade * depth[f[bad]].min(axis=1) / size) ** 2]
         if not len(bad):
             break
         m = len(z) + np.arange(len(bad))
-        z = np.r_[z, z[f[bad]].mean(axis=1)]
+        centroids = z[f[bad]].mean(axis=1)
+        z = np.r_[z, centroids]
+        if far is not None:
+            depth = np.r_[depth, far(centroids)]
         t = f[bad]
         f = np.r_[np.delete(f, bad, axis=0), np.c_[t[:, 0], t[:, 1], m], np.c_[t[:, 1], t[:, 2], m],
                   np.c_[t[:, 2], t[:, 0], m]]
         f = _lawson(z, f, fixed_keys)
     return z, f
 
+
+class _OutlineDistance:
+    """Distance of points to the outline of a triangle mesh (its edges in one face), by an R-tree of its edges."""
+
+    def __init__(self, z, f):
+        import shapely
+
+        a, b, _, _, twin = edge_table(f)
+        self.a, self.b = z[a[twin < 0]], z[b[twin < 0]]
+        self.tree = shapely.STRtree(shapely.linestrings(np.stack([np.c_[self.a.real, self.a.imag],
+                                                                   np.c_[self.b.real, self.b.imag]], axis=1)))
+
+    def __call__(self, p):
+        """(m,) distances of points ``p`` (m,) complex to the outline."""
+        import shapely
+
+        _, j = self.tree.query_nearest(shapely.points(p.real, p.imag), all_matches=False)
+        return segment_distance(p, self.a[j], self.b[j])
 
 
 def _chords(f, K):

@@ -11,7 +11,8 @@ The construction (Aronov, Seidel and Souvaine 1993; Surazhsky and Gotsman
    are triangulated piecewise, so the cuts are edges of both meshes; the
    first cut of every hole is then opened (its two vertices duplicated).
 2. First try: the source mesh, refined with interior Steiner points (centroid
-   insertion and Lawson flips down to the edge length ``mesh_size``), its
+   insertion and Lawson flips down to the edge length ``mesh_size`` near the
+   outline, coarser inside: `GRADE` times the distance from it), its
    chords that cannot fit the target (edges between two ring vertices outside
    the target polygon or along its outline, sides of ring triangles turned
    over there) cut at their midpoints, mapped onto the target outline by
@@ -89,6 +90,7 @@ from ._quality import _coarsen, _improve, _joint_flips, _joint_refine, _smooth
 
 __all__ = ["CompatibleMeshes", "compatible_meshes"]
 
+GRADE = 1.5  # the source mesh coarsens inside: a triangle d from the outline may have sides of this x d
 MAP_ITER = 15  # Newton iterations of the low-distortion map at most
 MAP_TOL = 1e-2  # the map's Newton stops when an iteration lowers the energy's excess by less than this
 PULL_ITER = 15  # Newton iterations per pull weight
@@ -142,8 +144,9 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
         Every ring must be simple, the holes inside the outer ring, not
         nested and not touching.
     mesh_size : float, optional
-        Target edge length of the source mesh's interior. Default: the mean
-        edge length of the source rings.
+        Target edge length of the source mesh's interior near the outline;
+        farther in, triangles may grow to `GRADE` times their distance from
+        it. Default: the mean edge length of the source rings.
     refine_first : bool
         Overlay the refined source mesh (not the bare triangulation).
     pull : bool
@@ -210,7 +213,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     cut_edges = np.array([c for _, *pair in cuts for c in pair], dtype=np.int64).reshape(-1, 2)
     fixed_keys = _keys(cut_edges)
     f_src = _triangulate(zs, rings, cut_edges, fixed_keys, "source")
-    z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size))
+    z1, f1 = _refine(zs, f_src, fixed_keys, float(mesh_size), grade=GRADE)
     chords = _misfits(f1, K, zt, rings)
     z1, f1 = np.r_[z1, z1[chords].mean(axis=1)], _split_edges(f1, chords, len(z1))
     for _ in range(SMOOTH_ROUNDS if len(chords) else 0):  # a chord's midpoint across a flat ear: slivers smoothed

@@ -195,8 +195,9 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
     outline : bool
         Keep outlines only (no triangle meshes for filled regions).
     mesh_size : float, optional
-        Target edge length of the meshes' interior triangles. Default, per
-        region: the larger of its source outline's mean spacing and 1/60 of
+        Target edge length of the meshes' interior triangles near the
+        outline (inside, they grow with the distance from it). Default, per
+        region: the larger of its source outline's mean spacing and 1/30 of
         the bounding-box diagonal of both drawings (a densely sampled
         drawing is not meshed more finely than that).
     unmatched : {'grow', 'split'}
