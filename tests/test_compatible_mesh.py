@@ -435,26 +435,3 @@ def test_the_mesh_follows_the_outline_near_it_and_coarsens_inside(monkeypatch):
     assert uniform.n_faces > 2 * s.n_faces
     assert np.median(uniform.face_areas()[shapely.distance(shapely.points(uniform.vertices), outline)[
         uniform.faces].min(axis=1) > 0.5]) < 2 * np.median(area[far == 0])
-
-
-def test_star_lookups_match_the_mesh():
-    # the faces and neighbours around vertices, and edge lookups, as the collapses of the quality step see them
-    from scipy.spatial import Delaunay
-
-    from isotween.correspondence._quality import _Star
-
-    rng = np.random.default_rng(7)
-    f = Delaunay(rng.random((80, 2))).simplices.astype(np.int64)
-    N = 83  # three vertices in no face
-    star = _Star(f, N)
-    x = np.array([5, 0, 81, 5, 17])  # repeats, and a vertex with no face
-    owner, face = star.faces(x)
-    assert sorted(zip(owner.tolist(), face.tolist(), strict=True)) == sorted(
-        (i, k) for i, v in enumerate(x) for k in range(len(f)) if v in f[k])
-    edges = {(int(a), int(b)) for t in f for a, b in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
-    edges |= {(b, a) for a, b in edges}
-    owner, nbr = star.neighbours(x)
-    assert sorted(zip(owner.tolist(), nbr.tolist(), strict=True)) == sorted(
-        (i, u) for i, v in enumerate(x) for u in range(N) if (int(v), u) in edges)
-    u, v = rng.integers(0, N, 500), rng.integers(0, N, 500)
-    assert star.adjacent(u, v).tolist() == [(int(a), int(b)) in edges for a, b in zip(u, v, strict=True)]

@@ -4,6 +4,7 @@ Part of `isotween.correspondence.compatible_mesh` (see its description).
 """
 
 import numpy as np
+from scipy.sparse import coo_matrix
 
 from ..geometry import edge_table, triangle_areas
 from ._disc import _flip, _independent, _scale2
@@ -249,48 +250,6 @@ def _coarsen(z, w, f, K, sizes, eps, floor, rounds=40):
     return f
 
 
-class _Star:
-    """The faces and the neighbours around every vertex of a mesh, looked up for many vertices at once.
-
-    Parameters
-    ----------
-    f : (F, 3) int
-    N : int
-        Number of vertices (those in no face have none).
-    """
-
-    def __init__(self, f, N):
-        v, w = f.ravel(), np.roll(f, -1, axis=1).ravel()
-        self.N = N
-        self.face_ptr = np.r_[0, np.cumsum(np.bincount(v, minlength=N))]
-        self.face = np.argsort(v, kind="stable") // 3  # by vertex
-        self.key = np.unique(np.r_[v * N + w, w * N + v])  # every edge both ways, u N + v, sorted
-        self.nbr_ptr = np.searchsorted(self.key, np.arange(N + 1) * N)
-        self.nbr = self.key % N
-
-    def faces(self, x):
-        """(owner, face) of every face around each of the vertices ``x`` (m,); ``owner`` indexes ``x``."""
-        return _rows(self.face_ptr, self.face, x)
-
-    def neighbours(self, x):
-        """(owner, vertex) of every neighbour of each of the vertices ``x`` (m,)."""
-        return _rows(self.nbr_ptr, self.nbr, x)
-
-    def adjacent(self, u, v):
-        """(m,) bool: whether vertices ``u`` and ``v`` (m,) share an edge."""
-        k = u * self.N + v
-        return self.key[np.minimum(np.searchsorted(self.key, k), len(self.key) - 1)] == k
-
-
-def _rows(ptr, col, rows):
-    """(owner, col) of every entry of the compressed rows ``rows`` (m,) of (``ptr``, ``col``)."""
-    start = ptr[rows]
-    count = ptr[rows + 1] - start
-    end = np.cumsum(count)
-    at = np.arange(end[-1] if len(end) else 0) + np.repeat(start - end + count, count)
-    return np.repeat(np.arange(len(rows)), count), col[at]
-
-
 def _merge(z, w, f, x, y, score, eps, floor):
     """Merge vertices x into y (lowest ``score`` first, merges that do not interfere), where that is safe.
 
@@ -309,7 +268,9 @@ def _merge(z, w, f, x, y, score, eps, floor):
     N, nF = len(z), len(f)
     if not len(x):
         return f, 0, np.zeros(N, dtype=bool)
-    star = _Star(f, N)
+    vf = coo_matrix((np.ones(3 * nF), (f.ravel(), np.repeat(np.arange(nF), 3))), shape=(N, nF)).tocsr()
+    A = coo_matrix((np.ones(3 * nF), (f.ravel(), np.roll(f, -1, axis=1).ravel())), shape=(N, N)).tocsr()
+    A = ((A + A.T) > 0).astype(np.int64).tocsr()
     q = _quality(z, w, f)
     by_score = np.argsort(score, kind="stable")
     rank = np.empty(len(x), dtype=np.int64)
@@ -319,10 +280,10 @@ def _merge(z, w, f, x, y, score, eps, floor):
     last = np.r_[first[1:], len(x)]
     # pass 1: the first candidate of every x; pass 2: all the others of the x still open
     c = o[first]
-    safe = _safe(z, w, f, star, q, x[c], y[c], eps, floor)
+    safe = _safe(z, w, f, vf, A, q, x[c], y[c], eps, floor)
     rest = np.repeat(~safe, last - first - 1)  # the later candidates of an x whose first is not safe
     later = o[np.delete(np.arange(len(x)), first)][rest]
-    later = later[_safe(z, w, f, star, q, x[later], y[later], eps, floor)]
+    later = later[_safe(z, w, f, vf, A, q, x[later], y[later], eps, floor)]
     if len(later):  # each x's first safe one
         later = later[np.r_[True, x[later][1:] != x[later][:-1]]]
     c = np.r_[c[safe], later]
@@ -333,9 +294,9 @@ def _merge(z, w, f, x, y, score, eps, floor):
     # around x (the only faces it changes; merges whose x are adjacent share two) and the edges it makes,
     # y to the neighbours of x that are not y's (two merges making the same edge would double it); it wins
     # when it has the lowest rank on all its claims, its claims are then taken and its rivals drop out
-    cx, fx = star.faces(x)
-    cu, u = star.neighbours(x)
-    made = (u != y[cu]) & ~star.adjacent(y[cu], u)
+    cx, fx = vf[x].nonzero()
+    cu, u = A[x].nonzero()
+    made = (u != y[cu]) & (np.asarray(A[y[cu], u]).ravel() == 0)
     cu, u = cu[made], u[made]
     _, edge = np.unique(np.minimum(y[cu], u) * N + np.maximum(y[cu], u), return_inverse=True)
     cc, ff = np.r_[cx, cu], np.r_[fx, nF + edge]
@@ -361,11 +322,10 @@ def _merge(z, w, f, x, y, score, eps, floor):
     return g, int(take.sum()), touched
 
 
-def _safe(z, w, f, star, q, x, y, eps, floor):
+def _safe(z, w, f, vf, A, q, x, y, eps, floor):
     """(C,) bool: merging x into y keeps the link condition, positive areas and the quality (see `_merge`)."""
-    cn, u = star.neighbours(x)
-    link = np.bincount(cn[star.adjacent(y[cn], u)], minlength=len(x)) == 2  # two neighbours in common
-    cx, fx = star.faces(x)  # faces around x
+    link = np.asarray(A[x].multiply(A[y]).sum(axis=1)).ravel() == 2
+    cx, fx = vf[x].nonzero()  # faces around x
     old = np.full(len(x), np.inf)
     np.minimum.at(old, cx, q[fx])
     stay = ~np.any(f[fx] == y[cx][:, None], axis=1)
