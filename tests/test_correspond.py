@@ -295,6 +295,23 @@ def test_pieces_that_would_pass_through_each_other_swap_partners():
     assert _uncross(crossing, cheap, big, tgt, set(), set(), ok) == crossing
 
 
+def test_overlapping_pieces_are_paired_and_kept_exactly():
+    # forty squares on a circle, some overlapping at their corners (the fill of a pair is then no valid
+    # polygon), into forty squares at other radii: the drawings pair and every input corner is kept exactly
+    def square(c):
+        return np.c_[c.real + 0.3 * np.array([-1, 1, 1, -1]), c.imag + 0.3 * np.array([-1, -1, 1, 1])]
+
+    turns = np.exp(1j * np.linspace(0, 2 * np.pi, 40, endpoint=False))
+    rng = np.random.default_rng(0)
+    src = Shape.from_polygon([square(5 * t) for t in turns])
+    tgt = Shape.from_polygon([square(5 * t * (0.5 + rng.random())) for t in rng.permutation(turns)])
+    a, b, report = correspond(src, tgt, always=True)
+    assert report.regions["paired"] >= 30
+    for given, made in ((src, a), (tgt, b)):
+        gap = np.abs(given.z[:, None] - made.z[None, :]).min(axis=1)
+        assert gap.max() == 0.0
+
+
 def test_bad_options_are_refused_before_any_work():
     src, tgt = Shape.from_polygon(disc(20)), Shape.from_polygon(disc(30, 2.0))
     with pytest.raises(ResourceError, match=r"mesh_size=1e-05 would make about") as err:

@@ -97,14 +97,15 @@ def split_regions(items, frames):
         if not theirs:
             continue
         filled = shapely.union_all([p for p, _ in theirs])
+        theirs = [(p, q) for p, q in theirs if p.geom_type == "Polygon"]  # not the rings of overlapping pieces
         mine = shapely.union_all([region_polygon(it.rings) for it in items[k] if it.kind == "region"])
         step = STEP * bbox_diagonal(*[r for it in items[k] for r in it.rings])
         barred, crossed = _shapes(theirs)
         new = []
         for it in out[k]:
             parts = bars = None
-            if it.kind == "region" and not it.stroked:
-                region = region_polygon(it.rings)
+            region = region_polygon(it.rings) if it.kind == "region" and not it.stroked else None
+            if region is not None and region.geom_type == "Polygon":  # (overlapping pieces' rings stay whole)
                 parts = (_parts(region, it.paint[0], theirs, filled, mine, step) if len(theirs) >= 2 else None) \
                     or _arms(region, it.paint[0], theirs)
                 fill = getattr(it.paint[0], "fill", None)
