@@ -44,8 +44,10 @@ UNCROSS_SLACK = 0.15
 #: that two of them must overlap there to collide
 UNCROSS_TIMES = (0.25, 0.5, 0.75)
 UNCROSS_OVERLAP = 0.02
-#: pairings of more regions than this are not checked for collisions (the check is quadratic)
+#: pairings of more regions than this are not checked for collisions (the check is quadratic), and at most
+#: `UNCROSS_TRIES` swaps, of the worst collisions, are tried for each one made
 UNCROSS_MAX = 40
+UNCROSS_TRIES = 8
 
 _KINDS = ("region", "ring", "line")
 #: kinds paired with each other: filled regions; strokes (closed rings and open polylines)
@@ -543,8 +545,8 @@ def _uncross(done, cost, feats_ref, feats_k, forced, forbidden, valid):
     in size by at most `UNCROSS_SIZES` times, the two new pairs cost at most
     `UNCROSS_SLACK` more than the two old ones, neither is forced or
     forbidden, ``valid(pairs)`` holds (no piece carried into a hole), and
-    the pieces collide less in all. The collision worst first, until no
-    swap helps.
+    the pieces collide less in all. The collision worst first (the
+    `UNCROSS_TRIES` worst), until no swap helps.
     """
     import shapely
 
@@ -558,8 +560,9 @@ def _uncross(done, cost, feats_ref, feats_k, forced, forbidden, valid):
     for _ in range(len(done)):
         hits = _collisions(feats_ref, feats_k, done, apart)
         total = hits.sum()
-        for a, b in zip(*np.unravel_index(np.argsort(-hits, axis=None), hits.shape), strict=True):
-            if not hits[a, b] or a > b:
+        worst = np.argsort(-np.triu(hits), axis=None)[:UNCROSS_TRIES]
+        for a, b in zip(*np.unravel_index(worst, hits.shape), strict=True):
+            if not hits[a, b]:
                 continue
             (ra, ca), (rb, cb) = done[a], done[b]
             swapped = [(ra, cb), (rb, ca)]
