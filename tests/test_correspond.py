@@ -14,7 +14,9 @@ from isotween import Shape
 from isotween.correspondence import check_compatible, correspond
 from isotween.correspondence.regions import (
     TINY,
+    UNCROSS_PER_HIT,
     UNCROSS_SIZES,
+    UNCROSS_SLACK,
     _collisions,
     _uncross,
     centroid,
@@ -278,14 +280,18 @@ def test_pieces_that_would_pass_through_each_other_swap_partners():
     tgt = [bar(-0.203 - 0.071j, 0.15, 45), bar(-0.287 + 0.132j, 0.15, 0)]
     apart = np.ones((2, 2), dtype=bool)
     crossing, swapped = [(0, 0), (1, 1)], [(0, 1), (1, 0)]
-    assert _collisions(src, tgt, crossing, apart).sum() > 0.5
+    hit = _collisions(src, tgt, crossing, apart)[0, 1]
+    assert hit > 0.25
     assert _collisions(src, tgt, swapped, apart).sum() == 0
-    cost = np.array([[1.0, 1.1], [1.1, 1.0]])  # the swap costs 0.2 more in all
+    # the swap may cost UNCROSS_SLACK more, and more again the worse the collision
+    slack = UNCROSS_SLACK + UNCROSS_PER_HIT * hit
+    cost = lambda more: np.array([[1.0, 1 + more / 2], [1 + more / 2, 1.0]])  # noqa: E731
     ok = lambda pairs: True  # noqa: E731
-    assert _uncross(crossing, cost - [[0, 0.05], [0.05, 0]], src, tgt, set(), set(), ok) == swapped
-    # not where it costs more than UNCROSS_SLACK more, a pair is forced or forbidden, or the result is refused
-    assert _uncross(crossing, cost, src, tgt, set(), set(), ok) == crossing
-    cheap = cost - [[0, 0.05], [0.05, 0]]
+    assert _uncross(crossing, cost(slack - 0.01), src, tgt, set(), set(), ok) == swapped
+    # not where it costs more than that, a pair is forced or forbidden, or the result is refused
+    assert _uncross(crossing, cost(slack + 0.01), src, tgt, set(), set(), ok) == crossing
+    cheap = cost(0.1)
+    assert _uncross(crossing, cheap, src, tgt, set(), set(), ok) == swapped
     assert _uncross(crossing, cheap, src, tgt, {(0, 0)}, set(), ok) == crossing
     assert _uncross(crossing, cheap, src, tgt, set(), {(1, 0)}, ok) == crossing
     assert _uncross(crossing, cheap, src, tgt, set(), set(), lambda pairs: False) == crossing

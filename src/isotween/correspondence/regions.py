@@ -37,9 +37,11 @@ UNLIKE_OVERLAP = 0.1
 #: rounds of region pairing that forbid the pairs carrying a piece into or out of a paired region's hole
 NESTING_ROUNDS = 3
 #: two region pairs whose pieces would pass through each other swap partners where their two pieces differ in
-#: size by at most this factor and the two new pairs cost at most `UNCROSS_SLACK` more than the old (`_uncross`)
+#: size by at most this factor and the two new pairs cost at most `UNCROSS_SLACK` more than the old, plus
+#: `UNCROSS_PER_HIT` times their collision (`_collisions`: up to 3 where one passes right through the other)
 UNCROSS_SIZES = 2.0
 UNCROSS_SLACK = 0.15
+UNCROSS_PER_HIT = 0.5
 #: the times at which `_uncross` places the pieces on their way, and the share of the smaller piece's area
 #: that two of them must overlap there to collide
 UNCROSS_TIMES = (0.25, 0.5, 0.75)
@@ -543,9 +545,10 @@ def _uncross(done, cost, feats_ref, feats_k, forced, forbidden, valid):
     its shape (`_placed`); two pieces that do not overlap in the source but
     do on the way (`_collisions`) swap partners where the two pieces differ
     in size by at most `UNCROSS_SIZES` times, the two new pairs cost at most
-    `UNCROSS_SLACK` more than the two old ones, neither is forced or
-    forbidden, ``valid(pairs)`` holds (no piece carried into a hole), and
-    the pieces collide less in all. The collision worst first (the
+    `UNCROSS_SLACK` more than the two old ones plus `UNCROSS_PER_HIT` times
+    their collision (the worse the collision, the dearer a swap may be),
+    neither is forced or forbidden, ``valid(pairs)`` holds (no piece carried
+    into a hole), and the pieces collide less in all. The collision worst first (the
     `UNCROSS_TRIES` worst), until no swap helps.
     """
     import shapely
@@ -567,8 +570,9 @@ def _uncross(done, cost, feats_ref, feats_k, forced, forbidden, valid):
             (ra, ca), (rb, cb) = done[a], done[b]
             swapped = [(ra, cb), (rb, ca)]
             sizes = feats_ref[ra][1], feats_ref[rb][1]
+            slack = UNCROSS_SLACK + UNCROSS_PER_HIT * hits[a, b]
             if set(swapped) & forbidden or {done[a], done[b]} & forced or max(sizes) > UNCROSS_SIZES * min(sizes) or (
-                    cost[ra, cb] + cost[rb, ca] > UNCROSS_SLACK + cost[ra, ca] + cost[rb, cb]):
+                    cost[ra, cb] + cost[rb, ca] > slack + cost[ra, ca] + cost[rb, cb]):
                 continue
             trial = list(done)
             trial[a], trial[b] = swapped
