@@ -256,8 +256,8 @@ def _merge(z, w, f, x, y, score, eps, floor):
     Safe: the link condition holds, every new face keeps a positive area in
     both meshes, and the smallest quality ``q`` (sine of the smallest angle)
     around x grows, or stays at least ``floor``. Each x takes its safe merge
-    of lowest score; its other candidates are checked only when its first
-    (lowest score) is not safe.
+    of lowest score: its candidates are checked in turn, lowest score first,
+    until one is safe.
 
     Returns
     -------
@@ -278,14 +278,18 @@ def _merge(z, w, f, x, y, score, eps, floor):
     o = by_score[np.argsort(x[by_score], kind="stable")]  # per x, its candidates by score
     first = np.flatnonzero(np.r_[True, x[o][1:] != x[o][:-1]])
     last = np.r_[first[1:], len(x)]
-    # pass 1: the first candidate of every x; pass 2: all the others of the x still open
+    # the candidates of every x in turn, by score (its k-th where its first k - 1 are not safe): each x's
+    # first safe one, without checking those after it
     c = o[first]
     safe = _safe(z, w, f, vf, A, q, x[c], y[c], eps, floor)
-    rest = np.repeat(~safe, last - first - 1)  # the later candidates of an x whose first is not safe
-    later = o[np.delete(np.arange(len(x)), first)][rest]
-    later = later[_safe(z, w, f, vf, A, q, x[later], y[later], eps, floor)]
-    if len(later):  # each x's first safe one
-        later = later[np.r_[True, x[later][1:] != x[later][:-1]]]
+    open_, later, k = ~safe, [], 1
+    while (turn := np.flatnonzero(open_ & (last - first > k))).size:
+        at = first[turn] + k
+        ok = _safe(z, w, f, vf, A, q, x[o[at]], y[o[at]], eps, floor)
+        later.append(at[ok])
+        open_[turn[ok]] = False
+        k += 1
+    later = o[np.sort(np.concatenate(later))] if later else np.zeros(0, dtype=np.int64)
     c = np.r_[c[safe], later]
     if not len(c):
         return f, 0, np.zeros(N, dtype=bool)
