@@ -548,8 +548,8 @@ def _uncross(done, cost, feats_ref, feats_k, forced, forbidden, valid):
     `UNCROSS_SLACK` more than the two old ones plus `UNCROSS_PER_HIT` times
     their collision (the worse the collision, the dearer a swap may be),
     neither is forced or forbidden, ``valid(pairs)`` holds (no piece carried
-    into a hole), and the pieces collide less in all. The collision worst first (the
-    `UNCROSS_TRIES` worst), until no swap helps.
+    into a hole), and the pieces collide less in all. The collision worst
+    first (the `UNCROSS_TRIES` worst), until no swap helps.
     """
     import shapely
 
