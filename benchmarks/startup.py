@@ -9,6 +9,9 @@ Every number is the median wall time of several fresh processes:
   square into a circle, written here): target at most 0.5 s; with the seconds its imports
   take (``-X importtime``, top-level modules summed; modules imported through
   ``importlib.import_module`` count only their imports, not their own time);
+- the same command on real icon pairs (Bootstrap Icons from the benchmark corpus, where
+  ``benchmarks/.corpus`` is installed: `corpus.install`), drawings that need the
+  correspondence's work (a hole opened into a notch, pieces that appear or vanish);
 - the first run after install: numba's cache (``__pycache__/*.nbi``, ``*.nbc`` under the
   package) removed first, so every kernel the command calls is compiled (a problem this
   small runs on numpy, `backend.sized`: none); reported separately, with the run after it;
@@ -47,6 +50,10 @@ SQUARE = ('<svg xmlns="http://www.w3.org/2000/svg" width="16" height="16" fill="
           '<path d="M2 0a2 2 0 0 0-2 2v12a2 2 0 0 0 2 2h12a2 2 0 0 0 2-2V2a2 2 0 0 0-2-2H2z"/></svg>\n')
 CIRCLE = ('<svg xmlns="http://www.w3.org/2000/svg" width="16" height="16" fill="currentColor" viewBox="0 0 16 16">'
           '<circle cx="8" cy="8" r="8"/></svg>\n')
+
+#: real icon pairs, timed as whole commands too where the benchmark corpus is installed (benchmarks/corpus.py)
+ICONS = Path(__file__).parent / ".corpus" / "node_modules" / "bootstrap-icons" / "icons"
+REAL_PAIRS = (("lock-fill", "unlock-fill"), ("moon-fill", "sun-fill"), ("house-fill", "gear-fill"))
 
 #: in a fresh process (``long``: one that said it is `backend.long_lived`, so that even a small morph runs on
 #: numba): a small morph, then the same morph again; prints the backend the morph ran on and the wall and CPU
@@ -153,6 +160,9 @@ def measure(src, cwd, runs):
         statistics.median(_import_seconds(args, src, cwd) for _ in range(3)), None
     out["  the same with ISOTWEEN_NUMBA=0 (numpy backend, no numba)"] = _median(interpolate, src, cwd, runs,
                                                                               ISOTWEEN_NUMBA="0")
+    for a, b in REAL_PAIRS if ICONS.is_dir() else ():
+        real = [*cli, "interpolate", str(ICONS / f"{a}.svg"), str(ICONS / f"{b}.svg"), "-o", "out.npz", "-q"]
+        out[f"isotween interpolate {a}.svg {b}.svg -o out.npz (Bootstrap Icons)"] = _median(real, src, cwd, runs)
     name, first, second = _kernels(src, cwd)
     out[f"first small morph in a process ({name} backend)"] = first
     out["  the same morph again"] = second
@@ -195,7 +205,9 @@ def main():
                 f"Median of {args.runs} fresh processes (one run for the first after install: numba's cache "
                 "under the package removed first); the package's byte code compiled first, as an install does. "
                 "A and B: a "
-                "rounded square and a circle, 16 px filled icons (benchmarks/startup.py writes them). Targets "
+                "rounded square and a circle, 16 px filled icons (benchmarks/startup.py writes them); the "
+                "Bootstrap Icons rows: real pairs from the benchmark corpus, whose correspondence opens holes "
+                "into notches and grows or shrinks pieces (only where benchmarks/.corpus is installed). Targets "
                 "(issue 21): `import isotween` at most 0.2 s, the interpolate command at most 0.5 s.\n\n" + text)
         if before:
             body += f"\n\nbefore: the same commands on {args.baseline_name or args.baseline}."
