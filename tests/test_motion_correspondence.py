@@ -119,6 +119,19 @@ def test_landmarks_are_honoured_and_bad_ones_named():
                                                  (src.vertices[5], tgt.vertices[n // 4])])
 
 
+def test_a_landmark_leaves_the_other_corners_paired_with_corners():
+    # a square into a 2:1 rectangle, one landmark at a corner: the other corners still go to corners (by arc
+    # length from the landmark alone, the square's next corner would land a third of the way along a long side)
+    square = resampled(np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float), 24, 5)
+    wide = resampled(np.array([[0, 0], [8, 0], [8, 4], [0, 4]], float) + [10, 0], 30, 7)
+    src, tgt = isotween.Shape.from_polygon(square), isotween.Shape.from_polygon(wide)
+    for landmark in ([(0, 0), (10, 0)], [(4, 4), (18, 4)]):
+        a, b, _ = isotween.correspond(src, tgt, landmarks=[landmark])
+        for corner, partner in zip([0, 4, 4 + 4j, 4j], [10, 18, 18 + 4j, 10 + 4j], strict=True):
+            i = int(np.argmin(np.abs(a.z - corner)))
+            assert abs(a.z[i] - corner) < 1e-9 and abs(b.z[i] - partner) < 1e-9
+
+
 def test_drawings_always_corresponded_and_the_policy_says_so(tmp_path):
     pytest.importorskip("svgelements")
     sq = '<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 H4 V4 H0 Z" fill="black"/></svg>'

@@ -417,7 +417,10 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None,
         if anchors:
             a0, b0 = np.r_[a0, np.array(anchors)[:, 0]], np.r_[b0, np.array(anchors)[:, 1]]
     phi = _Map(a0, b0, closed)
-    if not anchors:  # corners to corners
+    if anchors:  # the landmarks exact, corners to corners between them
+        a0, b0 = _between_landmarks(z, w, s_z, s_w, closed, a0, b0, place)
+        phi = _Map(a0, b0, closed)
+    else:  # corners to corners
         # rounded corners too where the rings are not similar copies (for those the alignment is exact)
         found = _corner_anchors(z, w, s_z, s_w, closed, phi, turn, closed and abs(rho[k]) < WARP_FIT, place)
         if closed and (found is None or len(found[0]) < 2) and place is not None and abs(rho[k]) < WARP_FIT:
@@ -593,12 +596,7 @@ def _corner_anchors(z, w, s_z, s_w, closed, phi, turn, rounded, place=None):
     aw, qw, rw = _corners(w, s_w, closed, rounded)
     if not len(az) or not len(aw) or len(az) * len(aw) > MAX_CORNER_PAIRS:
         return None
-    apart = None
-    if place is not None and (rz.any() or rw.any()):
-        pw = points_at(w, closed, aw)
-        radius = max(float(np.sqrt(np.mean(np.abs(w - w.mean()) ** 2))), 1e-300)
-        apart = np.abs(place(points_at(z, closed, az))[:, None] - pw[None, :]) / radius
-        apart = PLACE_WEIGHT * np.where(rz[:, None] | rw[None, :], apart, 0.0)
+    apart = _apart(z, w, az, aw, rz, rw, closed, place)
     if not closed:
         _, pairs = _align_sequences(az, qz, aw, qw, CORNER_WINDOW, apart)
         if not pairs:
@@ -637,6 +635,74 @@ def _corner_anchors(z, w, s_z, s_w, closed, phi, turn, rounded, place=None):
     a, b = np.r_[a, one[0], two[1]], np.r_[b, one[1], two[0]]
     order = np.argsort(a, kind="stable")
     keep = order[_monotone(a[order], b[order], True)]
+    return a[keep], b[keep]
+
+
+def _apart(z, w, az, aw, rz, rw, closed, place):
+    """(m, n) cost of pairing each corner of ``z`` with each of ``w`` for how far apart they lie, or None.
+
+    The distance between the two corners with the source placed in the
+    target drawing (``place``), over the target ring's radius, times
+    `PLACE_WEIGHT`; only for pairs with a rounded corner (``rz``, ``rw``).
+    None without ``place`` or rounded corners.
+    """
+    if place is None or not (rz.any() or rw.any()):
+        return None
+    radius = max(float(np.sqrt(np.mean(np.abs(w - w.mean()) ** 2))), 1e-300)
+    apart = np.abs(place(points_at(z, closed, az))[:, None] - points_at(w, closed, aw)[None, :]) / radius
+    return PLACE_WEIGHT * np.where(rz[:, None] | rw[None, :], apart, 0.0)
+
+
+def _between_landmarks(z, w, s_z, s_w, closed, a0, b0, place=None):
+    """Landmark anchors ``a0``, ``b0`` (and a polyline's ends) with the corners between them paired.
+
+    Between two consecutive landmarks the source's corners (sharp and
+    rounded), carried by the landmarks' map, pair with the target's corners
+    of the same stretch by `_align_sequences` (within `CORNER_WINDOW`; with
+    ``place``, a pair with a rounded corner also costs how far apart the two
+    lie, as in `_corner_anchors`), as the corners of rings without landmarks
+    do: a landmark pins its points and leaves the rest of the match to the
+    corners, not to arc length. Corners within `CORNER_SNAP` of a landmark
+    are left to it.
+
+    Returns
+    -------
+    (m,) float, (m,) float
+        Anchor parameters on the source and the target, the landmarks among them.
+    """
+    az, qz, rz = _corners(z, s_z, closed)
+    aw, qw, rw = _corners(w, s_w, closed)
+    if not len(az) or not len(aw) or len(az) * len(aw) > MAX_CORNER_PAIRS:
+        return a0, b0
+    apart = _apart(z, w, az, aw, rz, rw, closed, place)
+    order = np.argsort(a0, kind="stable")
+    a0, b0 = a0[order], b0[order]
+    phi = _Map(a0, b0, closed)
+    pz, a_new, b_new = phi(az), [a0], [b0]
+    stretches = range(len(a0)) if closed else range(len(a0) - 1)
+    for k in stretches:
+        nxt = (k + 1) % len(a0)
+        span_b = np.mod(b0[nxt] - b0[k], 1.0) if closed else b0[nxt] - b0[k]
+        if closed and len(a0) == 1:
+            span_b = 1.0
+        # both rings' corners inside the stretch, as target parameters from its start; a corner within
+        # `CORNER_SNAP` of a landmark is the landmark's (a point clicked next to a corner means the corner)
+        da = np.mod(pz - b0[k], 1.0) if closed else pz - b0[k]
+        db = np.mod(aw - b0[k], 1.0) if closed else aw - b0[k]
+        i = np.flatnonzero((da > CORNER_SNAP) & (da < span_b - CORNER_SNAP))
+        j = np.flatnonzero((db > CORNER_SNAP) & (db < span_b - CORNER_SNAP))
+        if not len(i) or not len(j):
+            continue
+        i, j = i[np.argsort(da[i], kind="stable")], j[np.argsort(db[j], kind="stable")]
+        _, pairs = _align_sequences(da[i], qz[i], db[j], qw[j], CORNER_WINDOW,
+                                    None if apart is None else apart[np.ix_(i, j)])
+        if pairs:
+            p, q = np.array(pairs).T
+            a_new.append(az[i[p]])
+            b_new.append(aw[j[q]])
+    a, b = np.concatenate(a_new), np.concatenate(b_new)
+    order = np.argsort(a, kind="stable")
+    keep = order[_monotone(a[order], b[order], closed)]
     return a[keep], b[keep]
 
 
