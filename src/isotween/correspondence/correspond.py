@@ -212,7 +212,8 @@ def correspond(source, target, *, points=None, segment=None, rotation=False, out
         Point pairs that must correspond: a point on (or near) an outline of
         the source and one on the paired outline of the target, like the
         shape hints of animation tools. Each is moved onto the nearest
-        outline of its drawing.
+        outline of its drawing; between landmarks, corners pair with corners
+        as they do without them.
     always : bool
         Correspond even inputs that are compatible already (drawings whose
         point order means nothing). Default: those come back unchanged.

@@ -369,7 +369,8 @@ def match_rings(z, w, closed, turn=None, anchors=(), spacing=None, reverse=None,
         prefer shifts that turn by it. None: any rotation.
     anchors : sequence of (float, float)
         Anchor pairs (source parameter, target parameter on the target as
-        given), e.g. landmarks; they replace the alignment.
+        given), e.g. landmarks; they replace the alignment, and corners pair
+        between them (`_between_landmarks`).
     spacing : (float, float), optional
         Longest edge allowed in the source and in the target (lengths); longer
         edges of the union are split. Default: no split.
