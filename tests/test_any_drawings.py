@@ -298,3 +298,23 @@ def test_fit_on_the_command_line(tmp_path):
     wrong = CliRunner().invoke(main, ["interpolate", str(small), str(large), "-o", str(tmp_path / "x.npz"),
                                       "--fit", "--resample", "40"])
     assert wrong.exit_code == 2 and "--fit" in wrong.output and not (tmp_path / "x.npz").exists()
+
+
+def test_a_vanishing_hole_meets_at_the_centre_of_its_stars_kernel():
+    # a plus-shaped star round one vertex: its kernel is the middle square, whose largest inscribed circle is
+    # centred on the plus's centre; the point keeps every triangle of the star turned as it was
+    from isotween.geometry import triangle_areas
+    from isotween.pipeline import _kernel_point
+
+    arm = np.array([3 - 1j, 3 + 1j, 1 + 1j])  # the right arm and the inner corner after it
+    plus = np.concatenate([arm * 1j ** k for k in range(4)])
+    for centre in (0j, 5 + 2j):
+        z = np.r_[plus + centre, centre + 0.5 + 0.3j]  # the star's vertex off the centre, inside the kernel
+        h = len(plus)
+        star = np.c_[np.full(len(plus), h), np.arange(len(plus)), (np.arange(len(plus)) + 1) % len(plus)]
+        assert np.all(triangle_areas(z, star) > 0)
+        p = _kernel_point(z, star, np.array([h]))
+        assert abs(p - centre) < 1e-4
+        moved = z.copy()
+        moved[h] = p
+        assert np.all(triangle_areas(moved, star) > 0)
