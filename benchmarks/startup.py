@@ -9,6 +9,8 @@ Every number is the median wall time of several fresh processes:
   square into a circle, written here): target at most 0.5 s; with the seconds its imports
   take (``-X importtime``, top-level modules summed; modules imported through
   ``importlib.import_module`` count only their imports, not their own time);
+- the same command writing the animated outputs a web page or an animator takes (SVG,
+  Lottie, the HTML viewer, a GIF) instead of a sequence file;
 - the same command on real icon pairs (Bootstrap Icons from the benchmark corpus, where
   ``benchmarks/.corpus`` is installed: `corpus.install`), drawings that need the
   correspondence's work (a hole opened into a notch, pieces that appear or vanish);
@@ -51,6 +53,8 @@ SQUARE = ('<svg xmlns="http://www.w3.org/2000/svg" width="16" height="16" fill="
 CIRCLE = ('<svg xmlns="http://www.w3.org/2000/svg" width="16" height="16" fill="currentColor" viewBox="0 0 16 16">'
           '<circle cx="8" cy="8" r="8"/></svg>\n')
 
+#: animated outputs timed on A and B (`write_output`'s defaults: one second of motion at 24 frames per second)
+OUTPUTS = ("svg", "lottie.json", "html", "gif")
 #: real icon pairs, timed as whole commands too where the benchmark corpus is installed (benchmarks/corpus.py)
 ICONS = Path(__file__).parent / ".corpus" / "node_modules" / "bootstrap-icons" / "icons"
 REAL_PAIRS = (("lock-fill", "unlock-fill"), ("moon-fill", "sun-fill"), ("house-fill", "gear-fill"))
@@ -160,6 +164,9 @@ def measure(src, cwd, runs):
         statistics.median(_import_seconds(args, src, cwd) for _ in range(3)), None
     out["  the same with ISOTWEEN_NUMBA=0 (numpy backend, no numba)"] = _median(interpolate, src, cwd, runs,
                                                                               ISOTWEEN_NUMBA="0")
+    for kind in OUTPUTS:  # the web outputs (text) load no plotting library; the raster ones do (matplotlib, PIL)
+        out[f"isotween interpolate A.svg B.svg -o out.{kind}"] = _median([*cli, *args[:3], "-o", f"out.{kind}", "-q"],
+                                                                         src, cwd, runs)
     for a, b in REAL_PAIRS if ICONS.is_dir() else ():
         real = [*cli, "interpolate", str(ICONS / f"{a}.svg"), str(ICONS / f"{b}.svg"), "-o", "out.npz", "-q"]
         out[f"isotween interpolate {a}.svg {b}.svg -o out.npz (Bootstrap Icons)"] = _median(real, src, cwd, runs)

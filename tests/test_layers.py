@@ -209,18 +209,20 @@ def test_cli_command_loads_only_its_module():
     assert not {"matplotlib", "svgelements", "numba", "PIL"} & loaded
 
 
-def test_cli_interpolate_of_an_icon_pair_loads_no_more_than_it_needs(tmp_path):
+@pytest.mark.parametrize("name", ["out.npz", "out.svg", "out.css", "out.waapi.json"])
+def test_cli_interpolate_of_an_icon_pair_loads_no_more_than_it_needs(tmp_path, name):
+    """A sequence file and the web outputs (text) load no plotting library, no image library, no numba."""
     pytest.importorskip("shapely")
     svg = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16">{}</svg>'
-    a, b, out = tmp_path / "a.svg", tmp_path / "b.svg", tmp_path / "out.npz"
+    a, b, out = tmp_path / "a.svg", tmp_path / "b.svg", tmp_path / name
     a.write_text(svg.format('<path d="M2 0a2 2 0 0 0-2 2v12a2 2 0 0 0 2 2h12a2 2 0 0 0 2-2V2a2 2 0 0 0-2-2H2z"/>'))
     b.write_text(svg.format('<circle cx="8" cy="8" r="8"/>'))
     loaded = _loaded_after(f"from isotween.cli import main; main(['interpolate', {str(a)!r}, {str(b)!r}, "
                            f"'-o', {str(out)!r}, '-q'])")
     assert out.exists()
     spare = sorted(m for m in loaded if m.startswith(("scipy.spatial", "scipy.special", "scipy.optimize",
-                                                      "matplotlib", "PIL")))
-    assert not spare, f"isotween interpolate a.svg b.svg -o out.npz imports {spare}"
+                                                      "matplotlib", "PIL", "numba")))
+    assert not spare, f"isotween interpolate a.svg b.svg -o {name} imports {spare}"
 
 
 def test_cli_render_loads_no_solver():

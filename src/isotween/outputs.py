@@ -255,10 +255,10 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
                                     background=take.get("background", BACKGROUND), kind="frames", kept=1)
         return write_frame_files(len(seq), out, "png", lambda k, path: save_png(renderer.image(k), path),
                                  progress=not quiet)
-    writers = {
-        "gif": render.write_gif, "mp4": render.write_mp4, "webp": render.write_webp, "apng": render.write_apng,
-        "html": render.write_html, "svg": render.write_svg_animation, "lottie": render.write_lottie,
-        "strip": render.write_strip, "css": render.write_css, "waapi": render.write_waapi,
+    writers = {  # names, not functions: only the writer used is imported (and, for rasters, matplotlib)
+        "gif": "write_gif", "mp4": "write_mp4", "webp": "write_webp", "apng": "write_apng", "html": "write_html",
+        "svg": "write_svg_animation", "lottie": "write_lottie", "strip": "write_strip", "css": "write_css",
+        "waapi": "write_waapi",
     }
     if kind == "strip" and "size" in take:
         take["cell"] = take.pop("size")
@@ -266,7 +266,7 @@ def write_output(seq, out, format=None, texture=None, quiet=False, kind=None, **
         take["progress"] = not quiet
     if kind in ("gif", "mp4", "webp", "apng", "html", "strip"):
         take["texture"] = texture
-    written = writers[kind](seq, out, **take)
+    written = getattr(render, writers[kind])(seq, out, **take)
     return list(written) if isinstance(written, list) else [out]
 
 

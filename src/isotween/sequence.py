@@ -280,6 +280,7 @@ class Sequence:
 
     def _positions(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
         """(T, n, 2) vertex positions at the times ``t`` (see :meth:`at`)."""
+        from .optimisation import backend
         from .optimisation.assembly import assembler_for
         from .optimisation.problem import pack
         from .optimisation.schemes import step_angle
@@ -312,7 +313,8 @@ class Sequence:
         centroids = (1.0 - s) * c[:, k] + s * c[:, k + 1]
         first, last = np.abs(e[:, 0]), np.abs(e[:, -1])
         weights = 2.0 / np.maximum(first + last, np.finfo(float).tiny)
-        out = assembler_for(self, self.shape, weights).positions(edges, centroids)  # Eq. (10), (n, T)
+        with backend.sized(e.shape[0] * len(t)):  # a short command's resample does not load numba
+            out = assembler_for(self, self.shape, weights).positions(edges, centroids)  # Eq. (10), (n, T)
         for at_frame, frame in ((s == 0.0, k), (s == 1.0, k + 1)):  # the frames themselves, bit for bit
             out[:, at_frame] = z[frame[at_frame]].T
         return pack(out)

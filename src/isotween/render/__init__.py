@@ -16,7 +16,7 @@ _NAMES = {
     "write_mp4": "animation",
     "write_webp": "animation",
     "write_apng": "animation",
-    "playback_order": "animation",
+    "playback_order": "playback",
     "write_html": "html",
     "write_svg_animation": "svg_animation",
     "write_lottie": "lottie",

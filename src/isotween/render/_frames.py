@@ -1,28 +1,12 @@
 """Turning a Sequence into same-size RGB images at one common scale."""
 
-import numpy as np
 
-from ..errors import ParameterError, ShapeError
 from ..paint import sequence_paint
-from ._view import bbox_of, check_frames, image_size, stroke_margin
+from ._view import bbox_of, image_size, sequence_frames, stroke_margin
 from .frame import FramePainter
 from .texture import load_texture
 
-__all__ = ["sequence_frames", "SequenceRenderer"]
-
-
-def sequence_frames(seq):
-    """Validated ``(F, n, 2)`` frames of a Sequence."""
-    frames = getattr(seq, "frames", None)
-    shape = getattr(seq, "shape", None)
-    if frames is None or shape is None:
-        raise ParameterError(f"expected an isotween Sequence, got {type(seq).__name__}")
-    frames = np.asarray(frames, dtype=np.float64)
-    if frames.ndim != 3 or frames.shape[1:] != (shape.n_vertices, 2) or not len(frames):
-        raise ShapeError(
-            f"sequence frames must have shape (F >= 1, {shape.n_vertices}, 2), got {frames.shape}"
-        )
-    return check_frames(frames)
+__all__ = ["SequenceRenderer"]
 
 
 class SequenceRenderer:

@@ -3,7 +3,7 @@
 import numpy as np
 
 from .. import metrics
-from ._frames import sequence_frames
+from ._view import sequence_frames
 
 __all__ = ["frame_stats"]
 

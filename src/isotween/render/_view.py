@@ -1,12 +1,14 @@
 """World-to-pixel framing shared by every raster output."""
 
 import math
+import re
 
 import numpy as np
 
 from ..errors import ParameterError, ShapeError
 
-__all__ = ["check_frames", "bbox_of", "decimals", "image_size", "fit_view", "to_pixels"]
+__all__ = ["check_frames", "sequence_frames", "check_colour", "bbox_of", "decimals", "image_size", "fit_view",
+           "to_pixels"]
 
 PAD = 0.05  # margin around the shape, as a fraction of the bounding box's longer side
 
@@ -26,6 +28,47 @@ def check_frames(frames):
             raise ShapeError(f"frame {where[0]} vertex {where[1]} has a non-finite coordinate")
         raise ShapeError(f"vertex {where[0]} has a non-finite coordinate")
     return f
+
+def sequence_frames(seq):
+    """Validated ``(F, n, 2)`` frames of a Sequence."""
+    frames = getattr(seq, "frames", None)
+    shape = getattr(seq, "shape", None)
+    if frames is None or shape is None:
+        raise ParameterError(f"expected an isotween Sequence, got {type(seq).__name__}")
+    frames = np.asarray(frames, dtype=np.float64)
+    if frames.ndim != 3 or frames.shape[1:] != (shape.n_vertices, 2) or not len(frames):
+        raise ShapeError(
+            f"sequence frames must have shape (F >= 1, {shape.n_vertices}, 2), got {frames.shape}"
+        )
+    return check_frames(frames)
+
+
+def check_colour(colour, what="background"):
+    """(4,) RGBA in [0, 1] of a matplotlib colour (name, '#rrggbb', tuple).
+
+    An (r, g, b[, a]) tuple of numbers in [0, 1] and '#rrggbb[aa]' are read
+    here; names and other strings by matplotlib (loaded then, not for a
+    drawing's own paint).
+
+    Raises
+    ------
+    ParameterError
+        Naming ``what`` and the value that is not a colour.
+    """
+    if isinstance(colour, str) and re.fullmatch(r"#[0-9a-fA-F]{6}([0-9a-fA-F]{2})?", colour):
+        return (*(int(colour[k:k + 2], 16) / 255 for k in range(1, 7, 2)),
+                int(colour[7:9], 16) / 255 if len(colour) == 9 else 1.0)
+    if isinstance(colour, (tuple, list, np.ndarray)) and len(colour) in (3, 4):
+        c = np.asarray(colour, dtype=object)
+        if all(isinstance(v, (int, float, np.number)) and not isinstance(v, bool) and 0 <= v <= 1 for v in c):
+            return (*(float(v) for v in c[:3]), float(c[3]) if len(c) == 4 else 1.0)
+    from matplotlib.colors import to_rgba
+
+    try:
+        return to_rgba(colour)
+    except (ValueError, TypeError):
+        raise ParameterError(f"{what}: {colour!r} is not a colour (use a name like 'red' or '#rrggbb')") from None
+
 
 
 def bbox_of(points, margin=0.0):

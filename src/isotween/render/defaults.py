@@ -1,6 +1,6 @@
 """Defaults every animated output shares (light: importing it loads no plotting library)."""
 
-__all__ = ["FPS", "SIZE", "BACKGROUND", "DURATION", "HOLD"]
+__all__ = ["FPS", "SIZE", "BACKGROUND", "DURATION", "HOLD", "WIRE", "FILL", "FILL_EDGE"]
 
 #: frames per second of every animated output (GIF, WebP, APNG, MP4, SVG, Lottie, the page)
 FPS = 24
@@ -12,3 +12,7 @@ BACKGROUND = "white"
 DURATION = 1.0
 #: seconds a rendered animation stays on its first and last frame
 HOLD = 0.25
+#: isotween's own look for a shape without paint: wire lines, and a light fill with darker edges
+WIRE = "#08519c"
+FILL = "#9ecae1"
+FILL_EDGE = "#3182bd"

@@ -10,15 +10,13 @@ from ..errors import ParameterError
 from ..geometry import ring_area
 from ..io import atomic_path
 from ..paint import opaque, paint_groups
-from ._view import bbox_of, check_frames, fit_view, image_size, stroke_margin
+from ._view import bbox_of, check_colour, check_frames, fit_view, image_size, stroke_margin
+from .defaults import FILL, FILL_EDGE, WIRE
 from .texture import load_texture, render_texture, texture_uv
 
 __all__ = ["draw_frame", "write_frame_png", "FramePainter"]
 
 STYLES = ("auto", "wire", "fill", "texture")
-WIRE = "#08519c"
-FILL = "#9ecae1"
-FILL_EDGE = "#3182bd"
 
 
 def _closed_rings(shape):
@@ -57,22 +55,6 @@ def _rings_path(vertices, rings):
         parts.append(np.vstack([loop, loop[:1]]))
         codes.append([Path.MOVETO] + [Path.LINETO] * (len(loop) - 1) + [Path.CLOSEPOLY])
     return Path(np.vstack(parts), np.concatenate(codes))
-
-
-def check_colour(colour, what="background"):
-    """(4,) RGBA in [0, 1] of a matplotlib colour (name, '#rrggbb', tuple).
-
-    Raises
-    ------
-    ParameterError
-        Naming ``what`` and the value that is not a colour.
-    """
-    from matplotlib.colors import to_rgba
-
-    try:
-        return to_rgba(colour)
-    except (ValueError, TypeError):
-        raise ParameterError(f"{what}: {colour!r} is not a colour (use a name like 'red' or '#rrggbb')") from None
 
 
 def rgba_of(colour, opacity):

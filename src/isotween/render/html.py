@@ -14,11 +14,9 @@ from ..errors import FileFormatError
 from ..io import atomic_path
 from ..io._json import dumps_finite
 from ..paint import joined_groups, merge_groups, paint_groups, sequence_paint
-from ._frames import sequence_frames
 from ._framestats import frame_stats
-from ._view import bbox_of, stroke_margin
+from ._view import bbox_of, check_colour, sequence_frames, stroke_margin
 from .defaults import FPS
-from .frame import check_colour
 from .outline import mesh_boundary
 from .texture import load_texture, texture_uv
 

@@ -13,14 +13,14 @@ from .._text import document_text
 from ..io import write_text
 from ..io._json import dumps_finite
 from ..paint import sequence_paint
-from ._view import to_pixels
-from .animation import FPS, SIZE, playback_order
+from ._view import check_colour, to_pixels
 from .curves import TOLERANCE, fit_curves
-from .frame import FILL, FILL_EDGE, WIRE, check_colour
+from .defaults import FILL, FILL_EDGE, FPS, SIZE, WIRE
 from .keys import TOLERANCE as KEY_TOLERANCE
 from .keys import X1, X2, reduce_keys
 from .outline import edge_chains, mesh_boundary
 from .paths import PathData, _Polyline, hex_colour, polylines, tolerance_digits
+from .playback import playback_order
 from .svg_animation import _pieces
 from .web import pixel_frames
 

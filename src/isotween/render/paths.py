@@ -16,10 +16,9 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..paint import joined_groups, merge_groups, paint_groups, sequence_paint, svg_paint_attributes
-from ._frames import sequence_frames
-from ._view import PAD, bbox_of, stroke_margin
+from ._view import PAD, bbox_of, check_colour, sequence_frames, stroke_margin
 from .curves import CORNER, fit_curves
-from .frame import FILL, FILL_EDGE, WIRE, check_colour
+from .defaults import FILL, FILL_EDGE, WIRE
 from .outline import mesh_boundary
 
 __all__ = ["PathData", "RunStrings", "outline_groups", "polylines", "svg_document", "svg_frames", "default_digits",

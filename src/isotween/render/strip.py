@@ -3,7 +3,8 @@
 import numpy as np
 
 from ..errors import ParameterError
-from ._frames import SequenceRenderer, sequence_frames
+from ._frames import SequenceRenderer
+from ._view import sequence_frames
 from .frame import save_png
 
 __all__ = ["write_strip"]

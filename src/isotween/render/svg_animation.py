@@ -17,9 +17,8 @@ from ..geometry import bbox_diagonal
 from ..io import write_text
 from ..paint import sequence_paint, svg_paint_attributes
 from ._view import decimals, stroke_margin
-from .animation import FPS, playback_order
 from .curves import TOLERANCE, fit_curves
-from .frame import FILL, FILL_EDGE, WIRE
+from .defaults import FILL, FILL_EDGE, FPS, WIRE
 from .keys import LINEAR, X1, X2, key_counts, reduce_keys, split_by_keys
 from .keys import TOLERANCE as KEY_TOLERANCE
 from .outline import edge_chains, mesh_boundary
@@ -33,6 +32,7 @@ from .paths import (
     svg_frames,
     view_box,
 )
+from .playback import playback_order
 
 __all__ = ["write_svg_animation", "svg_animation_text", "path_data"]
 

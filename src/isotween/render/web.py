@@ -17,14 +17,13 @@ import numpy as np
 
 from ..io import write_text
 from ..paint import sequence_paint
-from ._frames import sequence_frames
-from ._view import bbox_of, fit_view, image_size, stroke_margin, to_pixels
-from .animation import FPS, SIZE, playback_order
+from ._view import bbox_of, fit_view, image_size, sequence_frames, stroke_margin, to_pixels
 from .curves import TOLERANCE
-from .frame import FILL, FILL_EDGE, WIRE
+from .defaults import FILL, FILL_EDGE, FPS, SIZE, WIRE
 from .keys import LINEAR, X1, X2, reduce_keys
 from .keys import TOLERANCE as KEY_TOLERANCE
 from .paths import PathData, compact, hex_colour, tolerance_digits
+from .playback import playback_order
 
 __all__ = ["web_animation", "css_text", "snippet_html", "waapi_data", "write_css", "write_waapi",
            "pixel_frames"]
