@@ -209,9 +209,9 @@ def test_cli_command_loads_only_its_module():
     assert not {"matplotlib", "svgelements", "numba", "PIL"} & loaded
 
 
-@pytest.mark.parametrize("name", ["out.npz", "out.svg", "out.css", "out.waapi.json"])
+@pytest.mark.parametrize("name", ["out.npz", "out.svg", "out.css", "out.waapi.json", "out.lottie.json", "out.html"])
 def test_cli_interpolate_of_an_icon_pair_loads_no_more_than_it_needs(tmp_path, name):
-    """A sequence file and the web outputs (text) load no plotting library, no image library, no numba."""
+    """A sequence file and the web outputs (text, the page) load no plotting library, no image library, no numba."""
     pytest.importorskip("shapely")
     svg = '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 16 16">{}</svg>'
     a, b, out = tmp_path / "a.svg", tmp_path / "b.svg", tmp_path / name

@@ -3,6 +3,7 @@
 
 from ..paint import sequence_paint
 from ._view import bbox_of, image_size, sequence_frames, stroke_margin
+from .defaults import BACKGROUND
 from .frame import FramePainter
 from .texture import load_texture
 
@@ -33,7 +34,7 @@ class SequenceRenderer:
         Images the writer keeps in memory (default: every frame).
     """
 
-    def __init__(self, seq, size, texture=None, style="auto", even=False, dpi=100, background="white",
+    def __init__(self, seq, size, texture=None, style="auto", even=False, dpi=100, background=BACKGROUND,
                  kind="image", kept=None):
         from ..resources import check_output_memory
 

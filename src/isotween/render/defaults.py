@@ -7,7 +7,7 @@ FPS = 24
 #: longest side in pixels of raster animations and of the Lottie composition
 SIZE = 480
 #: colour behind the shape in raster outputs
-BACKGROUND = "white"
+BACKGROUND = "#ffffff"  # white, written as matplotlib need not be loaded to read it
 #: seconds the motion of a rendered animation lasts (`isotween.write_output` resamples the sequence to it)
 DURATION = 1.0
 #: seconds a rendered animation stays on its first and last frame

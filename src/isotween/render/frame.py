@@ -11,7 +11,7 @@ from ..geometry import ring_area
 from ..io import atomic_path
 from ..paint import opaque, paint_groups
 from ._view import bbox_of, check_colour, check_frames, fit_view, image_size, stroke_margin
-from .defaults import FILL, FILL_EDGE, WIRE
+from .defaults import BACKGROUND, FILL, FILL_EDGE, WIRE
 from .texture import load_texture, render_texture, texture_uv
 
 __all__ = ["draw_frame", "write_frame_png", "FramePainter"]
@@ -218,7 +218,7 @@ class FramePainter:
         Colour behind the shape (opaque).
     """
 
-    def __init__(self, width, height, bbox, dpi=100, y_down=False, background="white"):
+    def __init__(self, width, height, bbox, dpi=100, y_down=False, background=BACKGROUND):
         self.width, self.height = int(width), int(height)
         x0, x1, y0, y1 = fit_view(bbox, self.width, self.height)
         self.view = (x0, x1, y1, y0) if y_down else (x0, x1, y0, y1)

@@ -16,7 +16,7 @@ from ..io._json import dumps_finite
 from ..paint import joined_groups, merge_groups, paint_groups, sequence_paint
 from ._framestats import frame_stats
 from ._view import bbox_of, check_colour, sequence_frames, stroke_margin
-from .defaults import FPS
+from .defaults import BACKGROUND, FPS
 from .outline import mesh_boundary
 from .texture import load_texture, texture_uv
 
@@ -122,7 +122,7 @@ def _indices(array):
     return {"type": kind, "data": _packed(array.astype(kind))}
 
 
-def page_data(seq, texture=None, title=None, fps=FPS, bounce=False, background="white", downloads=None):
+def page_data(seq, texture=None, title=None, fps=FPS, bounce=False, background=BACKGROUND, downloads=None):
     """Everything the viewer needs, as JSON-ready Python values.
 
     Frames and connectivity are binary (`encode_frames`, `_indices`):
@@ -215,7 +215,7 @@ def _embedded_animations(seq, fps, bounce, title, background):
     return {k: v for k, v in out.items() if len(v) <= EMBED_LIMIT}
 
 
-def write_html(seq, path, texture=None, title=None, fps=FPS, bounce=False, background="white", downloads=True):
+def write_html(seq, path, texture=None, title=None, fps=FPS, bounce=False, background=BACKGROUND, downloads=True):
     """Write an interactive viewer of a sequence as one self-contained HTML file.
 
     The page embeds all frames (16-bit, 1/65000 of the shape's size, compressed),
@@ -250,7 +250,7 @@ def write_html(seq, path, texture=None, title=None, fps=FPS, bounce=False, backg
             fh.write(page)
 
 
-def page_html(seq, texture=None, title=None, fps=FPS, bounce=False, background="white", downloads=True, name=None):
+def page_html(seq, texture=None, title=None, fps=FPS, bounce=False, background=BACKGROUND, downloads=True, name=None):
     """The viewer page of `write_html` as a string (also shown inline by ``Sequence._repr_html_``).
 
     Parameters are those of `write_html` but ``path``; ``name`` is the file

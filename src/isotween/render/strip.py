@@ -5,6 +5,7 @@ import numpy as np
 from ..errors import ParameterError
 from ._frames import SequenceRenderer
 from ._view import sequence_frames
+from .defaults import BACKGROUND
 from .frame import save_png
 
 __all__ = ["write_strip"]
@@ -23,7 +24,7 @@ def _pick(n, frames):
     return picked
 
 
-def write_strip(seq, path, columns=None, frames=None, texture=None, cell=240, style="auto", background="white"):
+def write_strip(seq, path, columns=None, frames=None, texture=None, cell=240, style="auto", background=BACKGROUND):
     """Write selected frames of a sequence side by side as one PNG.
 
     Every cell shows the same window (the bounding box of all frames), so sizes
