@@ -503,3 +503,19 @@ def test_regions_of_unlike_colours_pair_only_where_they_overlap(tmp_path):
     (tmp_path / "d.svg").write_text(svg.format('<circle cx="20" cy="18" r="8" fill="#5DADEC"/>'))
     _, _, report = correspond(isotween.io.load(tmp_path / "c.svg"), isotween.io.load(tmp_path / "d.svg"), always=True)
     assert report.regions == {"paired": 1, "grown": 0, "shrunk": 0}
+
+
+def test_a_piece_painted_over_the_fill_grows_in_place(tmp_path):
+    # a tear on a face, in the target only: it grows on the face at its own place (as an animator would
+    # draw it), not from outside the face across the face's outline
+    pytest.importorskip("svgelements")
+    face = '<circle cx="8" cy="8" r="7" fill="#fc3"/>'
+    tear = '<path fill="#39f" d="M11 7c1 1.5 1.6 2.4 1.6 3.2a1.6 1.6 0 0 1-3.2 0c0-.8.6-1.7 1.6-3.2z"/>'
+    a, b = svg(tmp_path / "a.svg", face), svg(tmp_path / "b.svg", face + tear)
+    src, tgt, report = correspond(isotween.load(a), isotween.load(b))
+    assert report.regions["grown"] == 1
+    grown = src.regions[1][0]
+    assert is_small_copy(ring(src, grown), ring(tgt, grown))
+    assert abs(ring(src, grown).mean() - ring(tgt, grown).mean()) < 0.5  # at its place
+    seq = isotween.interpolate(src, tgt, frames=9)
+    assert not isotween.metrics.new_crossings(seq).any()
