@@ -422,3 +422,21 @@ def test_metrics_figure_keeps_equal_curves_apart_with_integer_counts():
     assert a.get_marker() != b.get_marker() and a.get_linestyle() != b.get_linestyle()
     ticks = count_axes.get_yticks()
     assert np.all(ticks == np.round(ticks))
+
+
+@pytest.mark.parametrize("colour", ["#ffffff", "#3182BD", "#3182bd80", (0.1, 0.2, 0.3), [1, 0, 0, 0.5],
+                                    np.array([0.0, 0.5, 1.0]), "white", "tab:blue", "0.5"])
+def test_colours_read_without_matplotlib_are_read_as_matplotlib_reads_them(colour):
+    from matplotlib.colors import to_rgba
+
+    from isotween.render._view import check_colour
+
+    assert check_colour(colour) == pytest.approx(to_rgba(colour), abs=0)
+
+
+@pytest.mark.parametrize("colour", ["#12345g", "#+23456", (1, 2, 3), (0.1, 0.2), "nocolour"])
+def test_what_is_not_a_colour_is_named(colour):
+    from isotween.render._view import check_colour
+
+    with pytest.raises(ParameterError, match="is not a colour"):
+        check_colour(colour, "fill")

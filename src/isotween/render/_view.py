@@ -1,4 +1,4 @@
-"""World-to-pixel framing shared by every raster output."""
+"""What every output shares: frame checks, colours, world-to-pixel framing (no plotting library loaded)."""
 
 import math
 import re
@@ -29,6 +29,7 @@ def check_frames(frames):
         raise ShapeError(f"vertex {where[0]} has a non-finite coordinate")
     return f
 
+
 def sequence_frames(seq):
     """Validated ``(F, n, 2)`` frames of a Sequence."""
     frames = getattr(seq, "frames", None)
@@ -58,17 +59,15 @@ def check_colour(colour, what="background"):
     if isinstance(colour, str) and re.fullmatch(r"#[0-9a-fA-F]{6}([0-9a-fA-F]{2})?", colour):
         return (*(int(colour[k:k + 2], 16) / 255 for k in range(1, 7, 2)),
                 int(colour[7:9], 16) / 255 if len(colour) == 9 else 1.0)
-    if isinstance(colour, (tuple, list, np.ndarray)) and len(colour) in (3, 4):
-        c = np.asarray(colour, dtype=object)
-        if all(isinstance(v, (int, float, np.number)) and not isinstance(v, bool) and 0 <= v <= 1 for v in c):
-            return (*(float(v) for v in c[:3]), float(c[3]) if len(c) == 4 else 1.0)
+    if isinstance(colour, (tuple, list, np.ndarray)) and len(colour) in (3, 4) and all(
+            isinstance(v, (int, float, np.number)) and not isinstance(v, bool) and 0 <= v <= 1 for v in colour):
+        return (*(float(v) for v in colour[:3]), float(colour[3]) if len(colour) == 4 else 1.0)
     from matplotlib.colors import to_rgba
 
     try:
         return to_rgba(colour)
     except (ValueError, TypeError):
         raise ParameterError(f"{what}: {colour!r} is not a colour (use a name like 'red' or '#rrggbb')") from None
-
 
 
 def bbox_of(points, margin=0.0):
