@@ -90,13 +90,15 @@ def _smooth(z, w, f, K, eps, joint):
     smallest angle grows. ``joint``: a vertex moves in both meshes or in
     neither, judged on the smaller angle of the two (this keeps a target
     that is an affine image of the source one); otherwise each mesh on its
-    own (the meshes share connectivity, not positions).
+    own (the meshes share connectivity, not positions). ``w`` None: one
+    mesh, ``z``, alone (``w`` returned None).
 
     Returns
     -------
     z, w : (N,) complex, moved : int
     """
     N = len(z)
+    one = w is None
     colour = _colour_classes(f, N, K)
     v = f.ravel()
     order = np.argsort(colour[v] * (N + 1) + v, kind="stable")  # corners by class, then vertex
@@ -104,7 +106,7 @@ def _smooth(z, w, f, K, eps, joint):
     vc, fc = v[order], order // 3
     cls = colour[vc]
     bounds = np.r_[0, np.cumsum(np.bincount(cls))]
-    pos = [z.copy(), w.copy()]
+    pos = [z.copy(), None if one else w.copy()]
     moved = 0
     for k in range(len(bounds) - 1):
         vk, tri = vc[bounds[k]:bounds[k + 1]], f[fc[bounds[k]:bounds[k + 1]]]
@@ -113,7 +115,7 @@ def _smooth(z, w, f, K, eps, joint):
         count = np.diff(np.r_[st, len(vk)])
         went = np.zeros(len(own), dtype=bool)
         mine = tri == np.repeat(own, count)[:, None]  # (m, 3): the corner of each star face that moves
-        for group in ((0, 1),) if joint else ((0,), (1,)):
+        for group in ((0,),) if one else ((0, 1),) if joint else ((0,), (1,)):
             goals = [{i: np.add.reduceat(pos[i][tri].sum(axis=1) - pos[i][vk], st) / (2 * count)
                       for i in group}]  # Laplacian (each neighbour twice): affine images stay affine images
             if not joint:

@@ -217,7 +217,7 @@ def compatible_meshes(source_rings, target_rings, mesh_size=None, *, refine_firs
     chords = _misfits(f1, K, zt, rings)
     z1, f1 = np.r_[z1, z1[chords].mean(axis=1)], _split_edges(f1, chords, len(z1))
     for _ in range(SMOOTH_ROUNDS if len(chords) else 0):  # a chord's midpoint across a flat ear: slivers smoothed
-        z1 = _smooth(z1, z1, f1, K, (1e-14 * _scale2(z1),) * 2, False)[0]
+        z1 = _smooth(z1, None, f1, K, (1e-14 * _scale2(z1),) * 2, False)[0]
 
     # first try: the source mesh mapped by mean-value weights (reproduces affine maps); if a triangle
     # flips, the source mesh pulled onto the target outline with no flip; then the map made least distorted
