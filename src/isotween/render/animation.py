@@ -15,7 +15,8 @@ from .playback import playback_order
 
 __all__ = ["write_gif", "write_mp4", "write_webp", "write_apng", "playback_order", "FPS", "SIZE"]
 
-
+#: longest a single image may stay on screen in each format (milliseconds): GIF delays are 16-bit counts
+#: of 1/100 s, APNG's 16-bit counts of 1/1000 s (as Pillow writes them), WebP's 24-bit milliseconds
 FRAME_MS_LIMIT = {"gif": 655_350, "apng": 65_535, "webp": 16_777_215}
 
 

@@ -50,7 +50,3 @@ def playback_order(n, fps=FPS, hold=0.0, bounce=False):
     if bounce and n > 2:
         parts += [forward[-2:0:-1]]
     return np.concatenate(parts).astype(np.int64)
-
-
-#: longest a single image may stay on screen in each format (milliseconds): GIF delays are 16-bit counts
-#: of 1/100 s, APNG's 16-bit counts of 1/1000 s (as Pillow writes them), WebP's 24-bit milliseconds
