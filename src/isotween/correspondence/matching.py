@@ -68,6 +68,10 @@ CORNER_TURN = np.deg2rad(50.0)
 SNAP = 0.3
 #: weight of a ring's own best rotation against the drawing's rotation (0: the drawing's only)
 OWN_TURN = 0.5
+#: a ring whose best start under the drawing's rotation fits this poorly (|rho|) takes its own best rotation
+#: where that fits better by `OWN_GAIN`: upright, it would pair one ring's outer side with the other's inner side
+POOR_FIT = 0.6
+OWN_GAIN = 0.3
 
 
 class RingPair:
@@ -174,12 +178,19 @@ def shift_score(rho, turn):
     Returns
     -------
     (N,) float
-        ``Re(rho conj(turn)) + OWN_TURN (|rho| - Re(rho conj(turn)))``.
+        ``Re(rho conj(turn)) + OWN_TURN (|rho| - Re(rho conj(turn)))``; ``|rho|``
+        where the best of that fits worse than `POOR_FIT` and the ring's own
+        best rotation better by `OWN_GAIN` (a 'C' into an arc that opens the
+        other way: the ring turns rather than pair its outer side with the
+        arc's inner side).
     """
+    fit = np.abs(rho)
     if turn is None:
-        return np.abs(rho)
+        return fit
     fixed = (rho * np.conj(turn)).real
-    return fixed + OWN_TURN * (np.abs(rho) - fixed)
+    score = fixed + OWN_TURN * (fit - fixed)
+    upright = fit[np.argmax(score)]
+    return fit if upright < POOR_FIT and fit.max() > upright + OWN_GAIN else score
 
 
 def _turning(z, closed):
