@@ -11,7 +11,9 @@ A ring (closed) or polyline (open) is parameterised by normalised arc length
    ``|rho_k| = 1`` for a similar copy. All shifts at once are one circular
    cross-correlation (FFT). The chosen shift maximises a score that prefers the
    drawing's rotation ``turn`` (`shift_score`), so that a ring turns with the
-   rest of the drawing, and a ring of a symmetric shape does not spin.
+   rest of the drawing, and a ring of a symmetric shape does not spin; unless
+   no start fits well under that rotation and the ring's own rotation fits
+   much better (a 'C' into an arc that opens the other way turns over).
 2. **Anchors.** Corners (a vertex turning by more than `CORNER`; where the
    rings are not similar copies, also rounded corners, arcs that turn by
    `ROUND_CORNER` within a short stretch, `_corners`) of the two rings that
