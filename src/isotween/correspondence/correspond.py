@@ -593,9 +593,9 @@ def _fill_slots(items, frames, slots, unmatched):
                         room[key] = _regions.region_polygon([done[paired[0]][k][0][1 + paired[1]]])
                     free = room.get(key)
                     free = None if free is None or free.is_empty else free
-                    rides = slot.kind == "region" and _over_fill(ref_rings, [p for j, p in polys[ref] if j != si])
+                    over = [p for j, p in polys[ref] if j != si] if slot.kind == "region" else []
                     rings = _placed_copy(ref_rings, is_closed, frames[ref], frames[k], polys[k],
-                                         "split" if part else unmatched, free, rides)
+                                         "split" if part else unmatched, free, over)
                     if key is not None:  # the next small copy in this hole keeps clear of this one
                         at = rings[0].mean()
                         clear = _regions.region_polygon([at + 2 * (rings[0] - at)]).convex_hull
@@ -662,14 +662,15 @@ def _over_fill(rings, polygons):
     return own.area > 0 and own.difference(shapely.unary_union(polygons)).area <= OVER_FILL * own.area
 
 
-def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched, hole=None, rides=False):
+def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched, hole=None, over=()):
     """Small copy of an item's rings in another drawing.
 
     ``grow``: at its own centroid (mapped into the other drawing's box), moved
     just outside the other drawing's filled regions if it falls inside one,
-    so that it does not cross them on its way; unless the item ``rides`` on
-    fill in its own drawing (a tear or a highlight painted over a face): then
-    it grows in place over the fill it falls in. Where the item lies in a hole
+    so that it does not cross them on its way; unless the item lies over the
+    fill of ``over`` (the other regions of its own drawing, shapely polygons:
+    a tear or a highlight painted over a face, `_over_fill`): then it grows in
+    place over the fill it falls in. Where the item lies in a hole
     whose partner in the other drawing leaves ``hole`` free (a shapely
     polygon), inside that instead: it stays in the hole on its way.
     ``split``: inside the nearest region of the other drawing, as if it split
@@ -693,7 +694,7 @@ def _placed_copy(rings, closed, f_from, f_to, polygons, unmatched, hole=None, ri
         at, room = _regions.inside_point(poly, at, radius)
         return _regions.small_copy(scaled, closed, at, room)
     fill = shapely.unary_union([p for _, p in polygons])
-    if rides and fill.contains(point):
+    if fill.contains(point) and _over_fill(rings, over):
         at, room = _regions.inside_point(fill, at, radius)
         return _regions.small_copy(scaled, closed, at, room)
     if fill.distance(point) < 2 * radius:
